@@ -1,0 +1,32 @@
+#include "core/resources.h"
+
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace db {
+namespace {
+std::size_t status_kib(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(key, 0) == 0) {
+      std::istringstream is(line.substr(std::string(key).size()));
+      std::size_t kib = 0;
+      is >> kib;
+      return kib;
+    }
+  }
+  return 0;
+}
+}  // namespace
+
+std::size_t peak_rss_bytes() { return status_kib("VmHWM:") * 1024; }
+std::size_t current_rss_bytes() { return status_kib("VmRSS:") * 1024; }
+std::size_t physical_memory_bytes() {
+  return static_cast<std::size_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
+}
+
+}  // namespace db

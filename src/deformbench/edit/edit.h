@@ -1,0 +1,33 @@
+#pragma once
+//! An edit: which vertices move with the handle, which stay fixed, which are free (the region of interest),
+//! and the handle transform. Readers for Botsch-Sorkine .sel/.def files, vertex index lists and geometric
+//! selections live in edit_io.h / selection.h.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "mesh/mesh.h"
+
+namespace db {
+
+//! Botsch-Sorkine 2008 status codes: 0 fixed (outside the region), 1 free (region of interest), 2 handle.
+enum class Role : std::uint8_t { Fixed = 0, Free = 1, Handle = 2 };
+
+struct Edit {
+  std::string name;         //!< for result rows
+  std::vector<Role> roles;  //!< one per vertex
+  Mat4 transform = Mat4::Identity();  //!< handle transform, applied to original handle positions
+
+  int count(Role r) const;
+  std::vector<int> vertices(Role r) const;
+};
+
+//! Checks the edit against its mesh and throws InputError naming the problem: size mismatch, empty handle,
+//! a transform that is not finite or not affine (last row != 0 0 0 1), nothing free to solve for.
+void validate_edit(const Mesh& mesh, const Edit& edit);
+
+//! Applies an affine 4x4 transform to a point.
+inline Vec3 apply(const Mat4& T, const Vec3& p) { return T.topLeftCorner<3, 3>() * p + T.topRightCorner<3, 1>(); }
+
+}  // namespace db

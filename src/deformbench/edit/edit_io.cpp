@@ -1,0 +1,265 @@
+#include "edit/edit_io.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "edit/selection.h"
+#include "edit/transform.h"
+#include "mesh/mesh_io.h"
+
+namespace db {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> read_lines(const std::string& path, const char* what) {
+  std::error_code ec;
+  std::ifstream in(path);
+  if (!in || fs::is_directory(path, ec)) throw InputError(fmt::format("cannot open {} file: {}", what, path));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  if (in.bad()) throw InputError(fmt::format("cannot read {} file: {}", what, path));
+  return lines;
+}
+
+// Drops a '#' comment and surrounding whitespace.
+std::string strip(const std::string& line) {
+  std::string s = line.substr(0, line.find('#'));
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+std::vector<std::string> tokens(const std::string& s, const char* seps) {
+  std::vector<std::string> out;
+  std::size_t b = s.find_first_not_of(seps);
+  while (b != std::string::npos) {
+    const std::size_t e = s.find_first_of(seps, b);
+    out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+    b = e == std::string::npos ? e : s.find_first_not_of(seps, e);
+  }
+  return out;
+}
+
+bool to_double(std::string t, double& v) {
+  if (!t.empty() && t[0] == '+') t.erase(0, 1);
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  return !t.empty() && r.ec == std::errc() && r.ptr == t.data() + t.size();
+}
+
+bool to_int(std::string t, long long& v) {
+  if (!t.empty() && t[0] == '+') t.erase(0, 1);
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  return !t.empty() && r.ec == std::errc() && r.ptr == t.data() + t.size();
+}
+
+bool exists(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+// Re-throws an InputError with a prefix, unless the message already starts with it.
+template <class F>
+auto prefixed(const std::string& prefix, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    if (msg.rfind(prefix, 0) == 0) throw;
+    throw InputError(prefix + ": " + msg);
+  }
+}
+
+}  // namespace
+
+std::vector<Role> read_sel(const std::string& path, int num_vertices) {
+  const auto lines = read_lines(path, "selection");
+  std::vector<Role> roles;
+  roles.reserve(lines.size());
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string s = strip(lines[i]);
+    if (s.empty()) continue;
+    if (s == "0") roles.push_back(Role::Fixed);
+    else if (s == "1") roles.push_back(Role::Free);
+    else if (s == "2") roles.push_back(Role::Handle);
+    else throw InputError(fmt::format("{}: line {}: invalid status '{}' (expected 0, 1 or 2)", path, i + 1, s));
+  }
+  if (num_vertices >= 0 && static_cast<long>(roles.size()) != num_vertices)
+    throw InputError(fmt::format("{}: selection has {} entries but the mesh has {} vertices", path, roles.size(),
+                                 num_vertices));
+  return roles;
+}
+
+Mat4 read_def(const std::string& path) {
+  const auto lines = read_lines(path, "transform");
+  Mat4 T;
+  int row = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string s = strip(lines[i]);
+    if (s.empty()) continue;
+    if (row == 4) throw InputError(fmt::format("{}: line {}: unexpected content after the 4x4 matrix", path, i + 1));
+    const auto t = tokens(s, " \t,");
+    if (t.size() != 4)
+      throw InputError(fmt::format("{}: line {}: expected 4 numbers per matrix row, got {}", path, i + 1, t.size()));
+    for (int c = 0; c < 4; ++c)
+      if (!to_double(t[c], T(row, c)) || !std::isfinite(T(row, c)))
+        throw InputError(fmt::format("{}: line {}: bad number '{}'", path, i + 1, t[c]));
+    ++row;
+  }
+  if (row != 4) throw InputError(fmt::format("{}: expected 4 matrix rows, got {}", path, row));
+  if (T.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+    throw InputError(fmt::format("{}: not an affine transform (last row {} {} {} {}, expected 0 0 0 1)", path, T(3, 0),
+                                 T(3, 1), T(3, 2), T(3, 3)));
+  return T;
+}
+
+Edit read_bs08_edit(const std::string& sel_path, const std::string& def_path, int num_vertices) {
+  Edit e;
+  e.name = fs::path(sel_path).stem().string();
+  e.roles = read_sel(sel_path, num_vertices);
+  e.transform = read_def(def_path);
+  return e;
+}
+
+std::vector<int> read_index_list(const std::string& path) {
+  const auto lines = read_lines(path, "index list");
+  std::vector<int> out;
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    for (const std::string& t : tokens(strip(lines[i]), " \t\r,")) {
+      long long v;
+      if (!to_int(t, v)) throw InputError(fmt::format("{}: line {}: '{}' is not a vertex index", path, i + 1, t));
+      if (v < 0 || v > INT32_MAX)
+        throw InputError(fmt::format("{}: line {}: vertex index {} out of range", path, i + 1, v));
+      out.push_back(static_cast<int>(v));
+    }
+  return out;
+}
+
+Edit edit_from_lists(int num_vertices, const std::vector<int>& roi, const std::vector<int>& handle, const Mat4& T) {
+  auto check = [&](const std::vector<int>& ids, const char* what) {
+    for (int v : ids)
+      if (v < 0 || v >= num_vertices)
+        throw InputError(fmt::format("{} vertex {} out of range [0, {})", what, v, num_vertices));
+  };
+  check(roi, "region-of-interest");
+  check(handle, "handle");
+  if (handle.empty()) throw InputError("the handle is empty");
+  Edit e;
+  e.transform = T;
+  e.roles.assign(num_vertices, Role::Fixed);
+  for (int v : roi) e.roles[v] = Role::Free;
+  for (int v : handle) {
+    if (e.roles[v] == Role::Fixed)
+      throw InputError(fmt::format("handle vertex {} is outside the region of interest", v));
+    e.roles[v] = Role::Handle;
+  }
+  return e;
+}
+
+namespace {
+
+EditCase finish(EditCase c, const std::string& where) {
+  prefixed(where, [&] { validate_edit(c.mesh, c.edit); });
+  return c;
+}
+
+EditCase load_stem(const std::string& stem) {
+  EditCase c;
+  for (const char* ext : {".off", ".ply", ".obj"})
+    if (exists(stem + ext)) {
+      c.mesh_path = stem + ext;
+      break;
+    }
+  const std::string sel = stem + ".sel", def = stem + ".def";
+  if (c.mesh_path.empty() || !exists(sel) || !exists(def))
+    throw InputError(fmt::format("edit case '{}': not a .edit file, and not a stem with .off (or .ply/.obj), .sel and "
+                                 ".def files (missing {})",
+                                 stem, c.mesh_path.empty() ? stem + ".off" : !exists(sel) ? sel : def));
+  c.mesh = read_mesh(c.mesh_path);
+  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh); });
+  c.edit = read_bs08_edit(sel, def, c.mesh.num_vertices());
+  c.edit.name = fs::path(stem).filename().string();
+  return finish(std::move(c), stem);
+}
+
+EditCase load_edit_file(const std::string& path) {
+  const auto lines = read_lines(path, "edit");
+  struct Entry {
+    std::string value;
+    int line;
+  };
+  std::map<std::string, Entry> kv;
+  static const char* known[] = {"mesh", "name", "sel", "def", "roi", "handle", "transform"};
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string s = strip(lines[i]);
+    if (s.empty()) continue;
+    const int ln = static_cast<int>(i + 1);
+    const auto eq = s.find('=');
+    if (eq == std::string::npos) throw InputError(fmt::format("{}: line {}: expected 'key = value'", path, ln));
+    const std::string key = strip(s.substr(0, eq)), value = strip(s.substr(eq + 1));
+    if (std::find(std::begin(known), std::end(known), key) == std::end(known))
+      throw InputError(fmt::format("{}: line {}: unknown key '{}' (known: mesh, name, sel, def, roi, handle, transform)",
+                                   path, ln, key));
+    if (value.empty()) throw InputError(fmt::format("{}: line {}: empty value for '{}'", path, ln, key));
+    if (kv.count(key))
+      throw InputError(fmt::format("{}: line {}: '{}' given twice (first on line {})", path, ln, key, kv[key].line));
+    kv[key] = {value, ln};
+  }
+  auto has = [&](const char* k) { return kv.count(k) > 0; };
+  auto at = [&](const char* k) { return fmt::format("{}: line {}", path, kv.at(k).line); };
+  if (!has("mesh")) throw InputError(path + ": missing 'mesh = PATH'");
+  if (has("sel") && (has("roi") || has("handle")))
+    throw InputError(path + ": give either 'sel' or 'roi' + 'handle', not both");
+  if (!has("sel") && !(has("roi") && has("handle")))
+    throw InputError(path + ": missing the selection ('sel = FILE', or both 'roi' and 'handle')");
+  if (has("def") == has("transform"))
+    throw InputError(path + ": give exactly one of 'def = FILE' and 'transform = SPEC'");
+
+  const fs::path dir = fs::path(path).parent_path();
+  auto resolve = [&](const std::string& p) { return fs::path(p).is_relative() ? (dir / p).string() : p; };
+
+  EditCase c;
+  c.mesh_path = resolve(kv["mesh"].value);
+  c.mesh = prefixed(at("mesh"), [&] { return read_mesh(c.mesh_path); });
+  // Mesh first: k-ring selections need a valid adjacency.
+  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh); });
+  const int nv = c.mesh.num_vertices();
+
+  const Mat4 T = has("def") ? prefixed(at("def"), [&] { return read_def(resolve(kv["def"].value)); })
+                            : prefixed(at("transform"), [&] { return parse_transform(kv["transform"].value, dir.string()); });
+  if (has("sel")) {
+    c.edit.roles = prefixed(at("sel"), [&] { return read_sel(resolve(kv["sel"].value), nv); });
+    c.edit.transform = T;
+  } else {
+    const auto roi = prefixed(at("roi"), [&] { return select_by_spec(c.mesh, kv["roi"].value, dir.string()); });
+    const auto handle =
+        prefixed(at("handle"), [&] { return select_by_spec(c.mesh, kv["handle"].value, dir.string()); });
+    if (handle.empty())
+      throw InputError(fmt::format("{}: handle selection '{}' selects no vertex", at("handle"), kv["handle"].value));
+    c.edit = prefixed(path, [&] { return edit_from_lists(nv, roi, handle, T); });
+  }
+  c.edit.name = has("name") ? kv["name"].value : fs::path(path).stem().string();
+  return finish(std::move(c), path);
+}
+
+}  // namespace
+
+EditCase load_edit_case(const std::string& spec) {
+  if (fs::path(spec).extension() == ".edit") return load_edit_file(spec);
+  std::string stem = spec;
+  const std::string ext = fs::path(spec).extension().string();
+  if (ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".sel" || ext == ".def")
+    stem = spec.substr(0, spec.size() - ext.size());
+  return load_stem(stem);
+}
+
+}  // namespace db

@@ -1,0 +1,168 @@
+#include "mesh/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace db {
+
+namespace {
+
+std::string label(const Mesh& mesh) { return mesh.name.empty() ? std::string("mesh") : "mesh '" + mesh.name + "'"; }
+
+// Faces incident to each vertex, CSR (vertex -> face ids). Assumes indices were range-checked.
+void vertex_faces(const Mesh& mesh, std::vector<int>& off, std::vector<int>& fid) {
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  off.assign(nv + 1, 0);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) ++off[mesh.F(f, c) + 1];
+  std::partial_sum(off.begin(), off.end(), off.begin());
+  fid.resize(off[nv]);
+  std::vector<int> pos(off.begin(), off.end() - 1);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) fid[pos[mesh.F(f, c)]++] = f;
+}
+
+}  // namespace
+
+Adjacency vertex_adjacency(const Mesh& mesh) {
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  // Every corner contributes its two face-neighbours; duplicates (shared edges) are removed per vertex.
+  std::vector<int> cnt(nv + 1, 0);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.F(f, c);
+      if (v < 0 || v >= nv)
+        throw InputError(fmt::format("{}: face {} has corner index {} out of range [0, {})", label(mesh), f, v, nv));
+      cnt[v + 1] += 2;
+    }
+  std::partial_sum(cnt.begin(), cnt.end(), cnt.begin());
+  std::vector<int> raw(cnt[nv]);
+  std::vector<int> pos(cnt.begin(), cnt.end() - 1);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.F(f, c);
+      raw[pos[v]++] = mesh.F(f, (c + 1) % 3);
+      raw[pos[v]++] = mesh.F(f, (c + 2) % 3);
+    }
+  Adjacency adj;
+  adj.off.resize(nv + 1);
+  adj.nbr.reserve(raw.size() / 2 + nv);
+  adj.off[0] = 0;
+  for (int v = 0; v < nv; ++v) {
+    int* b = raw.data() + cnt[v];
+    int* e = raw.data() + cnt[v + 1];
+    std::sort(b, e);
+    e = std::unique(b, e);
+    for (int* p = b; p != e; ++p)
+      if (*p != v) adj.nbr.push_back(*p);  // a repeated corner must not make a vertex its own neighbour
+    adj.off[v + 1] = static_cast<int>(adj.nbr.size());
+  }
+  return adj;
+}
+
+double bbox_diagonal(const Points& V) {
+  if (V.rows() == 0) return 0.0;
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+void validate_mesh(const Mesh& mesh) {
+  const std::string who = label(mesh);
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  if (nv == 0) throw InputError(who + " is empty (no vertices)");
+  if (nf == 0) throw InputError(who + " is empty (no faces)");
+
+  for (int v = 0; v < nv; ++v)
+    if (!mesh.V.row(v).allFinite())
+      throw InputError(fmt::format("{}: vertex {} has a non-finite coordinate ({}, {}, {})", who, v, mesh.V(v, 0),
+                                   mesh.V(v, 1), mesh.V(v, 2)));
+
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.F(f, c);
+      if (v < 0 || v >= nv)
+        throw InputError(fmt::format("{}: face {} has corner index {} out of range [0, {})", who, f, v, nv));
+    }
+
+  // Area threshold relative to the model size, so the check is scale invariant.
+  const double diag = bbox_diagonal(mesh.V);
+  const double min_area = 1e-14 * diag * diag;
+  for (int f = 0; f < nf; ++f) {
+    const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
+    if (a == b || b == c || a == c)
+      throw InputError(fmt::format("{}: face {} is degenerate (repeated corner: {} {} {})", who, f, a, b, c));
+    const Vec3 pa = mesh.V.row(a), pb = mesh.V.row(b), pc = mesh.V.row(c);
+    const double area = 0.5 * (pb - pa).cross(pc - pa).norm();
+    if (!(area >= min_area))
+      throw InputError(fmt::format("{}: face {} is degenerate (area {:.3g} < {:.3g} = 1e-14 * bbox_diagonal^2)", who,
+                                   f, area, min_area));
+  }
+
+  std::vector<int> vf_off, vf;
+  vertex_faces(mesh, vf_off, vf);
+  for (int v = 0; v < nv; ++v)
+    if (vf_off[v] == vf_off[v + 1]) throw InputError(fmt::format("{}: vertex {} is isolated (in no face)", who, v));
+
+  // Edges: sort undirected edge keys, a run longer than two is a non-manifold edge.
+  {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(3 * static_cast<std::size_t>(nf));
+    for (int f = 0; f < nf; ++f)
+      for (int c = 0; c < 3; ++c) {
+        const std::uint64_t a = mesh.F(f, c), b = mesh.F(f, (c + 1) % 3);
+        keys.push_back(std::min(a, b) << 32 | std::max(a, b));
+      }
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t i = 0; i < keys.size();) {
+      std::size_t j = i + 1;
+      while (j < keys.size() && keys[j] == keys[i]) ++j;
+      if (j - i > 2)
+        throw InputError(fmt::format("{}: non-manifold edge ({}, {}) shared by {} faces", who, keys[i] >> 32,
+                                     keys[i] & 0xffffffffu, j - i));
+      i = j;
+    }
+  }
+
+  // Vertices: the link (opposite edges of the incident faces) must be connected, i.e. a single fan.
+  // With manifold edges every link vertex has link degree <= 2, so connectivity is the whole test.
+  std::vector<int> local, parent;
+  for (int v = 0; v < nv; ++v) {
+    local.clear();
+    for (int k = vf_off[v]; k < vf_off[v + 1]; ++k) {
+      const int f = vf[k];
+      for (int c = 0; c < 3; ++c)
+        if (mesh.F(f, c) != v) local.push_back(mesh.F(f, c));
+    }
+    std::sort(local.begin(), local.end());
+    local.erase(std::unique(local.begin(), local.end()), local.end());
+    parent.resize(local.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    auto id = [&](int w) { return static_cast<int>(std::lower_bound(local.begin(), local.end(), w) - local.begin()); };
+    int components = static_cast<int>(local.size());
+    for (int k = vf_off[v]; k < vf_off[v + 1]; ++k) {
+      const int f = vf[k];
+      int c = 0;
+      while (mesh.F(f, c) != v) ++c;
+      const int ra = find(id(mesh.F(f, (c + 1) % 3))), rb = find(id(mesh.F(f, (c + 2) % 3)));
+      if (ra != rb) {
+        parent[ra] = rb;
+        --components;
+      }
+    }
+    if (components > 1)
+      throw InputError(fmt::format("{}: non-manifold vertex {} (its {} incident faces form {} separate fans)", who, v,
+                                   vf_off[v + 1] - vf_off[v], components));
+  }
+}
+
+}  // namespace db

@@ -1,0 +1,84 @@
+#include "methods/deformer.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "methods/laplacian_deformer.h"
+
+namespace db {
+
+ConstraintMode parse_constraints(const std::string& s) {
+  if (s == "hard") return ConstraintMode::Hard;
+  if (s == "soft") return ConstraintMode::Soft;
+  throw InputError("unknown constraint mode '" + s + "' (expected hard or soft)");
+}
+
+std::string to_string(ConstraintMode m) { return m == ConstraintMode::Hard ? "hard" : "soft"; }
+
+std::size_t Deformer::matrix_bytes() const {
+  std::size_t s = 0;
+  for (const auto& r : systems_) s += r.matrix_bytes;
+  return s;
+}
+
+std::size_t Deformer::factor_bytes() const {
+  std::size_t s = 0;
+  for (const auto& r : systems_) s += r.factor.factor_bytes;
+  return s;
+}
+
+std::vector<Constraint> classify(const Edit& edit, ConstraintMode mode) {
+  std::vector<Constraint> kind(edit.roles.size());
+  for (std::size_t v = 0; v < kind.size(); ++v)
+    kind[v] = edit.roles[v] == Role::Free ? Constraint::Free
+              : mode == ConstraintMode::Hard ? Constraint::Hard
+                                             : Constraint::Soft;
+  return kind;
+}
+
+void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind) {
+  const int n = adj.num_vertices();
+  std::vector<int> comp(n, -1), stack;
+  for (int s = 0; s < n; ++s) {
+    if (comp[s] >= 0 || kind[s] == Constraint::Hard) continue;
+    // Flood the unknowns reachable from s; the component is anchored when it holds a soft vertex or
+    // borders a hard one.
+    bool anchored = false;
+    int size = 0;
+    stack.assign(1, s);
+    comp[s] = s;
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      ++size;
+      if (kind[v] == Constraint::Soft) anchored = true;
+      for (const int* p = adj.begin(v); p != adj.end(v); ++p) {
+        if (kind[*p] == Constraint::Hard) {
+          anchored = true;
+        } else if (comp[*p] < 0) {
+          comp[*p] = s;
+          stack.push_back(*p);
+        }
+      }
+    }
+    if (!anchored)
+      throw InputError(fmt::format(
+          "singular system: {} free vertices (component containing vertex {}) touch no fixed vertex, handle or "
+          "soft anchor",
+          size, s));
+  }
+}
+
+std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
+  validate_edit(mesh, edit);
+  if (!(options.soft_weight > 0) || !std::isfinite(options.soft_weight))
+    throw InputError(fmt::format("soft weight must be positive and finite, got {}", options.soft_weight));
+  if (options.method == "lap")
+    return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Lap, options);
+  if (options.method == "tf") return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Tf, options);
+  throw InputError("unknown method '" + options.method + "' (expected lap or tf)");
+}
+
+}  // namespace db

@@ -1,0 +1,85 @@
+#pragma once
+//! Deformation methods behind one precompute / per-frame interface (libigl's precompute/solve split):
+//! the constructor builds, analyzes and factorizes once per edit; deform() runs every frame.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/types.h"
+#include "edit/edit.h"
+#include "mesh/mesh.h"
+#include "operators/laplacian.h"
+#include "solvers/linear_solver.h"
+#include "systems/normal_system.h"
+
+namespace db {
+
+enum class ConstraintMode { Hard, Soft };
+ConstraintMode parse_constraints(const std::string& s);  //!< "hard" | "soft"
+std::string to_string(ConstraintMode m);
+
+struct DeformOptions {
+  std::string method = "lap";  //!< "lap", "tf" or "lri" (see make_deformer)
+  Weights weights = Weights::Uniform;
+  bool tf_translation = true;  //!< TF: fit t as well (false: thesis eq. 2-12)
+  //! Hard: handle and fixed vertices are eliminated. Soft: they stay unknowns with weighted rows w^2 ||v - u||^2
+  //! (thesis eq. 2-4).
+  ConstraintMode constraints = ConstraintMode::Hard;
+  double soft_weight = 1.0;
+  Build build = Build::Structured;
+  std::string solver = "cholmod_supernodal";
+  SolverOptions solver_options;
+  bool normalize = true;             //!< center and scale before building (see normalization.h)
+  std::size_t memory_budget = 0;     //!< bytes; 0 = unlimited. Checked on predictions before allocating.
+  // LRI only (issue 5): frame strategy and orthonormalization; ignored by lap and tf.
+  std::string lri_frames = "first";
+  std::string lri_orthonormalize = "gram_schmidt";
+  unsigned lri_seed = 1;
+};
+
+struct PhaseTimes {
+  double build = 0, analyze = 0, factorize = 0;  //!< seconds, once per edit
+  double rhs = 0, solve = 0, write = 0;          //!< seconds, last frame
+  double init() const { return build + analyze + factorize; }
+  double frame() const { return rhs + solve + write; }
+};
+
+struct SystemReport {
+  std::string name;  //!< e.g. "positions" or "frames"
+  std::size_t n = 0, nnz = 0;
+  std::size_t matrix_bytes = 0;  //!< the system matrix handed to the solver
+  FactorStats factor;
+  std::vector<std::pair<std::string, std::size_t>> held_bytes;  //!< matrices held by the build
+};
+
+class Deformer {
+ public:
+  virtual ~Deformer() = default;
+  //! Deformed positions (#V by 3) for the given handle transform (fixed vertices stay put).
+  //! \throw SolverError when the result is not finite.
+  virtual Points deform(const Mat4& handle_transform) = 0;
+  const PhaseTimes& times() const { return times_; }
+  const std::vector<SystemReport>& systems() const { return systems_; }
+  std::size_t matrix_bytes() const;  //!< bytes of the system matrices handed to the solvers
+  std::size_t factor_bytes() const;
+
+ protected:
+  PhaseTimes times_;
+  std::vector<SystemReport> systems_;
+};
+
+//! Validates mesh-independent options and the constraint set, then builds the method's systems.
+//! \throw InputError bad options or edit (e.g. a free component without any constraint: singular),
+//!        SolverError failed factorization, BudgetError over memory_budget.
+std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
+
+//! Per vertex: how it enters the system under the given mode.
+std::vector<Constraint> classify(const Edit& edit, ConstraintMode mode);
+
+//! Throws InputError when some connected set of unknown vertices touches no constrained vertex (the system
+//! would be singular there). `constrained[v]` is true for hard and soft vertices.
+void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind);
+
+}  // namespace db

@@ -1,0 +1,20 @@
+#include "methods/drag.h"
+
+#include <Eigen/Geometry>
+
+namespace db {
+
+Mat4 interpolate_transform(const Mat4& T, double f) {
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  Mat4 P = Mat4::Identity();
+  if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0) {
+    const Eigen::AngleAxisd aa(R);
+    P.topLeftCorner<3, 3>() = Eigen::AngleAxisd(f * aa.angle(), aa.axis()).toRotationMatrix();
+  } else {
+    P.topLeftCorner<3, 3>() = (1 - f) * Eigen::Matrix3d::Identity() + f * R;
+  }
+  P.topRightCorner<3, 1>() = f * T.topRightCorner<3, 1>();
+  return P;
+}
+
+}  // namespace db

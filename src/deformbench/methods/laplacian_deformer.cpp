@@ -1,0 +1,109 @@
+#include "methods/laplacian_deformer.h"
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/timer.h"
+
+namespace db {
+namespace {
+// Vertex coordinate c of unknown (or hard) index u in the solver layout: LAP keeps x, y, z as three
+// right-hand-side columns; TF interleaves them in one column.
+inline double& at(DenseMat& M, int block, int u, int c) { return block == 1 ? M(u, c) : M(3 * u + c, 0); }
+}  // namespace
+
+LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind,
+                                     const DeformOptions& options)
+    : edit_(edit) {
+  norm_ = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
+  Vn_ = norm_.apply(mesh.V);
+  Timer t;
+  const Adjacency adj = vertex_adjacency(mesh);
+  const auto kinds = classify(edit, options.constraints);
+  check_every_component_anchored(adj, kinds);
+  unk_ = make_unknowns(kinds, options.soft_weight);
+  EnergyOptions eo;
+  eo.weights = options.weights;
+  eo.tf_translation = options.tf_translation;
+  const EnergyOperator op(Vn_, mesh.F, adj, kind, eo);
+  sys_ = build_normal_system(op, unk_, options.build, options.memory_budget);
+  times_.build = t.seconds();
+
+  SystemReport rep;
+  rep.name = to_string(kind);
+  rep.n = sys_.n();
+  rep.held_bytes = sys_.held_bytes;
+  if (options.build == Build::Dense) {
+    rep.nnz = static_cast<std::size_t>(sys_.K_dense.size());
+    rep.matrix_bytes = rep.nnz * sizeof(double);
+    t.reset();
+    llt_ = std::make_unique<Eigen::LLT<DenseMat>>(sys_.K_dense);
+    times_.factorize = t.seconds();
+    if (llt_->info() != Eigen::Success)
+      throw SolverError(fmt::format("dense Cholesky: the {} system ({} unknowns) is not positive definite",
+                                    to_string(kind), sys_.n()));
+    rep.factor.n = sys_.n();
+    rep.factor.nnz_factor = sys_.n() * (sys_.n() + 1) / 2;
+    rep.factor.factor_bytes = static_cast<std::size_t>(sys_.K_dense.size()) * sizeof(double);
+    rep.factor.flops = static_cast<double>(sys_.n()) * sys_.n() * sys_.n() / 3.0;
+    rep.factor.ordering_used = "none";
+  } else {
+    rep.nnz = static_cast<std::size_t>(sys_.K.nonZeros());
+    rep.matrix_bytes = sparse_bytes(sys_.K);
+    SolverOptions so = options.solver_options;
+    so.block_size = sys_.block;
+    solver_ = make_solver(options.solver, so);
+    t.reset();
+    solver_->analyze(sys_.K);
+    times_.analyze = t.seconds();
+    t.reset();
+    solver_->factorize(sys_.K);
+    times_.factorize = t.seconds();
+    rep.factor = solver_->stats();
+  }
+  systems_.push_back(std::move(rep));
+}
+
+Points LaplacianDeformer::deform(const Mat4& handle_transform) {
+  const int b = sys_.block, r = sys_.rhs_cols;
+  const Mat4 T = norm_.conjugate(handle_transform);
+  auto target = [&](int v) -> Vec3 {
+    const Vec3 p = Vn_.row(v).transpose();
+    return edit_.roles[v] == Role::Handle ? apply(T, p) : p;
+  };
+  Timer t;
+  xh_.resize(static_cast<Eigen::Index>(b) * unk_.num_hard(), r);
+  for (int h = 0; h < unk_.num_hard(); ++h) {
+    const Vec3 p = target(unk_.hard_vertices[h]);
+    for (int c = 0; c < 3; ++c) at(xh_, b, h, c) = p(c);
+  }
+  rhs_ = sys_.g0;
+  if (unk_.num_hard() > 0) {
+    if (sys_.build == Build::Dense) rhs_.noalias() -= sys_.C_dense * xh_;
+    else rhs_.noalias() -= sys_.C * xh_;
+  }
+  const double w2 = unk_.soft_weight * unk_.soft_weight;
+  for (int v : unk_.soft_vertices) {
+    const Vec3 p = target(v);
+    for (int c = 0; c < 3; ++c) at(rhs_, b, unk_.unknown_of[v], c) += w2 * p(c);
+  }
+  times_.rhs = t.seconds();
+
+  t.reset();
+  if (llt_) x_ = llt_->solve(rhs_);
+  else solver_->solve(rhs_, x_);
+  times_.solve = t.seconds();
+  if (!x_.allFinite()) throw SolverError("the solve produced non-finite positions");
+
+  t.reset();
+  Points Vn(Vn_.rows(), 3);
+  for (int v = 0; v < Vn.rows(); ++v) {
+    const int u = unk_.unknown_of[v];
+    for (int c = 0; c < 3; ++c) Vn(v, c) = u >= 0 ? at(x_, b, u, c) : at(xh_, b, unk_.hard_of[v], c);
+  }
+  Points out = norm_.restore(Vn);
+  times_.write = t.seconds();
+  return out;
+}
+
+}  // namespace db

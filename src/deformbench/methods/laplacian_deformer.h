@@ -1,0 +1,33 @@
+#pragma once
+//! LAP (uniform/cotan Laplacian editing, thesis eqs. 2-1..2-8) and TF (transform-fitted Laplacian editing,
+//! Sorkine et al. 2004, thesis 2.3): one normal system each, factored once per edit.
+#include <memory>
+
+#include <Eigen/Cholesky>
+
+#include "methods/deformer.h"
+#include "methods/normalization.h"
+#include "operators/energy_operator.h"
+
+namespace db {
+
+class LaplacianDeformer : public Deformer {
+ public:
+  LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind, const DeformOptions& options);
+  Points deform(const Mat4& handle_transform) override;
+
+  //! The assembled system (for cross-checks between builds).
+  const NormalSystem& system() const { return sys_; }
+
+ private:
+  Edit edit_;
+  Normalization norm_;
+  Points Vn_;  // normalized rest positions
+  Unknowns unk_;
+  NormalSystem sys_;
+  std::unique_ptr<LinearSolver> solver_;      // sparse builds
+  std::unique_ptr<Eigen::LLT<DenseMat>> llt_;  // dense build: dense Cholesky
+  DenseMat xh_, rhs_, x_;                      // per-frame buffers, reused
+};
+
+}  // namespace db

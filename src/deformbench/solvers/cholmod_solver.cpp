@@ -1,0 +1,310 @@
+//! CHOLMOD backends: supernodal LL^T ("cholmod_supernodal") and simplicial LDL^T ("cholmod_simplicial_ldlt").
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include <amd.h>
+#include <cholmod.h>
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "solvers/backends.h"
+#include "solvers/solver_util.h"
+
+namespace db {
+namespace {
+
+using namespace solver_util;
+
+const char* status_name(int status) {
+  switch (status) {
+    case CHOLMOD_OK: return "CHOLMOD_OK";
+    case CHOLMOD_NOT_INSTALLED: return "CHOLMOD_NOT_INSTALLED";
+    case CHOLMOD_OUT_OF_MEMORY: return "CHOLMOD_OUT_OF_MEMORY";
+    case CHOLMOD_TOO_LARGE: return "CHOLMOD_TOO_LARGE (integer overflow)";
+    case CHOLMOD_INVALID: return "CHOLMOD_INVALID";
+    case CHOLMOD_GPU_PROBLEM: return "CHOLMOD_GPU_PROBLEM";
+    case CHOLMOD_NOT_POSDEF: return "CHOLMOD_NOT_POSDEF";
+    case CHOLMOD_DSMALL: return "CHOLMOD_DSMALL";
+    default: return "unknown CHOLMOD status";
+  }
+}
+
+const char* ordering_name(int ordering) {
+  switch (ordering) {
+    case CHOLMOD_NATURAL: return "natural";
+    case CHOLMOD_GIVEN: return "given";
+    case CHOLMOD_AMD: return "amd";
+    case CHOLMOD_METIS: return "metis";
+    case CHOLMOD_NESDIS: return "nesdis";
+    case CHOLMOD_COLAMD: return "colamd";
+    case CHOLMOD_POSTORDERED: return "natural-postordered";
+    default: return "unknown";
+  }
+}
+
+//! Zero-copy CHOLMOD view of the (compressed) upper triangle; stype = +1 makes CHOLMOD read only it.
+cholmod_sparse sparse_view(const SpMat& upper) {
+  cholmod_sparse A{};
+  A.nrow = std::size_t(upper.rows());
+  A.ncol = std::size_t(upper.cols());
+  A.nzmax = std::size_t(upper.nonZeros());
+  A.p = const_cast<int*>(upper.outerIndexPtr());
+  A.i = const_cast<int*>(upper.innerIndexPtr());
+  A.nz = nullptr;
+  A.x = const_cast<double*>(upper.valuePtr());
+  A.z = nullptr;
+  A.stype = 1;
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_REAL;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
+
+cholmod_dense dense_view(const DenseMat& B) {
+  cholmod_dense D{};
+  D.nrow = std::size_t(B.rows());
+  D.ncol = std::size_t(B.cols());
+  D.nzmax = D.nrow * D.ncol;
+  D.d = D.nrow;
+  D.x = const_cast<double*>(B.data());
+  D.z = nullptr;
+  D.xtype = CHOLMOD_REAL;
+  D.dtype = CHOLMOD_DOUBLE;
+  return D;
+}
+
+//! AMD on the compressed block graph (node I = unknowns b*I .. b*I+b-1), expanded to a full permutation:
+//! the graph is b^2 times smaller than the scalar one, so the ordering costs a fraction.
+std::vector<int> block_amd_permutation(const SpMat& upper, int b) {
+  const int n = int(upper.cols());
+  const int nb = n / b;
+  // Pass 1: distinct off-diagonal block rows of each block column (upper triangle as stored).
+  std::vector<int> mark(std::size_t(nb), -1);
+  std::vector<int> up(std::size_t(nb) + 1, 0), ui;
+  ui.reserve(std::size_t(upper.nonZeros()) / std::size_t(b * b) + std::size_t(nb));
+  for (int J = 0; J < nb; ++J) {
+    for (int c = 0; c < b; ++c) {
+      const int j = J * b + c;
+      for (int p = upper.outerIndexPtr()[j]; p < upper.outerIndexPtr()[j + 1]; ++p) {
+        const int I = upper.innerIndexPtr()[p] / b;
+        if (I != J && mark[std::size_t(I)] != J) {
+          mark[std::size_t(I)] = J;
+          ui.push_back(I);
+        }
+      }
+    }
+    up[std::size_t(J) + 1] = int(ui.size());
+  }
+  // Pass 2: symmetrize (AMD wants both triangles), then drop duplicates and sort each column.
+  std::vector<int> cnt(std::size_t(nb) + 1, 0);
+  for (int J = 0; J < nb; ++J)
+    for (int p = up[std::size_t(J)]; p < up[std::size_t(J) + 1]; ++p) {
+      ++cnt[std::size_t(J) + 1];
+      ++cnt[std::size_t(ui[std::size_t(p)]) + 1];
+    }
+  for (int J = 0; J < nb; ++J) cnt[std::size_t(J) + 1] += cnt[std::size_t(J)];
+  std::vector<int> Ai(std::size_t(cnt[std::size_t(nb)]));
+  std::vector<int> next(cnt.begin(), cnt.end() - 1);
+  for (int J = 0; J < nb; ++J)
+    for (int p = up[std::size_t(J)]; p < up[std::size_t(J) + 1]; ++p) {
+      const int I = ui[std::size_t(p)];
+      Ai[std::size_t(next[std::size_t(J)]++)] = I;
+      Ai[std::size_t(next[std::size_t(I)]++)] = J;
+    }
+  std::vector<int> Ap(std::size_t(nb) + 1, 0);
+  std::fill(mark.begin(), mark.end(), -1);
+  int w = 0;
+  for (int J = 0; J < nb; ++J) {
+    const int start = w;
+    for (int p = cnt[std::size_t(J)]; p < cnt[std::size_t(J) + 1]; ++p) {
+      const int I = Ai[std::size_t(p)];
+      if (mark[std::size_t(I)] != J) {
+        mark[std::size_t(I)] = J;
+        Ai[std::size_t(w++)] = I;
+      }
+    }
+    std::sort(Ai.begin() + start, Ai.begin() + w);
+    Ap[std::size_t(J) + 1] = w;
+  }
+  std::vector<int> P(static_cast<std::size_t>(nb));
+  double info[AMD_INFO];
+  const int status = amd_order(nb, Ap.data(), Ai.data(), P.data(), nullptr, info);
+  if (status != AMD_OK && status != AMD_OK_BUT_JUMBLED)
+    throw SolverError(fmt::format("amd_order on the {}x{} block graph failed (status {})", nb, nb, status));
+  std::vector<int> perm(static_cast<std::size_t>(n));
+  for (int i = 0; i < nb; ++i)
+    for (int c = 0; c < b; ++c) perm[std::size_t(b * i + c)] = b * P[std::size_t(i)] + c;
+  return perm;
+}
+
+class CholmodSolver final : public LinearSolver {
+ public:
+  CholmodSolver(bool supernodal, const SolverOptions& options) : supernodal_(supernodal), options_(options) {
+    static const char* const kOrderings[] = {"default", "amd", "metis", "nesdis", "natural"};
+    if (std::find_if(std::begin(kOrderings), std::end(kOrderings),
+                     [&](const char* o) { return options.ordering == o; }) == std::end(kOrderings))
+      throw Error(fmt::format("{}: unknown ordering '{}' (valid: default, amd, metis, nesdis, natural)", name(),
+                              options.ordering));
+    if (options.block_size < 1) throw Error(fmt::format("{}: block_size must be >= 1", name()));
+    cholmod_start(&cc_);
+    cc_.print = 0;  // failures surface as SolverError, not as stderr chatter
+    cc_.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+    cc_.final_ll = supernodal;  // supernodal is LL^T anyway; simplicial stays LDL^T
+  }
+  CholmodSolver(const CholmodSolver&) = delete;
+  CholmodSolver& operator=(const CholmodSolver&) = delete;
+  ~CholmodSolver() override {
+    free_factor();
+    if (X_) cholmod_free_dense(&X_, &cc_);
+    if (Y_) cholmod_free_dense(&Y_, &cc_);
+    if (E_) cholmod_free_dense(&E_, &cc_);
+    cholmod_finish(&cc_);
+  }
+
+  std::string name() const override { return supernodal_ ? "cholmod_supernodal" : "cholmod_simplicial_ldlt"; }
+
+  void analyze(const SpMat& upper_in) override {
+    check_square(upper_in, name());
+    SpMat storage;
+    const SpMat& upper = compressed(upper_in, storage);
+    free_factor();
+    const int n = int(upper.cols());
+    const int b = options_.block_size;
+    const bool blocked = b > 1 && n % b == 0 && (options_.ordering == "default" || options_.ordering == "amd");
+    cholmod_sparse A = sparse_view(upper);
+    cc_.postorder = true;
+    if (blocked) {
+      const std::vector<int> perm = block_amd_permutation(upper, b);
+      cc_.nmethods = 1;
+      cc_.method[0].ordering = CHOLMOD_GIVEN;
+      L_ = cholmod_analyze_p(&A, const_cast<int*>(perm.data()), nullptr, 0, &cc_);
+    } else {
+      if (options_.ordering == "default") {
+        cc_.nmethods = 0;  // CHOLMOD's default: AMD, METIS too when AMD's fill is high
+      } else {
+        cc_.nmethods = 1;
+        cc_.method[0].ordering = options_.ordering == "amd"      ? CHOLMOD_AMD
+                                 : options_.ordering == "metis"  ? CHOLMOD_METIS
+                                 : options_.ordering == "nesdis" ? CHOLMOD_NESDIS
+                                                                 : CHOLMOD_NATURAL;
+      }
+      L_ = cholmod_analyze(&A, &cc_);
+    }
+    if (!L_ || cc_.status < CHOLMOD_OK)
+      throw SolverError(fmt::format("{}: cholmod_analyze failed: {}", name(), status_name(cc_.status)));
+    guard_.remember(upper);
+    stats_ = FactorStats{};
+    stats_.n = std::size_t(n);
+    stats_.nnz_matrix = std::size_t(upper.nonZeros());
+    stats_.nnz_factor = std::size_t(cc_.lnz);
+    stats_.flops = cc_.fl;
+    stats_.ordering_used = blocked ? fmt::format("amd-block{}", b) : std::string(ordering_name(L_->ordering));
+    stats_.factor_bytes = factor_bytes();
+  }
+
+  void factorize(const SpMat& upper_in) override {
+    SpMat storage;
+    const SpMat& upper = compressed(upper_in, storage);
+    if (!L_)
+      analyze(upper);
+    else
+      guard_.check(upper, name());
+    check_finite_values(upper, name());
+    factored_ = false;
+    cholmod_sparse A = sparse_view(upper);
+    cholmod_factorize(&A, L_, &cc_);
+    const std::size_t n = L_->n;
+    if (cc_.status == CHOLMOD_NOT_POSDEF || L_->minor < n)
+      throw SolverError(fmt::format("CHOLMOD: matrix not positive definite (failed at column {} of {})",
+                                    std::size_t(L_->minor), n));
+    if (cc_.status < CHOLMOD_OK)
+      throw SolverError(fmt::format("{}: cholmod_factorize failed: {}", name(), status_name(cc_.status)));
+    // LDL^T succeeds on indefinite matrices, and a singular PSD matrix may factor with rounding-noise
+    // pivots; both would give garbage solutions, so inspect the pivots.
+    check_pivots(pivots(), static_cast<const int*>(L_->Perm), upper, "CHOLMOD");
+    stats_.factor_bytes = factor_bytes();
+    factored_ = true;
+  }
+
+  void solve(const DenseMat& B, DenseMat& X) override {
+    if (!factored_) throw SolverError(fmt::format("{}: solve() before a successful factorize()", name()));
+    check_rhs(B, Index(L_->n), name());
+    cholmod_dense Bv = dense_view(B);
+    // Reused X/Y/E workspaces: no allocation per frame once the RHS width is stable.
+    if (!cholmod_solve2(CHOLMOD_A, L_, &Bv, nullptr, &X_, nullptr, &Y_, &E_, &cc_) || !X_)
+      throw SolverError(fmt::format("{}: cholmod_solve2 failed: {}", name(), status_name(cc_.status)));
+    X.resize(B.rows(), B.cols());
+    const double* x = static_cast<const double*>(X_->x);
+    for (Eigen::Index c = 0; c < B.cols(); ++c)
+      std::memcpy(X.col(c).data(), x + std::size_t(c) * X_->d, sizeof(double) * std::size_t(B.rows()));
+    check_finite_result(X, name());
+  }
+
+  FactorStats stats() const override { return stats_; }
+
+ private:
+  void free_factor() {
+    if (L_) cholmod_free_factor(&L_, &cc_);
+    factored_ = false;
+  }
+
+  //! Pivots in factor order: D for LDL^T, diag(L)^2 for LL^T (simplicial or supernodal layout).
+  std::vector<double> pivots() const {
+    const std::size_t n = L_->n;
+    std::vector<double> d(n);
+    const double* Lx = static_cast<const double*>(L_->x);
+    if (L_->is_super) {
+      const int* super = static_cast<const int*>(L_->super);
+      const int* pi = static_cast<const int*>(L_->pi);
+      const int* px = static_cast<const int*>(L_->px);
+      for (std::size_t s = 0; s < L_->nsuper; ++s) {
+        const int nsrow = pi[s + 1] - pi[s];
+        for (int j = super[s]; j < super[s + 1]; ++j) {
+          const int c = j - super[s];
+          const double l = Lx[std::size_t(px[s]) + std::size_t(c) + std::size_t(c) * std::size_t(nsrow)];
+          d[std::size_t(j)] = l * l;
+        }
+      }
+    } else {
+      const int* Lp = static_cast<const int*>(L_->p);
+      for (std::size_t j = 0; j < n; ++j) d[j] = L_->is_ll ? Lx[Lp[j]] * Lx[Lp[j]] : Lx[Lp[j]];
+    }
+    return d;
+  }
+
+  //! Bytes of every array the factor holds (int indices: itype is CHOLMOD_INT here).
+  std::size_t factor_bytes() const {
+    if (!L_) return 0;
+    const std::size_t ib = L_->itype == CHOLMOD_LONG ? 8 : 4;
+    const std::size_t n = L_->n;
+    std::size_t bytes = 2 * n * ib;  // Perm, ColCount
+    if (L_->IPerm) bytes += n * ib;
+    if (L_->is_super) {
+      bytes += 3 * (L_->nsuper + 1) * ib + L_->ssize * ib;  // super, pi, px; s
+      if (L_->x) bytes += L_->xsize * sizeof(double);
+    } else if (L_->x) {
+      bytes += (n + 1) * ib + L_->nzmax * (ib + sizeof(double)) + n * ib + 2 * (n + 2) * ib;  // p, i+x, nz, next/prev
+    }
+    return bytes;
+  }
+
+  bool supernodal_;
+  SolverOptions options_;
+  cholmod_common cc_{};
+  cholmod_factor* L_ = nullptr;
+  cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;
+  PatternGuard guard_;
+  FactorStats stats_;
+  bool factored_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> backends::make_cholmod(bool supernodal, const SolverOptions& options) {
+  return std::make_unique<CholmodSolver>(supernodal, options);
+}
+
+}  // namespace db

@@ -1,0 +1,65 @@
+#pragma once
+//! One interface for every linear solver backend, in the shape of Eigen's sparse solver concept:
+//! analyze(pattern) once per sparsity pattern, factorize(values) once per edit, solve(B) every frame.
+//! Systems are symmetric; they are passed as the UPPER triangle in CSC (what CHOLMOD's stype=+1 reads).
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace db {
+
+struct SolverOptions {
+  //! Fill-reducing ordering for sparse direct backends: "amd", "metis", "nesdis", "natural", or
+  //! "default" (the backend's own choice; CHOLMOD: AMD, plus METIS when AMD's fill is high).
+  std::string ordering = "default";
+  //! When > 1 the unknowns come in interleaved blocks of this size sharing one pattern (x,y,z of a
+  //! vertex); backends may order the compressed block graph and expand it (cheaper analysis).
+  int block_size = 1;
+  //! Iterative backends: relative residual tolerance and iteration cap.
+  double tolerance = 1e-10;
+  int max_iterations = 10000;
+};
+
+struct FactorStats {
+  std::size_t n = 0;
+  std::size_t nnz_matrix = 0;  //!< stored nonzeros of the input (upper triangle)
+  std::size_t nnz_factor = 0;  //!< nonzeros of L (or L+U); 0 for iterative
+  double flops = 0;            //!< factorization flops where the backend reports them, else 0
+  std::size_t factor_bytes = 0;  //!< bytes held by the factor (values + indices)
+  std::string ordering_used;
+  int iterations = 0;          //!< iterative backends: iterations of the last solve
+  double achieved_tolerance = 0;
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  virtual std::string name() const = 0;
+  //! Symbolic phase from the pattern of A (upper triangle, CSC).
+  virtual void analyze(const SpMat& upper) = 0;
+  //! Numeric phase. \throw SolverError with the reason (e.g. "not positive definite at column k").
+  virtual void factorize(const SpMat& upper) = 0;
+  //! X = A^{-1} B for any number of columns. \throw SolverError on a non-finite result or no convergence.
+  virtual void solve(const DenseMat& B, DenseMat& X) = 0;
+  virtual FactorStats stats() const = 0;
+};
+
+//! Backend by name; see solver_names(). \throw Error for an unknown name (the message lists the valid ones).
+std::unique_ptr<LinearSolver> make_solver(const std::string& name, const SolverOptions& options = {});
+//! Every registered backend name.
+std::vector<std::string> solver_names();
+
+//! What callers (tables, the conformance test) need to know about a registered backend.
+struct SolverInfo {
+  std::string name;
+  std::string family;  //!< "sparse-cholesky", "sparse-lu", "dense", "iterative"
+  bool requires_spd = true;  //!< factorize() throws SolverError on indefinite / singular input
+  std::vector<std::string> orderings;  //!< values of SolverOptions::ordering it accepts
+};
+//! \throw Error for an unknown name.
+SolverInfo solver_info(const std::string& name);
+
+}  // namespace db

@@ -1,0 +1,51 @@
+//! Name -> factory table of every backend.
+#include <functional>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "solvers/backends.h"
+#include "solvers/linear_solver.h"
+
+namespace db {
+namespace {
+
+using Factory = std::function<std::unique_ptr<LinearSolver>(const SolverOptions&)>;
+
+struct Entry {
+  SolverInfo info;
+  Factory make;
+};
+
+const std::vector<Entry>& table() {
+  static const std::vector<std::string> kCholmodOrderings = {"default", "amd", "metis", "nesdis", "natural"};
+  static const std::vector<Entry> entries = {
+      {{"cholmod_supernodal", "sparse-cholesky", true, kCholmodOrderings},
+       [](const SolverOptions& o) { return backends::make_cholmod(true, o); }},
+      {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},
+       [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
+  };
+  return entries;
+}
+
+const Entry& find(const std::string& name) {
+  for (const Entry& e : table())
+    if (e.info.name == name) return e;
+  throw Error(fmt::format("unknown solver '{}' (valid: {})", name, fmt::join(solver_names(), ", ")));
+}
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_solver(const std::string& name, const SolverOptions& options) {
+  return find(name).make(options);
+}
+
+std::vector<std::string> solver_names() {
+  std::vector<std::string> names;
+  for (const Entry& e : table()) names.push_back(e.info.name);
+  return names;
+}
+
+SolverInfo solver_info(const std::string& name) { return find(name).info; }
+
+}  // namespace db

@@ -1,0 +1,113 @@
+#include "solvers/solver_util.h"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace db::solver_util {
+
+void check_square(const SpMat& upper, const std::string& who) {
+  if (upper.rows() != upper.cols())
+    throw SolverError(fmt::format("{}: matrix is {} x {}, expected square", who, upper.rows(), upper.cols()));
+}
+
+void check_finite_values(const SpMat& upper, const std::string& who) {
+  for (Index j = 0; j < upper.outerSize(); ++j)
+    for (SpMat::InnerIterator it(upper, j); it; ++it)
+      if (!std::isfinite(it.value()))
+        throw SolverError(fmt::format("{}: non-finite matrix entry {} at ({}, {})", who, it.value(), it.row(), j));
+}
+
+void check_rhs(const DenseMat& B, Index n, const std::string& who) {
+  if (B.rows() != n)
+    throw SolverError(fmt::format("{}: right-hand side has {} rows, system has {}", who, B.rows(), n));
+}
+
+void check_finite_result(const DenseMat& X, const std::string& who) {
+  if (!X.allFinite()) {
+    Eigen::Index bad = 0;
+    for (; bad < X.size(); ++bad)
+      if (!std::isfinite(X.data()[bad])) break;
+    throw SolverError(fmt::format("{}: solution is not finite (entry {} of column {} is {})", who,
+                                  bad % X.rows(), bad / X.rows(), X.data()[bad]));
+  }
+}
+
+void check_dense_budget(Index n, const std::string& who) {
+  if (n > kMaxDenseUnknowns)
+    throw BudgetError(fmt::format("{}: {} unknowns would need a {:.1f} GB dense matrix (limit {} unknowns)", who, n,
+                                  double(n) * double(n) * 8.0 / 1e9, kMaxDenseUnknowns));
+}
+
+const SpMat& compressed(const SpMat& m, SpMat& storage) {
+  if (m.isCompressed()) return m;
+  storage = m;
+  storage.makeCompressed();
+  return storage;
+}
+
+SpMat full_from_upper(const SpMat& upper) {
+  SpMat full = upper.selfadjointView<Eigen::Upper>();
+  full.makeCompressed();
+  return full;
+}
+
+DenseMat dense_from_upper(const SpMat& upper) {
+  DenseMat dense = DenseMat::Zero(upper.rows(), upper.cols());
+  for (Index j = 0; j < upper.outerSize(); ++j)
+    for (SpMat::InnerIterator it(upper, j); it; ++it) {
+      if (it.row() > j) continue;  // the contract passes the upper triangle; ignore anything below
+      dense(it.row(), j) = it.value();
+      dense(j, it.row()) = it.value();
+    }
+  return dense;
+}
+
+void PatternGuard::remember(const SpMat& upper) {
+  const Index n = Index(upper.cols());
+  outer_.assign(upper.outerIndexPtr(), upper.outerIndexPtr() + n + 1);
+  inner_.assign(upper.innerIndexPtr(), upper.innerIndexPtr() + upper.nonZeros());
+}
+
+void PatternGuard::check(const SpMat& upper, const std::string& who) const {
+  const std::size_t n = std::size_t(upper.cols());
+  const bool same = outer_.size() == n + 1 && inner_.size() == std::size_t(upper.nonZeros()) &&
+                    std::equal(outer_.begin(), outer_.end(), upper.outerIndexPtr()) &&
+                    std::equal(inner_.begin(), inner_.end(), upper.innerIndexPtr());
+  if (!same)
+    throw SolverError(fmt::format("{}: factorize() got a different sparsity pattern than analyze() "
+                                  "(n {} vs {}, nnz {} vs {}); call analyze() again",
+                                  who, n, outer_.empty() ? 0 : outer_.size() - 1, upper.nonZeros(), inner_.size()));
+}
+
+void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who) {
+  const Index n = Index(upper.cols());
+  DenseVec diag = DenseVec::Zero(n);
+  for (Index j = 0; j < n; ++j)
+    for (SpMat::InnerIterator it(upper, j); it; ++it)
+      if (it.row() == j) diag(j) += it.value();
+  const double bound = kSingularPivotFactor * double(n) * std::numeric_limits<double>::epsilon();
+  for (Index k = 0; k < n; ++k) {
+    const double d = pivots[std::size_t(k)];
+    const double a = diag(perm ? perm[k] : k);
+    if (!(d > 0) || !(a > 0))
+      throw SolverError(fmt::format("{}: matrix not positive definite (pivot {:.3g} at column {} of {})", who, d, k, n));
+    if (d / a < bound)
+      throw SolverError(fmt::format("{}: matrix numerically singular (pivot {:.3g} at column {} of {} is {:.2g} "
+                                    "of its diagonal entry)", who, d, k, n, d / a));
+  }
+}
+
+double cholesky_flops(const int* col_ptr, Index n) {
+  double fl = 0;
+  for (Index j = 0; j < n; ++j) {
+    const double c = col_ptr[j + 1] - col_ptr[j];
+    fl += c * c;
+  }
+  return fl;
+}
+
+}  // namespace db::solver_util

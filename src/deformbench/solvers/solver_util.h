@@ -1,0 +1,61 @@
+#pragma once
+//! Helpers shared by the solver backends (not part of the public solver contract).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace db::solver_util {
+
+//! Largest system a dense backend accepts: 16000^2 doubles = 2 GB; beyond that refuse instead of allocating.
+constexpr Index kMaxDenseUnknowns = 16000;
+
+//! \throw SolverError unless `upper` is square.
+void check_square(const SpMat& upper, const std::string& who);
+//! \throw SolverError naming the first NaN/Inf entry of the matrix values.
+void check_finite_values(const SpMat& upper, const std::string& who);
+//! \throw SolverError when B's row count does not match n.
+void check_rhs(const DenseMat& B, Index n, const std::string& who);
+//! \throw SolverError when the solution holds a NaN/Inf (never hand back NaN silently).
+void check_finite_result(const DenseMat& X, const std::string& who);
+//! \throw BudgetError when an n x n dense matrix would exceed kMaxDenseUnknowns.
+void check_dense_budget(Index n, const std::string& who);
+
+//! `m` itself when compressed, else a compressed copy in `storage` (raw CSC views need packed arrays).
+const SpMat& compressed(const SpMat& m, SpMat& storage);
+
+//! Full symmetric matrix from the upper triangle (entries below the diagonal are ignored).
+SpMat full_from_upper(const SpMat& upper);
+//! Dense full symmetric matrix from the upper triangle (call check_dense_budget first).
+DenseMat dense_from_upper(const SpMat& upper);
+
+//! Remembers the pattern given to analyze() so factorize() can refuse a different one
+//! (a factor from a stale symbolic analysis would be silently wrong).
+class PatternGuard {
+ public:
+  void remember(const SpMat& upper);
+  bool empty() const { return outer_.empty(); }
+  //! \throw SolverError when `upper` has another size or pattern than the remembered one.
+  void check(const SpMat& upper, const std::string& who) const;
+
+ private:
+  std::vector<int> outer_, inner_;
+};
+
+//! Cholesky-style flop count from column counts of L (diagonal included): sum_j c_j^2,
+//! the same estimate CHOLMOD reports in Common->fl.
+double cholesky_flops(const int* col_ptr, Index n);
+
+//! Pivot test after a Cholesky-type factorization. `pivots[k]` is the k-th pivot in factor order
+//! (L_kk^2 or D_kk), `perm[k]` the original index of that pivot (null: identity).
+//! \throw SolverError "not positive definite" on a pivot <= 0, and "numerically singular" when some
+//! pivot is rounding noise relative to its diagonal entry: d_k / A_kk < kSingularPivotFactor * n * eps.
+//! Why that bound: on singular PSD systems (bi-Laplacian without constraints) the last pivot measured
+//! ~n*eps*A_kk (n = 49 .. 160000), while constrained systems of the same size keep d_k/A_kk >~ 1e-4.
+//! It is a heuristic: a severely ill-conditioned but regular system could be flagged, and a singular
+//! one whose noise pivot lands above the bound passes (its solution is then finite but meaningless).
+void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who);
+constexpr double kSingularPivotFactor = 10.0;
+
+}  // namespace db::solver_util

@@ -1,0 +1,60 @@
+// Naive sparse build (the thesis' first version, section 2.4.1): A assembled from triplets, A^T formed
+// explicitly, A^T A by a general sparse product. Kept as the reference the structured build is measured
+// against, so it deliberately holds every intermediate the straightforward code holds.
+#include "systems/build_detail.h"
+
+namespace db::detail {
+
+NormalSystem build_naive(const EnergyOperator& op, const Unknowns& unk) {
+  const int n = op.num_vertices(), b = op.block(), r = op.rhs_cols(), b2 = b * b;
+  const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
+  using Trip = Eigen::Triplet<double, int>;
+  std::vector<Trip> tu, th;
+  DenseMat target = DenseMat::Zero(rows, r);
+  std::vector<int> cols;
+  std::vector<double> coeffs;
+  double tgt[3];
+  for (int i = 0; i < n; ++i) {
+    op.row(i, cols, coeffs);
+    if (!row_active(cols, unk)) continue;
+    op.target(i, tgt);
+    for (int rr = 0; rr < b; ++rr)
+      for (int col = 0; col < r; ++col) target(b * i + rr, col) = tgt[rr * r + col];
+    for (std::size_t a = 0; a < cols.size(); ++a) {
+      const int ku = unk.unknown_of[cols[a]], kh = unk.hard_of[cols[a]];
+      for (int rr = 0; rr < b; ++rr)
+        for (int c = 0; c < b; ++c) {
+          const double v = coeffs[b2 * a + rr * b + c];
+          if (ku >= 0) tu.emplace_back(b * i + rr, b * ku + c, v);
+          else th.emplace_back(b * i + rr, b * kh + c, v);
+        }
+    }
+  }
+  SpMat Au(rows, static_cast<Eigen::Index>(b) * unk.num_unknowns());
+  SpMat Ah(rows, static_cast<Eigen::Index>(b) * unk.num_hard());
+  Au.setFromTriplets(tu.begin(), tu.end());
+  Ah.setFromTriplets(th.begin(), th.end());
+  const std::size_t triplet_bytes = (tu.capacity() + th.capacity()) * sizeof(Trip);
+  tu = {};
+  th = {};
+  const SpMat At = Au.transpose();
+  SpMat AtA = At * Au;
+  const double w2 = unk.soft_weight * unk.soft_weight;
+  for (int v : unk.soft_vertices)
+    for (int c = 0; c < b; ++c) AtA.coeffRef(b * unk.unknown_of[v] + c, b * unk.unknown_of[v] + c) += w2;
+
+  NormalSystem sys;
+  sys.K = AtA.triangularView<Eigen::Upper>();
+  sys.C = At * Ah;
+  sys.g0 = At * target;
+  sys.held_bytes = {{"triplets", triplet_bytes},
+                    {"A", sparse_bytes(Au) + sparse_bytes(Ah)},
+                    {"At", sparse_bytes(At)},
+                    {"AtA", sparse_bytes(AtA)},
+                    {"K_upper", sparse_bytes(sys.K)},
+                    {"C", sparse_bytes(sys.C)},
+                    {"b", static_cast<std::size_t>(target.size()) * sizeof(double)}};
+  return sys;
+}
+
+}  // namespace db::detail

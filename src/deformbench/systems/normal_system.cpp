@@ -1,0 +1,149 @@
+#include "systems/normal_system.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/timer.h"
+#include "systems/build_detail.h"
+
+namespace db {
+
+Build parse_build(const std::string& s) {
+  if (s == "dense") return Build::Dense;
+  if (s == "naive") return Build::Naive;
+  if (s == "structured") return Build::Structured;
+  throw InputError("unknown build '" + s + "' (expected dense, naive or structured)");
+}
+
+std::string to_string(Build b) {
+  switch (b) {
+    case Build::Dense: return "dense";
+    case Build::Naive: return "naive";
+    case Build::Structured: return "structured";
+  }
+  return "?";
+}
+
+Unknowns make_unknowns(const std::vector<Constraint>& kind, double soft_weight) {
+  Unknowns u;
+  const int n = static_cast<int>(kind.size());
+  u.unknown_of.assign(n, -1);
+  u.hard_of.assign(n, -1);
+  u.soft_weight = soft_weight;
+  for (int v = 0; v < n; ++v) {
+    if (kind[v] == Constraint::Hard) {
+      u.hard_of[v] = static_cast<int>(u.hard_vertices.size());
+      u.hard_vertices.push_back(v);
+    } else {
+      u.unknown_of[v] = static_cast<int>(u.unknown_vertices.size());
+      u.unknown_vertices.push_back(v);
+      if (kind[v] == Constraint::Soft) u.soft_vertices.push_back(v);
+    }
+  }
+  return u;
+}
+
+std::size_t sparse_bytes(const SpMat& m) {
+  return static_cast<std::size_t>(m.nonZeros()) * (sizeof(double) + sizeof(int)) +
+         static_cast<std::size_t>(m.outerSize() + 1) * sizeof(int);
+}
+
+std::size_t NormalSystem::total_held_bytes() const {
+  std::size_t s = 0;
+  for (auto& kv : held_bytes) s += kv.second;
+  return s;
+}
+
+namespace detail {
+
+StencilCounts count_stencil(const EnergyOperator& op, const Unknowns& unk) {
+  const Adjacency& adj = op.adjacency();
+  const int n = adj.num_vertices();
+  const std::size_t b2 = static_cast<std::size_t>(op.block()) * op.block();
+  StencilCounts c;
+  for (int i = 0; i < n; ++i) {
+    bool active = unk.unknown_of[i] >= 0;
+    for (const int* p = adj.begin(i); p != adj.end(i) && !active; ++p) active = unk.unknown_of[*p] >= 0;
+    if (!active) continue;
+    ++c.rows;
+    const std::size_t nu = (unk.unknown_of[i] >= 0) +
+                           std::count_if(adj.begin(i), adj.end(i), [&](int k) { return unk.unknown_of[k] >= 0; });
+    const std::size_t m = adj.degree(i) + 1;
+    c.nnz_Au += nu * b2;
+    c.nnz_Ah += (m - nu) * b2;
+  }
+  // K's block pattern: unknown pairs within distance 2; C's: unknown-hard pairs within distance 2.
+  std::vector<int> mark(n, -1);
+  const int b = op.block();
+  for (int k = 0; k < n; ++k) {
+    if (unk.unknown_of[k] < 0) continue;
+    std::size_t blocks_u = 0, blocks_h = 0;
+    auto visit = [&](int j) {
+      if (mark[j] == k) return;
+      mark[j] = k;
+      if (unk.unknown_of[j] >= 0) ++blocks_u;
+      else ++blocks_h;
+    };
+    visit(k);
+    for (const int* p = adj.begin(k); p != adj.end(k); ++p) {
+      visit(*p);
+      for (const int* q = adj.begin(*p); q != adj.end(*p); ++q) visit(*q);
+    }
+    c.nnz_K_full += blocks_u * b2;
+    c.nnz_C += blocks_h * b2;
+  }
+  const std::size_t nu = static_cast<std::size_t>(unk.num_unknowns()) * b;
+  c.nnz_K_upper = (c.nnz_K_full + nu) / 2;
+  return c;
+}
+
+}  // namespace detail
+
+std::size_t predict_build_bytes(const EnergyOperator& op, const Unknowns& unk, Build build) {
+  const auto c = detail::count_stencil(op, unk);
+  const std::size_t b = op.block();
+  const std::size_t nu = b * unk.num_unknowns(), nh = b * unk.num_hard(), rows = b * op.num_vertices();
+  const std::size_t e = sizeof(double) + sizeof(int);
+  const std::size_t rhs = rows * op.rhs_cols() * sizeof(double);
+  switch (build) {
+    case Build::Dense:
+      // A_u, A_h, b, K, C and the dense Cholesky factor's own copy of K.
+      return sizeof(double) * (rows * nu + rows * nh + 2 * nu * nu + nu * nh) + rhs;
+    case Build::Naive:
+      // triplets (row, col, value), A_u + A_h, A_u^T, full A^T A, its upper triangle, C.
+      return (c.nnz_Au + c.nnz_Ah) * (2 * sizeof(int) + sizeof(double)) + (c.nnz_Au + c.nnz_Ah) * e +
+             c.nnz_Au * e + c.nnz_K_full * e + c.nnz_K_upper * e + c.nnz_C * e + rhs;
+    case Build::Structured:
+      return c.nnz_K_upper * e + c.nnz_C * e + nu * op.rhs_cols() * sizeof(double);
+  }
+  return 0;
+}
+
+NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, Build build,
+                                 std::size_t byte_budget) {
+  if (static_cast<int>(unk.unknown_of.size()) != op.num_vertices())
+    throw InputError("constraint classification does not match the mesh size");
+  if (unk.num_unknowns() == 0) throw InputError("nothing to solve for: every vertex is hard-constrained");
+  if (byte_budget > 0) {
+    const std::size_t predicted = predict_build_bytes(op, unk, build);
+    if (predicted > byte_budget)
+      throw BudgetError(fmt::format("{} build of the {} system needs about {:.1f} MB, over the budget of {:.1f} MB",
+                                    to_string(build), to_string(op.kind()), predicted / 1e6, byte_budget / 1e6));
+  }
+  Timer t;
+  NormalSystem sys;
+  switch (build) {
+    case Build::Dense: sys = detail::build_dense(op, unk); break;
+    case Build::Naive: sys = detail::build_naive(op, unk); break;
+    case Build::Structured: sys = detail::build_structured(op, unk); break;
+  }
+  sys.build = build;
+  sys.block = op.block();
+  sys.rhs_cols = op.rhs_cols();
+  sys.build_seconds = t.seconds();
+  return sys;
+}
+
+}  // namespace db

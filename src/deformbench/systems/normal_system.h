@@ -1,0 +1,74 @@
+#pragma once
+//! Normal equations of a constrained Laplacian-type energy, in the precompute / per-frame split of
+//! interactive editing. Unknowns are the vertices not hard-constrained ("free" and "soft"):
+//!
+//!   min ||A_u x_u + A_h x_h - b||^2 + sum_{soft s} w^2 ||x_s - u_s||^2
+//!   =>  (A_u^T A_u + W) x_u = A_u^T b - (A_u^T A_h) x_h + W u        (W = w^2 on soft vertices)
+//!         \_____ K _____/     \_ g0 _/   \___ C ___/
+//!
+//! K (upper triangle), C and g0 are built once per edit; per frame only x_h and u change.
+//! Three builds give the same K (the thesis Table 2-1 comparison):
+//!  - structured: K from the 2-ring stencil of the adjacency, A never stored;
+//!  - naive sparse: A assembled from triplets, A^T formed explicitly, A^T A by a sparse product;
+//!  - dense: A and A^T A as dense matrices.
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/types.h"
+#include "operators/energy_operator.h"
+
+namespace db {
+
+enum class Build { Dense, Naive, Structured };
+Build parse_build(const std::string& s);  //!< "dense" | "naive" | "structured"
+std::string to_string(Build b);
+
+//! How each vertex enters the system.
+enum class Constraint : unsigned char { Free, Hard, Soft };
+
+//! Vertex -> unknown numbering. Unknown vertex u occupies scalar rows block*u .. block*u+block-1.
+struct Unknowns {
+  std::vector<int> unknown_of;  //!< per vertex: unknown index, or -1 when hard-constrained
+  std::vector<int> hard_of;     //!< per vertex: index among hard vertices, or -1
+  std::vector<int> unknown_vertices, hard_vertices;
+  std::vector<int> soft_vertices;  //!< subset of unknowns with a soft (weighted) target
+  double soft_weight = 1.0;
+
+  int num_unknowns() const { return static_cast<int>(unknown_vertices.size()); }
+  int num_hard() const { return static_cast<int>(hard_vertices.size()); }
+};
+Unknowns make_unknowns(const std::vector<Constraint>& kind, double soft_weight);
+
+struct NormalSystem {
+  Build build = Build::Structured;
+  int block = 1;     //!< 1 (LAP) or 3 (TF)
+  int rhs_cols = 3;  //!< 3 (LAP: x, y, z) or 1 (TF)
+  SpMat K;           //!< upper triangle of A_u^T A_u + W, (block*#unknowns)^2; sparse builds
+  SpMat C;           //!< A_u^T A_h, block*#unknowns x block*#hard; sparse builds
+  DenseMat K_dense;  //!< dense build: full A_u^T A_u + W
+  DenseMat C_dense;  //!< dense build
+  DenseMat g0;       //!< A_u^T b, block*#unknowns x rhs_cols
+
+  //! Bytes of every matrix the build held at its peak (name -> bytes), e.g. {"A", ...}, {"At", ...}.
+  std::vector<std::pair<std::string, std::size_t>> held_bytes;
+  double build_seconds = 0;
+
+  std::size_t n() const { return build == Build::Dense ? K_dense.rows() : K.rows(); }
+  //! Sum of held_bytes.
+  std::size_t total_held_bytes() const;
+};
+
+//! Builds the normal system. \throw BudgetError when `byte_budget` > 0 and the predicted bytes of the
+//! build exceed it (checked before allocating).
+NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, Build build,
+                                 std::size_t byte_budget = 0);
+
+//! Predicted peak bytes of the matrices a build holds, from the adjacency alone (no allocation).
+std::size_t predict_build_bytes(const EnergyOperator& op, const Unknowns& unk, Build build);
+
+//! Bytes of a compressed sparse matrix (values, inner indices, outer pointers).
+std::size_t sparse_bytes(const SpMat& m);
+
+}  // namespace db

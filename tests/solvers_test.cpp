@@ -1,0 +1,290 @@
+// Conformance of every registered solver backend (TEST_P over solver_names()), plus backend specifics.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "solvers/linear_solver.h"
+
+namespace {
+
+using db::DenseMat;
+using db::SpMat;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+//! Weighted graph Laplacian of an nx x ny grid triangulated with one diagonal per quad
+//! (6 neighbours inside, like a regular triangle mesh); `torus` wraps both directions.
+SpMat mesh_laplacian(int nx, int ny, bool torus, std::mt19937& rng) {
+  std::uniform_real_distribution<double> weight(0.5, 2.0);
+  const int n = nx * ny;
+  Triplets t;
+  auto id = [&](int i, int j) { return ((i + nx) % nx) + nx * ((j + ny) % ny); };
+  auto edge = [&](int a, int b) {
+    const double w = weight(rng);
+    t.emplace_back(a, b, -w);
+    t.emplace_back(b, a, -w);
+    t.emplace_back(a, a, w);
+    t.emplace_back(b, b, w);
+  };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const bool right = torus || i + 1 < nx, up = torus || j + 1 < ny;
+      if (right) edge(id(i, j), id(i + 1, j));
+      if (up) edge(id(i, j), id(i, j + 1));
+      if (right && up) edge(id(i, j), id(i + 1, j + 1));
+    }
+  SpMat L(n, n);
+  L.setFromTriplets(t.begin(), t.end());
+  return L;
+}
+
+//! L^T L + diag(w^2) on a few constrained vertices: the bi-Laplacian normal equations (2-ring pattern).
+SpMat normal_equations(const SpMat& L, int constrained, std::mt19937& rng) {
+  SpMat A = SpMat(L.transpose()) * L;
+  std::uniform_int_distribution<int> vertex(0, int(L.rows()) - 1);
+  for (int k = 0; k < constrained; ++k) {
+    const int v = vertex(rng);
+    A.coeffRef(v, v) += 4.0;  // w = 2
+  }
+  A.makeCompressed();
+  return A;
+}
+
+//! kron(A, S) with a 3x3 SPD S: unknowns interleaved x,y,z per vertex, as in transform-fitted systems.
+SpMat kron3(const SpMat& A) {
+  Eigen::Matrix3d S;
+  S << 2.0, 0.3, -0.2, 0.3, 1.5, 0.1, -0.2, 0.1, 1.0;
+  Triplets t;
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SpMat::InnerIterator it(A, j); it; ++it)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) t.emplace_back(3 * it.row() + a, 3 * j + b, it.value() * S(a, b));
+  SpMat K(3 * A.rows(), 3 * A.cols());
+  K.setFromTriplets(t.begin(), t.end());
+  return K;
+}
+
+SpMat upper_of(const SpMat& full) {
+  SpMat U = full.triangularView<Eigen::Upper>();
+  U.makeCompressed();
+  return U;
+}
+
+DenseMat random_rhs(Eigen::Index n, int k, std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  DenseMat B(n, k);
+  for (Eigen::Index i = 0; i < B.size(); ++i) B.data()[i] = g(rng);
+  return B;
+}
+
+struct Problem {
+  std::string label;
+  SpMat full;
+  int block_size;
+};
+
+std::vector<Problem> problems() {
+  std::mt19937 rng(12345);
+  std::vector<Problem> p;
+  p.push_back({"torus9x8", normal_equations(mesh_laplacian(9, 8, true, rng), 3, rng), 1});
+  p.push_back({"grid12x7", normal_equations(mesh_laplacian(12, 7, false, rng), 2, rng), 1});
+  p.push_back({"torus6x5_block3", kron3(normal_equations(mesh_laplacian(6, 5, true, rng), 4, rng)), 3});
+  return p;
+}
+
+double rel(const DenseMat& a, const DenseMat& b) { return (a - b).norm() / b.norm(); }
+
+class Conformance : public ::testing::TestWithParam<std::string> {
+ protected:
+  db::SolverInfo info() const { return db::solver_info(GetParam()); }
+  db::SolverOptions options(const std::string& ordering, int block) const {
+    db::SolverOptions o;
+    o.ordering = ordering;
+    o.block_size = block;
+    o.tolerance = 1e-12;
+    return o;
+  }
+  bool iterative() const { return info().family == "iterative"; }
+};
+
+TEST_P(Conformance, SolvesMeshSystems) {
+  const db::SolverInfo si = info();
+  const double tol = iterative() ? 1e-6 : 1e-8;
+  std::mt19937 rng(7);
+  for (const Problem& pr : problems()) {
+    const SpMat upper = upper_of(pr.full);
+    const DenseMat dense = DenseMat(pr.full);
+    for (const std::string& ordering : si.orderings)
+      for (int block : {1, pr.block_size}) {
+        SCOPED_TRACE(fmt::format("{} ordering={} block={}", pr.label, ordering, block));
+        auto solver = db::make_solver(GetParam(), options(ordering, block));
+        EXPECT_EQ(solver->name(), GetParam());
+        solver->analyze(upper);
+        // Two numeric factorizations on one analysis: the per-edit workflow.
+        for (double scale : {1.0, 2.5}) {
+          SpMat U = upper * scale;
+          const DenseMat B = random_rhs(U.rows(), 3, rng);
+          solver->factorize(U);
+          DenseMat X;
+          solver->solve(B, X);
+          ASSERT_EQ(X.rows(), B.rows());
+          ASSERT_EQ(X.cols(), B.cols());
+          ASSERT_TRUE(X.allFinite());
+          const DenseMat Aref = dense * scale;
+          const DenseMat Xref = Aref.llt().solve(B);
+          EXPECT_LT(rel(Aref * X, B), tol);
+          EXPECT_LT(rel(X, Xref), tol);
+          // One column at a time agrees with the block solve.
+          DenseMat x1;
+          solver->solve(B.col(1), x1);
+          EXPECT_LT(rel(x1, X.col(1)), iterative() ? 1e-6 : 1e-12);
+        }
+        const db::FactorStats st = solver->stats();
+        EXPECT_EQ(st.n, std::size_t(upper.rows()));
+        EXPECT_EQ(st.nnz_matrix, std::size_t(upper.nonZeros()));
+        EXPECT_GT(st.factor_bytes, 0u);
+        if (iterative()) {
+          EXPECT_GT(st.iterations, 0);
+          EXPECT_LE(st.achieved_tolerance, 1e-12);
+        } else {
+          EXPECT_GE(st.nnz_factor, std::size_t(upper.rows()));
+        }
+        if (si.family != "dense" && !iterative()) {
+          EXPECT_FALSE(st.ordering_used.empty());
+        }
+      }
+  }
+}
+
+//! Indefinite: flip the sign of one diagonal entry (then e_k^T A e_k < 0).
+TEST_P(Conformance, IndefiniteIsRejectedOrFinite) {
+  std::mt19937 rng(3);
+  SpMat A = normal_equations(mesh_laplacian(7, 6, true, rng), 3, rng);
+  A.coeffRef(10, 10) = -A.coeffRef(10, 10);
+  const SpMat upper = upper_of(A);
+  auto solver = db::make_solver(GetParam(), options("default", 1));
+  solver->analyze(upper);
+  if (info().requires_spd) {
+    EXPECT_THROW(solver->factorize(upper), db::SolverError);
+    return;
+  }
+  try {  // LU-type / iterative: may solve it, but never hand back NaN
+    solver->factorize(upper);
+    DenseMat X;
+    solver->solve(random_rhs(upper.rows(), 2, rng), X);
+    EXPECT_TRUE(X.allFinite());
+  } catch (const db::SolverError&) {
+  }
+}
+
+//! Singular: the bi-Laplacian of a closed mesh without constraints (constants in the null space),
+//! and a matrix with an empty row/column (exact zero pivot).
+TEST_P(Conformance, SingularIsRejectedOrFinite) {
+  std::mt19937 rng(4);
+  const SpMat L = mesh_laplacian(7, 6, true, rng);
+  SpMat zero_col = normal_equations(L, 3, rng);
+  for (int j = 0; j < zero_col.outerSize(); ++j)
+    for (SpMat::InnerIterator it(zero_col, j); it; ++it)
+      if (it.row() == 5 || j == 5) it.valueRef() = 0;
+  for (const SpMat& A : {SpMat(SpMat(L.transpose()) * L), zero_col}) {
+    const SpMat upper = upper_of(A);
+    auto solver = db::make_solver(GetParam(), options("default", 1));
+    solver->analyze(upper);
+    if (info().requires_spd) {
+      EXPECT_THROW(solver->factorize(upper), db::SolverError);
+      continue;
+    }
+    try {
+      solver->factorize(upper);
+      DenseMat X;
+      solver->solve(random_rhs(upper.rows(), 2, rng), X);
+      EXPECT_TRUE(X.allFinite());
+    } catch (const db::SolverError&) {
+    }
+  }
+}
+
+TEST_P(Conformance, NonFiniteInputIsRejected) {
+  std::mt19937 rng(5);
+  SpMat upper = upper_of(normal_equations(mesh_laplacian(6, 6, true, rng), 3, rng));
+  auto solver = db::make_solver(GetParam(), options("default", 1));
+  solver->analyze(upper);
+  upper.valuePtr()[7] = std::nan("");
+  EXPECT_THROW(solver->factorize(upper), db::SolverError);
+}
+
+TEST_P(Conformance, MisuseIsReported) {
+  std::mt19937 rng(6);
+  const SpMat upper = upper_of(normal_equations(mesh_laplacian(6, 6, true, rng), 3, rng));
+  auto solver = db::make_solver(GetParam(), options("default", 1));
+  DenseMat X;
+  EXPECT_THROW(solver->solve(random_rhs(upper.rows(), 1, rng), X), db::SolverError);  // nothing factored
+  solver->analyze(upper);
+  solver->factorize(upper);
+  EXPECT_THROW(solver->solve(random_rhs(upper.rows() + 1, 1, rng), X), db::SolverError);  // wrong size
+  EXPECT_THROW(db::make_solver(GetParam(), options("no-such-ordering", 1)), db::Error);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllBackends, Conformance, ::testing::ValuesIn(db::solver_names()),
+                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+
+TEST(Registry, UnknownNameListsValidOnes) {
+  try {
+    db::make_solver("no_such_solver");
+    FAIL() << "expected db::Error";
+  } catch (const db::SolverError&) {
+    FAIL() << "an unknown name is a usage error, not a solver failure";
+  } catch (const db::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cholmod_supernodal"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(db::solver_names().empty());
+}
+
+TEST(Cholmod, BlockOrderingMatchesScalarOrdering) {
+  std::mt19937 rng(8);
+  const SpMat upper = upper_of(kron3(normal_equations(mesh_laplacian(10, 9, true, rng), 4, rng)));
+  const DenseMat B = random_rhs(upper.rows(), 3, rng);
+  for (const char* name : {"cholmod_supernodal", "cholmod_simplicial_ldlt"}) {
+    DenseMat X[2];
+    for (int block : {1, 3}) {
+      db::SolverOptions o;
+      o.ordering = "amd";
+      o.block_size = block;
+      auto s = db::make_solver(name, o);
+      s->analyze(upper);
+      s->factorize(upper);
+      s->solve(B, X[block == 3]);
+      EXPECT_EQ(s->stats().ordering_used, block == 3 ? "amd-block3" : "amd") << name;
+    }
+    EXPECT_LT(rel(X[1], X[0]), 1e-12) << name;
+  }
+}
+
+TEST(Cholmod, NotPositiveDefiniteNamesTheColumn) {
+  std::mt19937 rng(9);
+  SpMat A = normal_equations(mesh_laplacian(6, 6, true, rng), 3, rng);
+  A.coeffRef(3, 3) = -1;
+  auto s = db::make_solver("cholmod_supernodal");
+  try {
+    s->factorize(upper_of(A));  // factorize without analyze analyzes implicitly
+    FAIL() << "expected SolverError";
+  } catch (const db::SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("not positive definite (failed at column"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Cholmod, DifferentPatternNeedsAnalyze) {
+  std::mt19937 rng(10);
+  const SpMat a = upper_of(normal_equations(mesh_laplacian(6, 6, true, rng), 3, rng));
+  const SpMat b = upper_of(normal_equations(mesh_laplacian(6, 7, true, rng), 3, rng));
+  auto s = db::make_solver("cholmod_supernodal");
+  s->analyze(a);
+  EXPECT_THROW(s->factorize(b), db::SolverError);
+}
+
+}  // namespace
