@@ -95,8 +95,10 @@ int cmd_deform(const db::Args& a) {
              t.factorize, t.init());
   fmt::print("per frame (median of {}): {:.5f} s (rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames, median_frame,
              t.rhs, t.solve, t.write);
-  fmt::print("matrix {:.2f} MB | factor {:.2f} MB (nnz(L) {}) | peak RSS {:.1f} MB\n", deformer->matrix_bytes() / 1e6,
-             deformer->factor_bytes() / 1e6, sys.factor.nnz_factor, db::peak_rss_bytes() / 1e6);
+  fmt::print("matrix {:.2f} MB | factor {:.2f} MB (nnz(L) {}, {:.2f} GFlop, {:.1f} GFlop/s) | peak RSS {:.1f} MB\n",
+             deformer->matrix_bytes() / 1e6, deformer->factor_bytes() / 1e6, sys.factor.nnz_factor,
+             sys.factor.flops / 1e9, t.factorize > 0 ? sys.factor.flops / 1e9 / t.factorize : 0.0,
+             db::peak_rss_bytes() / 1e6);
   fmt::print("{}\n", db::provenance_summary());
   fmt::print("wrote {}\n", out);
 

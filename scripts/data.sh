@@ -64,12 +64,12 @@ fi
 [[ -x "$MESHTOOL" ]] || die "meshtool not found at $MESHTOOL"
 
 # ---------------------------------------------------------------- CGAL tarballs
-CGAL_DOC=/usr/share/doc/libcgal-dev
+CGAL_DOC=${CGAL_DOC:-/usr/share/doc/libcgal-dev}  # overridable to exercise the fallback
 CACHE=data/cache
 tarball() {  # prints the path of the named libcgal-demo tarball, fetching the package if dpkg dropped the docs
   local name=$1
   if [[ -f "$CGAL_DOC/$name" ]]; then echo "$CGAL_DOC/$name"; return; fi
-  local extracted="$CACHE/libcgal-demo$CGAL_DOC/$name"
+  local extracted="$CACHE/libcgal-demo/usr/share/doc/libcgal-dev/$name"
   if [[ ! -f "$extracted" ]]; then
     mkdir -p "$CACHE"
     # Slim images exclude /usr/share/doc from installs: unpack the .deb ourselves.
@@ -87,7 +87,8 @@ tarball() {  # prints the path of the named libcgal-demo tarball, fetching the p
 # extract TARBALL MEMBER DEST: one member to DEST via a temporary file (never a partial DEST).
 extract() {
   local tb=$1 member=$2 dest=$3 tmp
-  tmp=$(mktemp -d "$ROOT/data/.extract.XXXXXX")
+  mkdir -p "$ROOT/$CACHE"
+  tmp=$(mktemp -d "$ROOT/$CACHE/extract.XXXXXX")  # under data/cache/: git-ignored
   if ! tar -xzf "$tb" -C "$tmp" "$member"; then rm -rf "$tmp"; die "cannot extract $member from $tb"; fi
   mv "$tmp/$member" "$dest"
   rm -rf "$tmp"
@@ -97,13 +98,15 @@ mkdir -p data/meshes data/generated
 for m in "${CGAL_MESHES[@]}"; do
   if [[ ! -f data/meshes/$m.off ]]; then
     log "extracting $m.off"
-    extract "$(tarball data.tar.gz)" "data/meshes/$m.off" "data/meshes/$m.off"
+    tb=$(tarball data.tar.gz) || exit 1
+    extract "$tb" "data/meshes/$m.off" "data/meshes/$m.off"
   fi
 done
 for ext in sel def; do
   if [[ ! -f data/meshes/cactus_cgal.$ext ]]; then
     log "extracting cactus.$ext (CGAL Surface_mesh_deformation example) as cactus_cgal.$ext"
-    extract "$(tarball examples.tar.gz)" "$DEFORM_DIR/cactus.$ext" "data/meshes/cactus_cgal.$ext"
+    tb=$(tarball examples.tar.gz) || exit 1
+    extract "$tb" "$DEFORM_DIR/cactus.$ext" "data/meshes/cactus_cgal.$ext"
   fi
 done
 # CGAL's .sel/.def are already in the Botsch-Sorkine format (0/1/2 per vertex of meshes/cactus.off, 620 lines);
@@ -137,7 +140,8 @@ measure() {
 }
 
 if [[ $WRITE == 1 ]]; then
-  tmp=$(mktemp "$ROOT/data/.manifest.XXXXXX")
+  mkdir -p "$ROOT/$CACHE"
+  tmp=$(mktemp "$ROOT/$CACHE/manifest.XXXXXX")
   echo "name,source,path,vertices,faces,sha256,tier" >"$tmp"
   while IFS='|' read -r name source path tier; do
     if [[ -f $path ]]; then

@@ -164,7 +164,9 @@ TEST(Deform, HardHandleVerticesReachTheirTargetsExactly) {
     const Points out = make_deformer(m, e, opts(method))->deform(T);
     for (int v = 0; v < m.num_vertices(); ++v) {
       const Vec3 want = e.roles[v] == Role::Handle ? apply(T, m.V.row(v).transpose()) : m.V.row(v).transpose();
-      if (e.roles[v] != Role::Free) EXPECT_LT((out.row(v).transpose() - want).norm(), 1e-9);
+      if (e.roles[v] != Role::Free) {
+        EXPECT_LT((out.row(v).transpose() - want).norm(), 1e-9);
+      }
     }
   }
 }

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "solvers/least_squares.h"
 #include "solvers/linear_solver.h"
 
 namespace {
@@ -285,6 +286,65 @@ TEST(Cholmod, DifferentPatternNeedsAnalyze) {
   auto s = db::make_solver("cholmod_supernodal");
   s->analyze(a);
   EXPECT_THROW(s->factorize(b), db::SolverError);
+}
+
+TEST(Dense, RefusesHugeSystemsBeforeAllocating) {
+  SpMat I(16001, 16001);
+  I.setIdentity();
+  for (const char* name : {"dense_llt", "dense_ldlt_bk", "dense_lu"})
+    EXPECT_THROW(db::make_solver(name)->analyze(I), db::BudgetError) << name;
+}
+
+//! [L; w S]: mesh Laplacian rows plus weighted constraint rows (m > n, full column rank).
+SpMat least_squares_matrix(const SpMat& L, const std::vector<int>& constrained, double w) {
+  Triplets t;
+  for (int j = 0; j < L.outerSize(); ++j)
+    for (SpMat::InnerIterator it(L, j); it; ++it) t.emplace_back(it.row(), j, it.value());
+  for (std::size_t k = 0; k < constrained.size(); ++k) t.emplace_back(L.rows() + Eigen::Index(k), constrained[k], w);
+  SpMat A(L.rows() + Eigen::Index(constrained.size()), L.cols());
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+TEST(SpqrLeastSquares, MatchesNormalEquations) {
+  std::mt19937 rng(11);
+  for (const bool torus : {true, false}) {
+    const SpMat A = least_squares_matrix(mesh_laplacian(11, 9, torus, rng), {0, 17, 50, 98}, 2.0);
+    const DenseMat B = random_rhs(A.rows(), 3, rng);
+    db::SpqrLeastSquares qr;
+    qr.factorize(A);
+    DenseMat X;
+    qr.solve(B, X);
+    const DenseMat Ad = DenseMat(A);
+    const DenseMat Xref = (Ad.transpose() * Ad).llt().solve(Ad.transpose() * B);
+    EXPECT_LT(rel(X, Xref), 1e-8);
+    // The same answer through the registered normal-equation backend.
+    const SpMat N = upper_of(SpMat(A.transpose()) * A);
+    auto chol = db::make_solver("cholmod_supernodal");
+    chol->factorize(N);
+    DenseMat Xn;
+    chol->solve(DenseMat(Ad.transpose() * B), Xn);
+    EXPECT_LT(rel(X, Xn), 1e-8);
+    const db::FactorStats st = qr.stats();
+    EXPECT_EQ(st.n, std::size_t(A.cols()));
+    EXPECT_GE(st.nnz_factor, std::size_t(A.cols()));
+    EXPECT_GT(st.flops, 0);
+    EXPECT_GT(st.factor_bytes, 0u);
+    EXPECT_FALSE(st.ordering_used.empty());
+  }
+}
+
+TEST(SpqrLeastSquares, RejectsMisuse) {
+  std::mt19937 rng(12);
+  db::SpqrLeastSquares qr;
+  DenseMat X;
+  EXPECT_THROW(qr.solve(DenseMat::Ones(3, 1), X), db::SolverError);
+  const SpMat L = mesh_laplacian(6, 5, true, rng);
+  EXPECT_THROW(qr.factorize(SpMat(L.topRows(10))), db::SolverError);  // m < n
+  SpMat zero_col = least_squares_matrix(L, {0, 3}, 1.0);
+  zero_col.prune([](int, int c, double) { return c != 7; });  // column 7 empty: rank deficient
+  EXPECT_THROW(qr.factorize(zero_col), db::SolverError);
+  EXPECT_THROW(db::SpqrLeastSquares("bogus"), db::Error);
 }
 
 }  // namespace

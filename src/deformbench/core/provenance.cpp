@@ -1,6 +1,7 @@
 #include "core/provenance.h"
 
 #include <dlfcn.h>
+#include <omp.h>
 
 #include <array>
 #include <cstdio>
@@ -98,6 +99,7 @@ std::vector<std::pair<std::string, std::string>> Provenance::columns() const {
           {"blas_core", blas_core},
           {"blas_coretype_env", blas_coretype_env.empty() ? "auto" : blas_coretype_env},
           {"blas_threads", std::to_string(blas_threads)},
+          {"build_threads", std::to_string(build_threads)},
           {"hardware_threads", std::to_string(hardware_threads)},
           {"cpu", cpu},
           {"compiler", compiler},
@@ -110,6 +112,7 @@ const Provenance& provenance() {
     q.git_sha = git_sha();
     blas_info(q);
     if (const char* e = std::getenv("OPENBLAS_CORETYPE")) q.blas_coretype_env = e;
+    q.build_threads = omp_get_max_threads();
     q.hardware_threads = static_cast<int>(std::thread::hardware_concurrency());
     q.cpu = cpu_model();
 #if defined(__clang__)
@@ -127,9 +130,10 @@ const Provenance& provenance() {
 
 std::string provenance_summary() {
   const auto& p = provenance();
-  return fmt::format("git {} | {} core {} ({}) | {} BLAS threads, {} hw threads", p.git_sha, p.blas, p.blas_core,
+  return fmt::format("git {} | {} core {} ({}) | {} BLAS threads, {} build threads, {} hw threads", p.git_sha,
+                     p.blas, p.blas_core,
                      p.blas_coretype_env.empty() ? "auto-detected" : "OPENBLAS_CORETYPE=" + p.blas_coretype_env,
-                     p.blas_threads, p.hardware_threads);
+                     p.blas_threads, p.build_threads, p.hardware_threads);
 }
 
 }  // namespace db

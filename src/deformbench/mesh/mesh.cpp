@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <numeric>
 
 #include <Eigen/Geometry>
@@ -109,28 +108,9 @@ void validate_mesh(const Mesh& mesh) {
   for (int v = 0; v < nv; ++v)
     if (vf_off[v] == vf_off[v + 1]) throw InputError(fmt::format("{}: vertex {} is isolated (in no face)", who, v));
 
-  // Edges: sort undirected edge keys, a run longer than two is a non-manifold edge.
-  {
-    std::vector<std::uint64_t> keys;
-    keys.reserve(3 * static_cast<std::size_t>(nf));
-    for (int f = 0; f < nf; ++f)
-      for (int c = 0; c < 3; ++c) {
-        const std::uint64_t a = mesh.F(f, c), b = mesh.F(f, (c + 1) % 3);
-        keys.push_back(std::min(a, b) << 32 | std::max(a, b));
-      }
-    std::sort(keys.begin(), keys.end());
-    for (std::size_t i = 0; i < keys.size();) {
-      std::size_t j = i + 1;
-      while (j < keys.size() && keys[j] == keys[i]) ++j;
-      if (j - i > 2)
-        throw InputError(fmt::format("{}: non-manifold edge ({}, {}) shared by {} faces", who, keys[i] >> 32,
-                                     keys[i] & 0xffffffffu, j - i));
-      i = j;
-    }
-  }
-
-  // Vertices: the link (opposite edges of the incident faces) must be connected, i.e. a single fan.
-  // With manifold edges every link vertex has link degree <= 2, so connectivity is the whole test.
+  // Per vertex v, the link: the edge opposite v in each incident face. A link vertex w used by more than two link
+  // edges means edge (v, w) has more than two faces; with manifold edges, the incident faces form a single fan
+  // exactly when the link is connected. Local work only, so O(F log valence) overall.
   std::vector<int> local, parent;
   for (int v = 0; v < nv; ++v) {
     local.clear();
@@ -140,6 +120,14 @@ void validate_mesh(const Mesh& mesh) {
         if (mesh.F(f, c) != v) local.push_back(mesh.F(f, c));
     }
     std::sort(local.begin(), local.end());
+    for (std::size_t i = 0; i < local.size();) {
+      std::size_t j = i + 1;
+      while (j < local.size() && local[j] == local[i]) ++j;
+      if (j - i > 2)
+        throw InputError(fmt::format("{}: non-manifold edge ({}, {}) shared by {} faces", who, std::min(v, local[i]),
+                                     std::max(v, local[i]), j - i));
+      i = j;
+    }
     local.erase(std::unique(local.begin(), local.end()), local.end());
     parent.resize(local.size());
     std::iota(parent.begin(), parent.end(), 0);

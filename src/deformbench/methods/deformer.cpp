@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "methods/laplacian_deformer.h"
+#include "methods/lri.h"
 
 namespace db {
 
@@ -78,7 +79,8 @@ std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, cons
   if (options.method == "lap")
     return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Lap, options);
   if (options.method == "tf") return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Tf, options);
-  throw InputError("unknown method '" + options.method + "' (expected lap or tf)");
+  if (options.method == "lri") return make_lri_deformer(mesh, edit, options);
+  throw InputError("unknown method '" + options.method + "' (expected lap, tf or lri)");
 }
 
 }  // namespace db

@@ -30,70 +30,83 @@ void EnergyOperator::target(int i, double* out) const {
 }
 
 void EnergyOperator::row(int i, std::vector<int>& cols, std::vector<double>& coeffs) const {
-  const int d = adj_.degree(i);
-  const int m = d + 1;
+  const int m = adj_.degree(i) + 1;
   cols.clear();
-  // Position of i among its sorted neighbours keeps cols ascending.
-  std::vector<double> lap(m);
+  coeffs.clear();
+  // Laplacian row first (scalar per column), with i placed among its sorted neighbours so cols ascend.
   {
     bool placed = false;
     for (int s = adj_.off[i]; s < adj_.off[i + 1]; ++s) {
       const int j = adj_.nbr[s];
       if (!placed && i < j) {
         cols.push_back(i);
-        lap[cols.size() - 1] = 1.0;
+        coeffs.push_back(1.0);
         placed = true;
       }
       cols.push_back(j);
-      lap[cols.size() - 1] = -w_[s];
+      coeffs.push_back(-w_[s]);
     }
     if (!placed) {
       cols.push_back(i);
-      lap[cols.size() - 1] = 1.0;
+      coeffs.push_back(1.0);
     }
   }
-  if (kind_ == EnergyKind::Lap) {
-    coeffs.assign(lap.begin(), lap.end());
-    return;
-  }
+  if (kind_ == EnergyKind::Lap) return;
 
-  // TF: fit T_i = (s, h, t) to the 1-ring: minimize sum_k ||T_i v_k - v'_k||^2 (thesis eq. 2-11).
-  // (s,h[,t]) = P b with P = (A^T A)^{-1} A^T, b the stacked v'_k; then T_i delta_i = [delta, -[delta]x] (s,h).
-  const int p = opt_.tf_translation ? 7 : 4;
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * m, p);
+  // TF: fit T_i = (s, h[, t]) to the 1-ring: minimize sum_k ||A_k (s,h,t) - v'_k||^2 (thesis eq. 2-11) with
+  // A_k the 3 x 7 matrix of v_k below. (s,h,t) = N^-1 sum_k A_k^T v'_k with N = sum_k A_k^T A_k, and
+  // T_i delta_i = G (s,h) with G = [delta, -[delta]x]. So the block of column k is
+  // M_k = G (N^-1)[0:4, :] A_k^T, computed without forming the stacked 3m x 7 matrix.
+  using Mat7 = Eigen::Matrix<double, 7, 7>;
+  using Mat37 = Eigen::Matrix<double, 3, 7>;
+  auto Ak = [&](int v) {
+    const double x = V_(v, 0), y = V_(v, 1), z = V_(v, 2);
+    Mat37 a;
+    a << x, 0, z, -y, 1, 0, 0,  //
+        y, -z, 0, x, 0, 1, 0,   //
+        z, y, -x, 0, 0, 0, 1;
+    return a;
+  };
+  Mat7 N = Mat7::Zero();
   for (int t = 0; t < m; ++t) {
-    const double x = V_(cols[t], 0), y = V_(cols[t], 1), z = V_(cols[t], 2);
-    A.row(3 * t + 0).head<4>() << x, 0, z, -y;
-    A.row(3 * t + 1).head<4>() << y, -z, 0, x;
-    A.row(3 * t + 2).head<4>() << z, y, -x, 0;
-    if (p == 7) {
-      A(3 * t + 0, 4) = 1;
-      A(3 * t + 1, 5) = 1;
-      A(3 * t + 2, 6) = 1;
-    }
-  }
-  const Eigen::MatrixXd AtA = A.transpose() * A;
-  Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA);
-  Eigen::MatrixXd P;
-  if (ldlt.info() == Eigen::Success && ldlt.isPositive() &&
-      ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()) {
-    P = ldlt.solve(A.transpose());
-  } else {
-    // A flat or collinear 1-ring leaves the fit underdetermined: take the minimum-norm transform.
-    P = A.completeOrthogonalDecomposition().pseudoInverse();
+    const Mat37 a = Ak(cols[t]);
+    N.noalias() += a.transpose() * a;
   }
   const Vec3 dl = delta_.row(i).transpose();
   Eigen::Matrix<double, 3, 4> G;
   G << dl(0), 0, dl(2), -dl(1),  //
       dl(1), -dl(2), 0, dl(0),   //
-      dl(2), dl(1), -dl(0), 0;   // G (s,h) = s*delta + h x delta, same pattern as A's rows
-  const Eigen::MatrixXd Q = G * P.topRows<4>();  // 3 x 3m
-  coeffs.assign(static_cast<std::size_t>(9 * m), 0.0);
-  for (int t = 0; t < m; ++t) {
-    double* blk = coeffs.data() + 9 * t;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) blk[3 * r + c] = (r == c ? lap[t] : 0.0) - Q(r, 3 * t + c);
+      dl(2), dl(1), -dl(0), 0;   // G (s,h) = s*delta + h x delta, the same pattern as A_k's rows
+  if (!opt_.tf_translation) {
+    // Thesis eq. 2-12 (no translation): decouple the translation unknowns so they drop out of the fit.
+    N.block<3, 4>(4, 0).setZero();
+    N.block<4, 3>(0, 4).setZero();
+    N.block<3, 3>(4, 4).setIdentity();
   }
+  Mat7 Ninv;
+  Eigen::LDLT<Mat7> ldlt(N);
+  if (ldlt.info() == Eigen::Success && ldlt.isPositive() &&
+      ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()) {
+    Ninv = ldlt.solve(Mat7::Identity());
+  } else {
+    // A flat or collinear 1-ring leaves the fit underdetermined: take the minimum-norm transform.
+    Ninv = Eigen::MatrixXd(N).completeOrthogonalDecomposition().pseudoInverse();
+  }
+  const Mat37 W = G * Ninv.topRows<4>();  // G (N^-1)[0:4, :]
+  // Expand the scalar Laplacian row into 3x3 blocks: C_k = L_ik I - M_k.
+  const std::size_t b2 = 9;
+  coeffs.resize(b2 * m + m);  // scratch: the m Laplacian scalars move to the tail
+  std::copy_backward(coeffs.begin(), coeffs.begin() + m, coeffs.end());
+  const double* lap = coeffs.data() + b2 * m;
+  for (int t = 0; t < m; ++t) {
+    const Mat37 a = Ak(cols[t]);
+    const Mat3 M = W * a.transpose();
+    double* blk = coeffs.data() + b2 * t;
+    const double l = lap[t];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) blk[3 * r + c] = (r == c ? l : 0.0) - M(r, c);
+  }
+  coeffs.resize(b2 * m);
 }
 
 }  // namespace db

@@ -1,6 +1,7 @@
 #pragma once
 //! Factories of the individual backends; registry.cpp maps names to them. Internal to solvers/.
 #include <memory>
+#include <string>
 
 #include "solvers/linear_solver.h"
 
@@ -8,5 +9,18 @@ namespace db::backends {
 
 //! CHOLMOD, supernodal LL^T (`supernodal` true) or simplicial LDL^T.
 std::unique_ptr<LinearSolver> make_cholmod(bool supernodal, const SolverOptions& options);
+
+//! Dense on the expanded matrix: kind "llt" (Eigen), "ldlt_bk" (LAPACK dsytrf), "lu" (LAPACK dgetrf).
+std::unique_ptr<LinearSolver> make_dense(const std::string& kind, const SolverOptions& options);
+
+//! Eigen SimplicialLLT (`ldlt` false) / SimplicialLDLT on the upper triangle.
+std::unique_ptr<LinearSolver> make_eigen_simplicial(bool ldlt, const SolverOptions& options);
+//! Eigen SparseLU on the full matrix.
+std::unique_ptr<LinearSolver> make_eigen_sparse_lu(const SolverOptions& options);
+
+//! UMFPACK LU on the full matrix.
+std::unique_ptr<LinearSolver> make_umfpack(const SolverOptions& options);
+//! Conjugate gradients, Jacobi (`ichol` false) or incomplete-Cholesky preconditioned.
+std::unique_ptr<LinearSolver> make_cg(bool ichol, const SolverOptions& options);
 
 }  // namespace db::backends

@@ -19,11 +19,32 @@ struct Entry {
 
 const std::vector<Entry>& table() {
   static const std::vector<std::string> kCholmodOrderings = {"default", "amd", "metis", "nesdis", "natural"};
+  static const std::vector<std::string> kDenseOrderings = {"default", "natural"};
   static const std::vector<Entry> entries = {
       {{"cholmod_supernodal", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(true, o); }},
       {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
+      {{"dense_llt", "dense", true, kDenseOrderings},
+       [](const SolverOptions& o) { return backends::make_dense("llt", o); }},
+      // Bunch-Kaufman factors indefinite matrices too; it only refuses singular ones.
+      {{"dense_ldlt_bk", "dense", false, kDenseOrderings},
+       [](const SolverOptions& o) { return backends::make_dense("ldlt_bk", o); }},
+      {{"dense_lu", "dense", false, kDenseOrderings},
+       [](const SolverOptions& o) { return backends::make_dense("lu", o); }},
+      {{"eigen_simplicial_llt", "sparse-cholesky", true, {"default", "amd", "natural"}},
+       [](const SolverOptions& o) { return backends::make_eigen_simplicial(false, o); }},
+      {{"eigen_simplicial_ldlt", "sparse-cholesky", true, {"default", "amd", "natural"}},
+       [](const SolverOptions& o) { return backends::make_eigen_simplicial(true, o); }},
+      {{"eigen_sparse_lu", "sparse-lu", false, {"default", "colamd", "amd", "natural"}},
+       [](const SolverOptions& o) { return backends::make_eigen_sparse_lu(o); }},
+      {{"umfpack", "sparse-lu", false, {"default", "amd", "metis", "natural"}},
+       [](const SolverOptions& o) { return backends::make_umfpack(o); }},
+      // CG may converge on an indefinite system; it throws when it does not.
+      {{"cg_jacobi", "iterative", false, {"default", "natural"}},
+       [](const SolverOptions& o) { return backends::make_cg(false, o); }},
+      {{"cg_ichol", "iterative", false, {"default", "amd"}},
+       [](const SolverOptions& o) { return backends::make_cg(true, o); }},
   };
   return entries;
 }

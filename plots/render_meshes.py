@@ -1,0 +1,190 @@
+#!/usr/bin/env python3
+"""Before/after renders of the frames experiment (exp_frames): one PNG per case, panels rest (coloured by role:
+fixed grey, free red, handle yellow, as in thesis fig. 4-4), the analytic ideal where there is one, and the results
+of LAP, TF and LRI (every frame strategy with Gram-Schmidt, and first-neighbour frames with polar
+orthonormalization; the other polar results coincide with it, see results/frames.md).
+
+Reads results/meshes/frames/CASE__{rest,ideal,<config>}.ply (binary little-endian PLY as written by
+db::write_mesh) and CASE__roles.sel; writes OUT/render_CASE.png. Flat shading by face normal, Agg backend.
+
+usage: /usr/bin/python3 plots/render_meshes.py --results results --out plots [--cases SUBSTRING] [--max-faces N]
+"""
+import argparse
+import glob
+import os
+import sys
+
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+
+PANELS = [
+    ("rest", "rest (fixed / free / handle)"),
+    ("ideal", "analytic ideal"),
+    ("lap", "LAP"),
+    ("tf", "TF"),
+    ("lri-first-gram_schmidt", "LRI first, Gram-Schmidt"),
+    ("lri-random-gram_schmidt", "LRI random, Gram-Schmidt"),
+    ("lri-height_angle-gram_schmidt", "LRI height angle, Gram-Schmidt"),
+    ("lri-curvature-gram_schmidt", "LRI curvature, Gram-Schmidt"),
+    ("lri-first-polar", "LRI first, polar (= every strategy)"),
+]
+COLORS = {"lap": (0.35, 0.55, 0.85), "tf": (0.35, 0.75, 0.55), "ideal": (0.75, 0.75, 0.75)}
+LRI_COLOR = (0.85, 0.6, 0.35)
+ROLE_COLORS = np.array([[0.62, 0.66, 0.72], [0.86, 0.32, 0.30], [0.97, 0.85, 0.25]])  # fixed, free, handle
+
+
+def read_ply(path):
+    """Binary little-endian PLY with 'property double x/y/z' and 'property list uchar int vertex_indices'."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.find(b"end_header\n")
+    if not data.startswith(b"ply\n") or end < 0:
+        raise ValueError(f"{path}: not a PLY file")
+    header = data[:end].decode("ascii").splitlines()
+    body = data[end + len(b"end_header\n"):]
+    if "format binary_little_endian 1.0" not in header:
+        raise ValueError(f"{path}: expected binary_little_endian")
+    nv = nf = None
+    props = []
+    for line in header:
+        t = line.split()
+        if t[:2] == ["element", "vertex"]:
+            nv = int(t[2])
+        elif t[:2] == ["element", "face"]:
+            nf = int(t[2])
+        elif t and t[0] == "property":
+            props.append(" ".join(t[1:]))
+    expected = ["double x", "double y", "double z", "list uchar int vertex_indices"]
+    if nv is None or nf is None or props != expected:
+        raise ValueError(f"{path}: unexpected PLY layout {props}")
+    V = np.frombuffer(body, dtype="<f8", count=3 * nv).reshape(nv, 3)
+    rec = np.dtype([("n", "u1"), ("i", "<i4", (3,))])
+    faces = np.frombuffer(body, dtype=rec, count=nf, offset=24 * nv)
+    if nf and not np.all(faces["n"] == 3):
+        raise ValueError(f"{path}: only triangles are supported")
+    return V, faces["i"].astype(np.int64)
+
+
+def read_roles(path, n):
+    if not os.path.exists(path):
+        return None
+    vals = [int(l.split()[0]) for l in open(path) if l.strip() and not l.lstrip().startswith("#")]
+    return np.array(vals) if len(vals) == n else None
+
+
+def shade(V, F, base, light):
+    T = V[F]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    n /= np.linalg.norm(n, axis=1)[:, None] + 1e-300
+    lam = np.abs(n @ light)  # two-sided: open meshes show their inside too
+    k = (0.25 + 0.75 * lam)[:, None]
+    base = np.broadcast_to(np.asarray(base, dtype=float), (len(F), 3))
+    return np.clip(base * k, 0, 1)
+
+
+def view_for(Vs):
+    """Looks along the axis of smallest extent of all meshes together (bends and head turns happen across it)."""
+    allV = np.vstack(Vs)
+    ext = allV.max(0) - allV.min(0)
+    ax = int(np.argmin(ext))
+    azim = {0: 0.0, 1: -90.0, 2: -90.0}[ax]
+    elev = 90.0 if ax == 2 else 15.0
+    return elev, azim
+
+
+def light_dir(elev, azim):
+    e, a = np.radians(elev + 25), np.radians(azim - 30)
+    d = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    return d / np.linalg.norm(d)
+
+
+def render_case(case, files, out_dir, max_faces):
+    meshes = {}
+    for key, _ in PANELS:
+        p = files.get(key)
+        if p:
+            meshes[key] = read_ply(p)
+    if "rest" not in meshes:
+        return None
+    V0, F = meshes["rest"]
+    roles = read_roles(files.get("roles", ""), len(V0))
+    rng = np.random.default_rng(0)
+    sel = np.arange(len(F))
+    if len(F) > max_faces:  # painter's algorithm in matplotlib is O(F log F) per panel: thin very large meshes
+        sel = np.sort(rng.choice(len(F), max_faces, replace=False))
+    Fs = F[sel]
+    elev, azim = view_for([m[0] for m in meshes.values()])
+    light = light_dir(elev, azim)
+    allV = np.vstack([m[0] for m in meshes.values()])
+    lo, hi = allV.min(0), allV.max(0)
+    c, r = (lo + hi) / 2, (hi - lo).max() / 2 * 1.02
+    keys = [k for k, _ in PANELS if k in meshes]
+    titles = dict(PANELS)
+    cols = 3 if len(keys) > 4 else len(keys)
+    rows = int(np.ceil(len(keys) / cols))
+    fig = plt.figure(figsize=(4.2 * cols, 4.0 * rows))
+    for n, key in enumerate(keys):
+        V = meshes[key][0]
+        ax = fig.add_subplot(rows, cols, n + 1, projection="3d")
+        if key == "rest" and roles is not None:
+            face_role = roles[Fs].max(axis=1)  # a face touching the handle is handle, else free if it touches one
+            base = ROLE_COLORS[face_role]
+        else:
+            base = COLORS.get(key, LRI_COLOR)
+        pc = Poly3DCollection(V[Fs], facecolors=shade(V, Fs, base, light), edgecolors="none", linewidths=0)
+        ax.add_collection3d(pc)
+        ax.set_xlim(c[0] - r, c[0] + r)
+        ax.set_ylim(c[1] - r, c[1] + r)
+        ax.set_zlim(c[2] - r, c[2] + r)
+        try:
+            ax.set_box_aspect((1, 1, 1))
+        except AttributeError:
+            pass
+        ax.view_init(elev=elev, azim=azim)
+        ax.set_axis_off()
+        ax.set_title(titles[key], fontsize=10)
+    thin = f", {len(Fs)} of {len(F)} faces drawn" if len(Fs) < len(F) else ""
+    fig.suptitle(f"{case}: {len(V0)} vertices{thin}", fontsize=12)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"render_{case}.png")
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return path
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--results", default="results")
+    ap.add_argument("--out", default="plots")
+    ap.add_argument("--meshes", default=None, help="default: RESULTS/meshes/frames")
+    ap.add_argument("--cases", default="", help="render only cases whose name contains this")
+    ap.add_argument("--max-faces", type=int, default=60000)
+    a = ap.parse_args()
+    mesh_dir = a.meshes or os.path.join(a.results, "meshes", "frames")
+    rests = sorted(glob.glob(os.path.join(mesh_dir, "*__rest.ply")))
+    if not rests:
+        print(f"render_meshes: no meshes under {mesh_dir} (run exp_frames first); nothing to render", file=sys.stderr)
+        return 0
+    os.makedirs(a.out, exist_ok=True)
+    for rest in rests:
+        case = os.path.basename(rest)[: -len("__rest.ply")]
+        if a.cases not in case:
+            continue
+        files = {}
+        for key, _ in PANELS:
+            p = os.path.join(mesh_dir, f"{case}__{key}.ply")
+            if os.path.exists(p):
+                files[key] = p
+        files["roles"] = os.path.join(mesh_dir, f"{case}__roles.sel")
+        path = render_case(case, files, a.out, a.max_faces)
+        if path:
+            print(f"render_meshes: wrote {path}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

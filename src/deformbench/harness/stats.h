@@ -1,0 +1,19 @@
+#pragma once
+//! Small statistics for result tables: medians over frames, power-law fits of cost against size.
+#include <string>
+#include <vector>
+
+namespace db::harness {
+
+//! Median (mean of the two middle values for an even count). NaN for an empty input.
+double median(std::vector<double> v);
+
+//! y = c * x^exponent fitted by least squares on (log x, log y). Points with x <= 0 or y <= 0 are skipped.
+struct PowerFit {
+  double exponent = 0, coefficient = 0;
+  double r2 = 0;  //!< coefficient of determination in log space
+  int points = 0;  //!< points used; a fit needs >= 2 distinct x (exponent NaN otherwise)
+};
+PowerFit fit_power_law(const std::vector<double>& x, const std::vector<double>& y);
+
+}  // namespace db::harness

@@ -1,0 +1,205 @@
+//! Dense backends on the expanded full matrix (reference / small-system baselines):
+//! "dense_llt" (Eigen LLT), "dense_ldlt_bk" (LAPACK dsytrf Bunch-Kaufman), "dense_lu" (LAPACK dgetrf).
+#include <limits>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "solvers/backends.h"
+#include "solvers/solver_util.h"
+
+// Fortran LAPACK (OpenBLAS ships it; LAPACKE does not come with it). The trailing size_t arguments
+// are gfortran's hidden CHARACTER lengths: passing them keeps the calls well-defined.
+extern "C" {
+void dsytrf_(const char* uplo, const int* n, double* a, const int* lda, int* ipiv, double* work, const int* lwork,
+             int* info, std::size_t uplo_len);
+void dsytrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, const int* ipiv,
+             double* b, const int* ldb, int* info, std::size_t uplo_len);
+void dsycon_(const char* uplo, const int* n, const double* a, const int* lda, const int* ipiv, const double* anorm,
+             double* rcond, double* work, int* iwork, int* info, std::size_t uplo_len);
+void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
+void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda, const int* ipiv,
+             double* b, const int* ldb, int* info, std::size_t trans_len);
+void dgecon_(const char* norm, const int* n, const double* a, const int* lda, const double* anorm, double* rcond,
+             double* work, int* iwork, int* info, std::size_t norm_len);
+}
+
+namespace db {
+namespace {
+
+using namespace solver_util;
+
+//! Shared bookkeeping: budget check, pattern guard, dense expansion; subclasses factor and solve.
+class DenseSolver : public LinearSolver {
+ public:
+  explicit DenseSolver(const SolverOptions& options) {
+    if (options.ordering != "default" && options.ordering != "natural")
+      throw Error(fmt::format("dense backends take no fill-reducing ordering (got '{}'; valid: default, natural)",
+                              options.ordering));
+  }
+
+  void analyze(const SpMat& upper_in) override {
+    check_square(upper_in, name());
+    check_dense_budget(Index(upper_in.rows()), name());
+    SpMat storage;
+    const SpMat& upper = compressed(upper_in, storage);
+    guard_.remember(upper);
+    factored_ = false;
+    const double n = double(upper.rows());
+    stats_ = FactorStats{};
+    stats_.n = std::size_t(upper.rows());
+    stats_.nnz_matrix = std::size_t(upper.nonZeros());
+    stats_.ordering_used = "none";
+    stats_.nnz_factor = lu() ? std::size_t(n * n) : std::size_t(n * (n + 1) / 2);
+    stats_.flops = lu() ? 2.0 * n * n * n / 3.0 : n * n * n / 3.0;
+    stats_.factor_bytes = std::size_t(n * n) * sizeof(double) + (lu() || pivoted() ? std::size_t(n) * sizeof(int) : 0);
+  }
+
+  void factorize(const SpMat& upper_in) override {
+    SpMat storage;
+    const SpMat& upper = compressed(upper_in, storage);
+    if (guard_.empty())
+      analyze(upper);
+    else
+      guard_.check(upper, name());
+    check_finite_values(upper, name());
+    factored_ = false;
+    factor(dense_from_upper(upper), upper);
+    factored_ = true;
+  }
+
+  void solve(const DenseMat& B, DenseMat& X) override {
+    if (!factored_) throw SolverError(fmt::format("{}: solve() before a successful factorize()", name()));
+    check_rhs(B, Index(stats_.n), name());
+    X = B;
+    solve_in_place(X);
+    check_finite_result(X, name());
+  }
+
+  FactorStats stats() const override { return stats_; }
+
+ protected:
+  virtual bool lu() const { return false; }
+  virtual bool pivoted() const { return true; }
+  virtual void factor(DenseMat&& A, const SpMat& upper) = 0;
+  virtual void solve_in_place(DenseMat& X) = 0;
+
+  //! LAPACK's 1-norm reciprocal condition estimate; below eps the matrix is singular to working
+  //! precision (singular bi-Laplacians measure ~1e-18 here).
+  void check_rcond(double rcond) const {
+    if (!(rcond >= std::numeric_limits<double>::epsilon()))
+      throw SolverError(fmt::format("{}: matrix numerically singular (rcond estimate {:.3g})", name(), rcond));
+  }
+
+  FactorStats stats_;
+
+ private:
+  PatternGuard guard_;
+  bool factored_ = false;
+};
+
+class DenseLLT final : public DenseSolver {
+ public:
+  using DenseSolver::DenseSolver;
+  std::string name() const override { return "dense_llt"; }
+
+ protected:
+  bool pivoted() const override { return false; }
+  void factor(DenseMat&& A, const SpMat& upper) override {
+    llt_.compute(A);
+    if (llt_.info() != Eigen::Success) throw SolverError("dense_llt: matrix not positive definite");
+    const auto& L = llt_.matrixLLT();
+    std::vector<double> pivots(std::size_t(L.rows()));
+    for (Eigen::Index k = 0; k < L.rows(); ++k) pivots[std::size_t(k)] = L(k, k) * L(k, k);
+    check_pivots(pivots, nullptr, upper, name());
+  }
+  void solve_in_place(DenseMat& X) override { llt_.solveInPlace(X); }
+
+ private:
+  Eigen::LLT<DenseMat> llt_;
+};
+
+class DenseLdltBunchKaufman final : public DenseSolver {
+ public:
+  using DenseSolver::DenseSolver;
+  std::string name() const override { return "dense_ldlt_bk"; }
+
+ protected:
+  void factor(DenseMat&& A, const SpMat&) override {
+    const int n = int(A.rows());
+    const double anorm = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
+    a_ = std::move(A);
+    ipiv_.assign(std::size_t(n), 0);
+    int info = 0, lwork = -1;
+    double query = 0;
+    dsytrf_("L", &n, a_.data(), &n, ipiv_.data(), &query, &lwork, &info, 1);
+    lwork = std::max(1, int(query));
+    std::vector<double> work(static_cast<std::size_t>(lwork));
+    dsytrf_("L", &n, a_.data(), &n, ipiv_.data(), work.data(), &lwork, &info, 1);
+    if (info < 0) throw SolverError(fmt::format("dense_ldlt_bk: dsytrf argument {} invalid", -info));
+    if (info > 0)
+      throw SolverError(fmt::format("dense_ldlt_bk: matrix singular (zero pivot D({0},{0}) of {1})", info - 1, n));
+    double rcond = 0;
+    std::vector<double> cwork(2 * std::size_t(n));
+    std::vector<int> iwork(static_cast<std::size_t>(n));
+    dsycon_("L", &n, a_.data(), &n, ipiv_.data(), &anorm, &rcond, cwork.data(), iwork.data(), &info, 1);
+    check_rcond(rcond);
+  }
+  void solve_in_place(DenseMat& X) override {
+    const int n = int(a_.rows()), nrhs = int(X.cols());
+    int info = 0;
+    dsytrs_("L", &n, &nrhs, a_.data(), &n, ipiv_.data(), X.data(), &n, &info, 1);
+    if (info != 0) throw SolverError(fmt::format("dense_ldlt_bk: dsytrs failed (info {})", info));
+  }
+
+ private:
+  DenseMat a_;
+  std::vector<int> ipiv_;
+};
+
+class DenseLU final : public DenseSolver {
+ public:
+  using DenseSolver::DenseSolver;
+  std::string name() const override { return "dense_lu"; }
+
+ protected:
+  bool lu() const override { return true; }
+  void factor(DenseMat&& A, const SpMat&) override {
+    const int n = int(A.rows());
+    const double anorm = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
+    a_ = std::move(A);
+    ipiv_.assign(std::size_t(n), 0);
+    int info = 0;
+    dgetrf_(&n, &n, a_.data(), &n, ipiv_.data(), &info);
+    if (info < 0) throw SolverError(fmt::format("dense_lu: dgetrf argument {} invalid", -info));
+    if (info > 0) throw SolverError(fmt::format("dense_lu: matrix singular (U({0},{0}) = 0 of {1})", info - 1, n));
+    double rcond = 0;
+    std::vector<double> cwork(4 * std::size_t(n));
+    std::vector<int> iwork(static_cast<std::size_t>(n));
+    dgecon_("1", &n, a_.data(), &n, &anorm, &rcond, cwork.data(), iwork.data(), &info, 1);
+    check_rcond(rcond);
+  }
+  void solve_in_place(DenseMat& X) override {
+    const int n = int(a_.rows()), nrhs = int(X.cols());
+    int info = 0;
+    dgetrs_("N", &n, &nrhs, a_.data(), &n, ipiv_.data(), X.data(), &n, &info, 1);
+    if (info != 0) throw SolverError(fmt::format("dense_lu: dgetrs failed (info {})", info));
+  }
+
+ private:
+  DenseMat a_;
+  std::vector<int> ipiv_;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> backends::make_dense(const std::string& kind, const SolverOptions& options) {
+  if (kind == "llt") return std::make_unique<DenseLLT>(options);
+  if (kind == "ldlt_bk") return std::make_unique<DenseLdltBunchKaufman>(options);
+  if (kind == "lu") return std::make_unique<DenseLU>(options);
+  throw Error(fmt::format("unknown dense backend kind '{}'", kind));
+}
+
+}  // namespace db
