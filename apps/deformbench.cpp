@@ -29,11 +29,14 @@ namespace {
 const char* kUsage = R"(usage:
   deformbench deform <edit> --out FILE [options]
       <edit>: a BS08 stem (STEM.off + STEM.sel + STEM.def) or a .edit file
-      --method lap|tf            energy (default lap)
+      --method lap|tf|lri        method (default lap)
       --weights uniform|cotan    Laplacian weights (default uniform)
       --constraints hard|soft    eliminate handle/fixed vertices or weight them (default hard)
       --soft-weight W            weight of soft constraint rows (default 1)
       --tf-no-translation        TF without the translation fit (thesis eq. 2-12)
+      --lri-frames first|random|height_angle|curvature   LRI local frame strategy (default first)
+      --lri-orthonormalize gram_schmidt|polar            LRI frame orthonormalization (default gram_schmidt)
+      --lri-seed N               seed of the random frame strategy
       --build structured|naive|dense   how the normal matrix is formed (default structured)
       --solver NAME              linear solver backend (default cholmod_supernodal; see `deformbench solvers`)
       --ordering amd|metis|nesdis|natural|default
@@ -50,12 +53,19 @@ int cmd_deform(const db::Args& a) {
   if (a.positional.size() != 1) throw db::Error("deform takes exactly one <edit>");
   if (!a.has("--out")) throw db::Error("deform needs --out FILE");
   const std::string out = a.get("--out", "");
+  // Fail before the (possibly long) solve when the result could not be written anyway.
+  const auto out_dir = std::filesystem::path(out).parent_path();
+  if (!out_dir.empty() && !std::filesystem::is_directory(out_dir))
+    throw db::Error("output directory does not exist: " + out_dir.string());
   db::DeformOptions o;
   o.method = a.get("--method", "lap");
   o.weights = db::parse_weights(a.get("--weights", "uniform"));
   o.constraints = db::parse_constraints(a.get("--constraints", "hard"));
   o.soft_weight = a.number("--soft-weight", 1.0);
   o.tf_translation = !a.has("--tf-no-translation");
+  o.lri_frames = a.get("--lri-frames", o.lri_frames);
+  o.lri_orthonormalize = a.get("--lri-orthonormalize", o.lri_orthonormalize);
+  o.lri_seed = static_cast<unsigned>(a.number("--lri-seed", o.lri_seed));
   o.build = db::parse_build(a.get("--build", "structured"));
   o.solver = a.get("--solver", "cholmod_supernodal");
   o.solver_options.ordering = a.get("--ordering", "default");
@@ -88,17 +98,21 @@ int cmd_deform(const db::Args& a) {
   fmt::print("mesh {} ({} vertices, {} faces), edit {}: {} fixed, {} free, {} handle\n", ec.mesh.name,
              ec.mesh.num_vertices(), ec.mesh.num_faces(), ec.edit.name, ec.edit.count(db::Role::Fixed),
              ec.edit.count(db::Role::Free), ec.edit.count(db::Role::Handle));
-  fmt::print("method {} | build {} | solver {} ({}) | constraints {} | n {} | nnz {}\n", o.method,
-             db::to_string(o.build), o.solver, sys.factor.ordering_used, db::to_string(o.constraints), sys.n,
-             sys.nnz);
+  fmt::print("method {} | build {} | solver {} | constraints {}\n", o.method, db::to_string(o.build), o.solver,
+             db::to_string(o.constraints));
+  for (const auto& s : deformer->systems())
+    fmt::print("  system {}: n {} | nnz {} | ordering {} | matrix {:.2f} MB | factor {:.2f} MB (nnz(L) {}, {:.2f} GFlop)\n",
+               s.name, s.n, s.nnz, s.factor.ordering_used, s.matrix_bytes / 1e6, s.factor.factor_bytes / 1e6,
+               s.factor.nnz_factor, s.factor.flops / 1e9);
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
   fmt::print("per frame (median of {}): {:.5f} s (rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames, median_frame,
              t.rhs, t.solve, t.write);
-  fmt::print("matrix {:.2f} MB | factor {:.2f} MB (nnz(L) {}, {:.2f} GFlop, {:.1f} GFlop/s) | peak RSS {:.1f} MB\n",
-             deformer->matrix_bytes() / 1e6, deformer->factor_bytes() / 1e6, sys.factor.nnz_factor,
-             sys.factor.flops / 1e9, t.factorize > 0 ? sys.factor.flops / 1e9 / t.factorize : 0.0,
-             db::peak_rss_bytes() / 1e6);
+  double flops = 0;
+  for (const auto& s : deformer->systems()) flops += s.factor.flops;
+  fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",
+             deformer->matrix_bytes() / 1e6, deformer->factor_bytes() / 1e6,
+             t.factorize > 0 ? flops / 1e9 / t.factorize : 0.0, db::peak_rss_bytes() / 1e6);
   fmt::print("{}\n", db::provenance_summary());
   fmt::print("wrote {}\n", out);
 

@@ -6,6 +6,9 @@ orthonormalization; the other polar results coincide with it, see results/frames
 
 Reads results/meshes/frames/CASE__{rest,ideal,<config>}.ply (binary little-endian PLY as written by
 db::write_mesh) and CASE__roles.sel; writes OUT/render_CASE.png. Flat shading by face normal, Agg backend.
+Drawn as a 2D PolyCollection of an orthographic projection, faces sorted back to front (painter's algorithm):
+mplot3d's Poly3DCollection does the same sort, but its axes are square, which leaves slender shapes (a bar
+standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio, shared by all panels of a case.
 
 usage: /usr/bin/python3 plots/render_meshes.py --results results --out plots [--cases SUBSTRING] [--max-faces N]
 """
@@ -19,7 +22,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
 
 PANELS = [
     ("rest", "rest (fixed / free / handle)"),
@@ -76,6 +79,14 @@ def read_roles(path, n):
     return np.array(vals) if len(vals) == n else None
 
 
+def camera(elev, azim):
+    """Orthographic camera as mplot3d's view_init(elev, azim) with +z up: right, up and towards-viewer axes."""
+    e, a = np.radians(elev), np.radians(azim)
+    d = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    r = np.array([-np.sin(a), np.cos(a), 0.0])
+    return r, np.cross(d, r), d
+
+
 def shade(V, F, base, light):
     T = V[F]
     n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
@@ -86,8 +97,14 @@ def shade(V, F, base, light):
     return np.clip(base * k, 0, 1)
 
 
-def view_for(Vs):
-    """Looks along the axis of smallest extent of all meshes together (bends and head turns happen across it)."""
+VIEWS = {"dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0)}  # (elev, azim) by prefix
+
+
+def view_for(case, Vs):
+    """Per-case view, else looks along the axis of smallest extent of all meshes together (bends happen across it)."""
+    for prefix, v in VIEWS.items():
+        if case.startswith(prefix):
+            return v
     allV = np.vstack(Vs)
     ext = allV.max(0) - allV.min(0)
     ax = int(np.argmin(ext))
@@ -96,10 +113,13 @@ def view_for(Vs):
     return elev, azim
 
 
-def light_dir(elev, azim):
-    e, a = np.radians(elev + 25), np.radians(azim - 30)
-    d = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
-    return d / np.linalg.norm(d)
+def draw(ax, V, F, colors, cam):
+    """Painter's algorithm on an orthographic projection: far faces first, flat colours, no edges."""
+    r, u, d = cam
+    P = np.stack([V @ r, V @ u], axis=1)
+    order = np.argsort((V @ d)[F].mean(axis=1))
+    pc = PolyCollection(P[F[order]], facecolors=colors[order], edgecolors="face", linewidths=0.1)
+    ax.add_collection(pc)
 
 
 def render_case(case, files, out_dir, max_faces):
@@ -112,46 +132,47 @@ def render_case(case, files, out_dir, max_faces):
         return None
     V0, F = meshes["rest"]
     roles = read_roles(files.get("roles", ""), len(V0))
-    rng = np.random.default_rng(0)
     sel = np.arange(len(F))
-    if len(F) > max_faces:  # painter's algorithm in matplotlib is O(F log F) per panel: thin very large meshes
-        sel = np.sort(rng.choice(len(F), max_faces, replace=False))
+    if len(F) > max_faces:  # drawing cost grows with the face count: thin out very large meshes
+        sel = np.sort(np.random.default_rng(0).choice(len(F), max_faces, replace=False))
     Fs = F[sel]
-    elev, azim = view_for([m[0] for m in meshes.values()])
-    light = light_dir(elev, azim)
-    allV = np.vstack([m[0] for m in meshes.values()])
-    lo, hi = allV.min(0), allV.max(0)
-    c, r = (lo + hi) / 2, (hi - lo).max() / 2 * 1.02
+    elev, azim = view_for(case, [m[0] for m in meshes.values()])
+    cam = camera(elev, azim)
+    r, u, d = cam
+    light = 0.3 * r + 0.6 * u + 0.75 * d
+    light /= np.linalg.norm(light)
+    # One 2D frame for every panel of the case, so shapes compare directly.
+    P = np.vstack([np.stack([m[0] @ r, m[0] @ u], axis=1) for m in meshes.values()])
+    lo, hi = P.min(0), P.max(0)
+    pad = 0.03 * (hi - lo).max()
+    lo, hi = lo - pad, hi + pad
+    aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
     keys = [k for k, _ in PANELS if k in meshes]
     titles = dict(PANELS)
-    cols = 3 if len(keys) > 4 else len(keys)
+    tall = aspect > 2.0
+    cols = len(keys) if tall else min(3, len(keys))
     rows = int(np.ceil(len(keys) / cols))
-    fig = plt.figure(figsize=(4.2 * cols, 4.0 * rows))
-    for n, key in enumerate(keys):
+    pw = min(4.2, 18.0 / cols)
+    ph = float(np.clip(pw * aspect, 1.2, 9.0))
+    fig, axes = plt.subplots(rows, cols, figsize=(pw * cols, (ph + 0.5) * rows + 0.4), squeeze=False)
+    for ax in axes.flat:
+        ax.set_axis_off()
+    for ax, key in zip(axes.flat, keys):
         V = meshes[key][0]
-        ax = fig.add_subplot(rows, cols, n + 1, projection="3d")
         if key == "rest" and roles is not None:
-            face_role = roles[Fs].max(axis=1)  # a face touching the handle is handle, else free if it touches one
-            base = ROLE_COLORS[face_role]
+            base = ROLE_COLORS[roles[Fs].max(axis=1)]  # a face touching the handle is handle, else free if it touches one
         else:
             base = COLORS.get(key, LRI_COLOR)
-        pc = Poly3DCollection(V[Fs], facecolors=shade(V, Fs, base, light), edgecolors="none", linewidths=0)
-        ax.add_collection3d(pc)
-        ax.set_xlim(c[0] - r, c[0] + r)
-        ax.set_ylim(c[1] - r, c[1] + r)
-        ax.set_zlim(c[2] - r, c[2] + r)
-        try:
-            ax.set_box_aspect((1, 1, 1))
-        except AttributeError:
-            pass
-        ax.view_init(elev=elev, azim=azim)
-        ax.set_axis_off()
-        ax.set_title(titles[key], fontsize=10)
+        draw(ax, V, Fs, shade(V, Fs, base, light), cam)
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        ax.set_aspect("equal")
+        ax.set_title(titles[key].replace(", ", ",\n") if tall else titles[key], fontsize=8 if tall else 10)
     thin = f", {len(Fs)} of {len(F)} faces drawn" if len(Fs) < len(F) else ""
-    fig.suptitle(f"{case}: {len(V0)} vertices{thin}", fontsize=12)
+    fig.suptitle(f"{case}: {len(V0)} vertices{thin} (view elev {elev:g}, azim {azim:g})", fontsize=11)
     fig.tight_layout()
     path = os.path.join(out_dir, f"render_{case}.png")
-    fig.savefig(path, dpi=80)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
     return path
 
@@ -162,7 +183,7 @@ def main():
     ap.add_argument("--out", default="plots")
     ap.add_argument("--meshes", default=None, help="default: RESULTS/meshes/frames")
     ap.add_argument("--cases", default="", help="render only cases whose name contains this")
-    ap.add_argument("--max-faces", type=int, default=60000)
+    ap.add_argument("--max-faces", type=int, default=200000)
     a = ap.parse_args()
     mesh_dir = a.meshes or os.path.join(a.results, "meshes", "frames")
     rests = sorted(glob.glob(os.path.join(mesh_dir, "*__rest.ply")))

@@ -10,3 +10,40 @@ log() { printf '[experiments] %s\n' "$*" >&2; }
 log "deform cases (BS08 + bundled cactus, lap and tf)"
 "$BUILD/exp_deform_cases" --data "$ROOT/data" --shared "$ROOT/../shared/data/bs08" \
   --out "$ROOT/results/deform_cases.csv" --meshes "$ROOT/results/meshes"
+
+# Thesis Table 2-1 (issue 3): every cell in a fresh child process under a memory budget (default half the RAM)
+# and a time budget (default 120 s a cell, --full 900 s) checked on predictions; about 5 minutes on 2 cores
+# (--full adds armadillo Loop levels 2-3, up to 1.66M vertices).
+log "table 2-1 (dense / naive / structured builds of LAP and TF; scaling of the structured build)"
+"$BUILD/exp_table_2_1" --data "$ROOT/data" --results "$ROOT/results" ${FULL:+--full}
+
+# Solver choice (issue 4, experiments/solvers.cpp): backends x orderings on the LAP and TF systems, and the
+# BLAS kernel set. OPENBLAS_CORETYPE is read when OpenBLAS loads, so each kernel set is its own driver run:
+# first the other kernel sets (BLAS-calling backends only, plus Eigen's dense LLT as a no-BLAS control), then
+# the full grid under this run's setting, which writes results/solvers.csv and the summary results/solvers.md.
+log "solver choice (backends x orderings; BLAS kernel sets)"
+SOLV=("$BUILD/exp_solvers" --data "$ROOT/data" --results "$ROOT/results")
+[ "$FULL" = --full ] && SOLV+=(--full)
+SOLV_BLAS_BACKENDS=cholmod_supernodal,umfpack,dense_llt,lapack_potrf,dense_ldlt_bk,dense_lu
+SOLV_VARIANTS=()
+rm -f "$ROOT"/results/solvers_blas_*.csv
+if grep -qw avx512f /proc/cpuinfo && [ "${OPENBLAS_CORETYPE:-}" != SkylakeX ]; then
+  log "solver choice under OPENBLAS_CORETYPE=SkylakeX (the CPU has avx512f)"
+  OPENBLAS_CORETYPE=SkylakeX "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default --no-md \
+    --out "$ROOT/results/solvers_blas_SkylakeX.csv"
+  SOLV_VARIANTS+=("$ROOT/results/solvers_blas_SkylakeX.csv")
+fi
+if [ -n "${OPENBLAS_CORETYPE:-}" ]; then
+  log "solver choice with OPENBLAS_CORETYPE unset (OpenBLAS' own CPU detection)"
+  env -u OPENBLAS_CORETYPE "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default --no-md \
+    --out "$ROOT/results/solvers_blas_auto.csv"
+  SOLV_VARIANTS+=("$ROOT/results/solvers_blas_auto.csv")
+fi
+log "solver choice, full grid (OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset>})"
+"${SOLV[@]}" --blas-compare "$(IFS=,; echo "${SOLV_VARIANTS[*]}")"
+
+# LRI and the frames experiment (issue 5): bends, twists, the dino head turn and the BS08 edits for lap, tf and
+# lri x frame strategy x orthonormalization; deformed meshes under results/meshes/frames for the renders.
+log "frames (LRI frame strategies against lap and tf)"
+"$BUILD/exp_frames" --data "$ROOT/data" --shared "$ROOT/../shared/data/bs08" --out "$ROOT/results/frames.csv" \
+  --meshes "$ROOT/results/meshes/frames"

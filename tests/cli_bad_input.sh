@@ -49,7 +49,7 @@ edit_for() { # stem: write STEM.sel (handle=4, fixed=5, rest free) and an identi
 write_off "$T/good.off" 6 8 "$octa_v" "$octa_f"; edit_for "$T/good" 6
 "$BIN" deform "$T/good" --out "$T/good_out.ply" >/dev/null 2>&1 || { echo "FAIL sanity: the valid octahedron edit did not run"; fails=$((fails + 1)); }
 
-expect missing_mesh 2 "cannot open|not found|no such" -- deform "$T/nothere" --out "$T/out.ply"
+expect missing_mesh 2 "cannot open|not found|no such|missing" -- deform "$T/nothere" --out "$T/out.ply"
 printf 'OFF\n6 8 0\n1 0 0\n-1 0\n' >"$T/trunc.off"; cp "$T/good.sel" "$T/trunc.sel"; cp "$T/good.def" "$T/trunc.def"
 expect truncated_off 2 "trunc" -- deform "$T/trunc" --out "$T/out.ply"
 printf 'OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 9\n' >"$T/range.off"; cp "$T/good.sel" "$T/range.sel"; cp "$T/good.def" "$T/range.def"

@@ -56,9 +56,16 @@ TEST_P(ByMethod, IdentityEditReproducesTheMesh) {
   const Mesh m = tube();
   const Edit e = tube_edit(m);
   for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
-    auto d = make_deformer(m, e, opts(GetParam(), mode));
-    const Points out = d->deform(Mat4::Identity());
-    EXPECT_LT((out - m.V).norm() / m.V.norm(), 1e-9) << to_string(mode);
+    for (Weights w : {Weights::Uniform, Weights::Cotan}) {
+      for (bool translation : {true, false}) {
+        DeformOptions o = opts(GetParam(), mode);
+        o.weights = w;
+        o.tf_translation = translation;
+        const Points out = make_deformer(m, e, o)->deform(Mat4::Identity());
+        EXPECT_LT((out - m.V).norm() / m.V.norm(), 1e-9)
+            << to_string(mode) << " " << to_string(w) << " translation=" << translation;
+      }
+    }
   }
 }
 

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/error.h"
 #include "edit/edit.h"
 #include "harness/budget.h"
 #include "harness/cell.h"
@@ -29,16 +30,23 @@ namespace {
 // A closed box surface of 1178 vertices: big enough for 100 handle + 100 anchor vertices that do not overlap.
 Mesh test_mesh() { return make_bar(8, 8, 24, 1.0, 1.0, 3.0); }
 
-// Writes the test mesh once per process into a private temporary directory.
-std::string test_mesh_path() {
-  static const std::string path = [] {
-    const fs::path dir = fs::temp_directory_path() / ("db_harness_test_" + std::to_string(::getpid()));
+// The test mesh, written once per process into a private temporary directory removed at exit.
+struct TempMesh {
+  fs::path dir = fs::temp_directory_path() / ("db_harness_test_" + std::to_string(::getpid()));
+  std::string path;
+  TempMesh() {
     fs::create_directories(dir);
-    const std::string p = (dir / "bar.off").string();
-    write_mesh(p, test_mesh());
-    return p;
-  }();
-  return path;
+    path = (dir / "bar.off").string();
+    write_mesh(path, test_mesh());
+  }
+  ~TempMesh() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+std::string test_mesh_path() {
+  static const TempMesh m;
+  return m.path;
 }
 
 CellSpec spec_for(const std::string& system, const std::string& build) {
@@ -235,7 +243,8 @@ TEST(ThesisEdit, HandleAndAnchorsAtOppositeExtremes) {
   for (int v : e.vertices(Role::Fixed)) EXPECT_LT(m.V(v, 2), 1.5);
   const Vec3 t = e.transform.topRightCorner<3, 1>();
   EXPECT_NEAR(t.norm(), 0.2 * bbox_diagonal(m.V), 1e-12);
-  EXPECT_TRUE(e.transform.topLeftCorner<3, 3>().isIdentity());
+  const Mat3 R = e.transform.topLeftCorner<3, 3>();
+  EXPECT_TRUE(R.isIdentity());
 }
 
 TEST(ThesisEdit, OverlappingAnchorsAreDropped) {

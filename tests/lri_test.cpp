@@ -6,6 +6,8 @@
 #include <string>
 #include <tuple>
 
+#include <Eigen/SVD>
+
 #include "core/error.h"
 #include "edit/transform.h"
 #include "mesh/procedural.h"
@@ -187,6 +189,54 @@ TEST(Lri, PolarResultDoesNotDependOnTheFrameStrategy) {
       EXPECT_LT((a.solved_frames_raw()[v] * Z - b.solved_frames_raw()[v]).norm(), 1e-9) << s << " vertex " << v;
     }
   }
+}
+
+TEST(Lri, FrameSolveIsAHarmonicBlendOfRotations) {
+  // F'_i = W_i F_i with W_i = I + h_i (R - I), h harmonic (0 fixed, 1 handle), whatever the rest frames are.
+  const Mesh m = make_cylinder(14, 12, 1.0, 4.0);
+  const Edit e = tube_edit(m);
+  const Mat4 T = rotation_about_axis(Vec3(1, 0.3, 0), 100.0, Vec3(0, 1.5, 3.5));
+  const Mat3 D = T.topLeftCorner<3, 3>() - Mat3::Identity();
+  const Adjacency adj = vertex_adjacency(m);
+  std::vector<double> h0;
+  for (const char* s : {"first", "curvature"}) {
+    LriDeformer d(m, e, lri(s, "gram_schmidt"));
+    d.deform(T);
+    std::vector<double> h(m.num_vertices());
+    for (int v = 0; v < m.num_vertices(); ++v) {
+      const Mat3 W = d.solved_frames_raw()[v] * d.rest_frames().F[v].transpose();
+      h[v] = (W - Mat3::Identity()).cwiseProduct(D).sum() / D.squaredNorm();
+      EXPECT_LT((W - Mat3::Identity() - h[v] * D).norm(), 1e-9) << s << " vertex " << v;
+      EXPECT_GT(h[v], -1e-9);
+      EXPECT_LT(h[v], 1 + 1e-9);
+    }
+    for (int v = 0; v < m.num_vertices(); ++v) {
+      if (e.roles[v] != Role::Free) continue;
+      double mean = 0;
+      for (const int* p = adj.begin(v); p != adj.end(v); ++p) mean += h[*p];
+      EXPECT_NEAR(h[v], mean / adj.degree(v), 1e-9) << "vertex " << v;  // uniform graph-Laplacian harmonic
+    }
+    if (h0.empty()) h0 = h;
+    for (int v = 0; v < m.num_vertices(); ++v) EXPECT_NEAR(h[v], h0[v], 1e-9);
+  }
+}
+
+TEST(Lri, HalfTurnCollapsesTheMiddleFrames) {
+  // At exactly 180 degrees W = aa^T + (1 - 2h)(I - aa^T) is singular on h = 1/2: a symmetric tube puts a ring there,
+  // Gram-Schmidt loses b1 (SolverError), polar still returns a (round-off chosen) rotation.
+  const Mesh m = make_cylinder(13, 12, 1.0, 4.0);  // middle ring at z = 2, between the constrained ends
+  Edit e = tube_edit(m);
+  const Mat4 T = bend_transform(kPi, 4.0 / 12, 4.0 - 4.0 / 12);
+  EXPECT_THROW(LriDeformer(m, e, lri("first", "gram_schmidt")).deform(T), SolverError);
+  LriDeformer p(m, e, lri("first", "polar"));
+  EXPECT_TRUE(p.deform(T).allFinite());
+  double smin = 1;
+  for (const Mat3& F : p.solved_frames_raw()) {
+    const Eigen::JacobiSVD<Mat3> svd(F);
+    const Vec3 sv = svd.singularValues();
+    smin = std::min(smin, sv(2));
+  }
+  EXPECT_LT(smin, 1e-9);
 }
 
 TEST(Lri, ScalingHandleRotatesFramesOnly) {

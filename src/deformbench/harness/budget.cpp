@@ -17,7 +17,7 @@ namespace {
 
 // Memory the child holds besides the system and the factor: mesh, adjacency, normalized copy, operator weights,
 // per-frame buffers (a few hundred bytes per vertex) and the runtime's libraries.
-constexpr double kBaseBytes = 48e6, kBytesPerVertex = 400;
+constexpr double kBaseBytes = 16e6, kBytesPerVertex = 400;
 // CHOLMOD's supernodal factor stores dense supernode blocks: a little more than nnz(L) values (relaxed
 // amalgamation adds explicit zeros) plus the row-index lists of the supernodes.
 constexpr double kSupernodalSlack = 1.15;
@@ -178,14 +178,11 @@ Prediction CellPredictor::predict(const CellSpec& spec) {
     return p;
   }
   // Mirror the orderings the deformer ends up with (methods/laplacian_deformer.cpp, solvers/cholmod_solver.cpp):
-  // the structured build orders the vertex graph itself (METIS by default); otherwise the TF solver runs AMD on
-  // the 3x3 block graph, i.e. on the vertex graph; LAP leaves the choice to the backend. If those choices change,
-  // only the prediction drifts; the measured factor bytes sit next to it in the results.
+  // the structured build orders the vertex graph itself (kDefaultVertexOrdering there, AMD at the time of
+  // writing); the TF solver runs AMD on the 3x3 block graph, i.e. on the vertex graph; LAP leaves the choice to
+  // the backend. If those choices change only the prediction drifts; measured factor bytes sit next to it.
   std::string ordering = spec.ordering;
-  if (spec.ordering == "default") {
-    if (build == Build::Structured) ordering = "metis";
-    else if (b > 1) ordering = "amd";
-  }
+  if (spec.ordering == "default" && (build == Build::Structured || b > 1)) ordering = "amd";
   const VertexFactor vf = vertex_factor(spec.backend, ordering);
   const double nuv = unk_.num_unknowns();
   // Expand vertex counts to b x b blocks: off-diagonal blocks are full, diagonal blocks lower-triangular.

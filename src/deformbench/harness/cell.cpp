@@ -319,8 +319,8 @@ CellResult run_budgeted(const CellSpec& spec, const Prediction& p, double memory
   CellResult r;
   if (memory_budget_bytes > 0 && p.total_bytes > memory_budget_bytes) {
     r.status = "#over";
-    r.message = fmt::format("predicted {:.1f} MB > memory budget {:.1f} MB; not attempted", p.total_bytes / 1e6,
-                            memory_budget_bytes / 1e6);
+    r.message = fmt::format("predicted {:.1f} MiB > memory budget {:.1f} MiB; not attempted", p.total_bytes / 1048576,
+                            memory_budget_bytes / 1048576);
   } else if (time_budget_s > 0 && p.seconds > time_budget_s) {
     r.status = "#slow";
     r.message = fmt::format("predicted {:.3g} s > time budget {:.3g} s; not attempted", p.seconds, time_budget_s);

@@ -106,7 +106,7 @@ std::vector<int> block_amd_permutation(const SpMat& upper, int b) {
       ++cnt[std::size_t(ui[std::size_t(p)]) + 1];
     }
   for (int J = 0; J < nb; ++J) cnt[std::size_t(J) + 1] += cnt[std::size_t(J)];
-  std::vector<int> Ai(std::size_t(cnt[std::size_t(nb)]));
+  std::vector<int> Ai(static_cast<std::size_t>(cnt.back()));
   std::vector<int> next(cnt.begin(), cnt.end() - 1);
   for (int J = 0; J < nb; ++J)
     for (int p = up[std::size_t(J)]; p < up[std::size_t(J) + 1]; ++p) {
@@ -175,7 +175,9 @@ class CholmodSolver final : public LinearSolver {
     const int b = options_.block_size;
     const bool blocked = b > 1 && n % b == 0 && (options_.ordering == "default" || options_.ordering == "amd");
     cholmod_sparse A = sparse_view(upper);
-    cc_.postorder = true;
+    // A matrix handed over already ordered (the structured build orders the vertex graph) is used as is:
+    // postordering it would make CHOLMOD factor a permuted copy.
+    cc_.postorder = options_.ordering != "natural";
     if (blocked) {
       const std::vector<int> perm = block_amd_permutation(upper, b);
       cc_.nmethods = 1;

@@ -111,7 +111,7 @@ class DenseLLT final : public DenseSolver {
     llt_.compute(A);
     if (llt_.info() != Eigen::Success) throw SolverError("dense_llt: matrix not positive definite");
     const auto& L = llt_.matrixLLT();
-    std::vector<double> pivots(std::size_t(L.rows()));
+    std::vector<double> pivots(static_cast<std::size_t>(L.rows()));
     for (Eigen::Index k = 0; k < L.rows(); ++k) pivots[std::size_t(k)] = L(k, k) * L(k, k);
     check_pivots(pivots, nullptr, upper, name());
   }

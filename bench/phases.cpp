@@ -1,0 +1,308 @@
+// Google Benchmark suite for regression tracking of the four phases of a deformation's precompute / per-frame
+// split: system build, solver analyze, factorize and solve, per (tier, system, build, backend).
+//
+// Names are stable (scripts/bench_compare.sh matches them against results/bench/baseline.json):
+//   build/mesh:armadillo/system:tf/build:structured
+//   analyze/mesh:armadillo/system:tf/build:structured/backend:cholmod_supernodal
+//   factorize/... solve/...  (same shape as analyze)
+// Counters: n (unknowns), nnz (stored upper-triangle nonzeros of K), nnz_L (factor nonzeros) and bytes (build:
+// bytes of the matrices the build held; solver phases: bytes of the factor).
+//
+// The system is the thesis edit of the tier (harness/thesis_edit.h) with soft constraints, so K is #V x #V (lap,
+// 3 right-hand-side columns) or 3#V x 3#V (tf), in the mesh's vertex order; backends use their default ordering.
+// Setup stays out of the timed region: meshes, operators and systems are built once per (tier, system, build)
+// and cached; solve benchmarks reuse one factorized solver across repetitions. Every benchmark reports manual
+// time (the phase call alone).
+//
+// Own flags (before the Google Benchmark ones):
+//   --data DIR        data folder (default: $DEFORMBENCH_SOURCE_DIR/data, else ./data)
+//   --tiers a,b       hand, man, armadillo, armadillo_loop1 (default: hand,armadillo)
+//   --full            adds man and armadillo_loop1 (104k vertices)
+//   --systems a,b     lap,tf
+//   --builds a,b      structured (default); naive and dense also time their build (dense: hand tier only)
+//   --backends a,b    default: cholmod_supernodal,cholmod_simplicial_ldlt,eigen_simplicial_llt,umfpack
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/provenance.h"
+#include "harness/thesis_edit.h"
+#include "mesh/mesh_io.h"
+#include "methods/deformer.h"
+#include "methods/normalization.h"
+#include "operators/energy_operator.h"
+#include "solvers/linear_solver.h"
+#include "systems/normal_system.h"
+
+namespace fs = std::filesystem;
+using namespace db;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string t;
+  while (std::getline(in, t, ','))
+    if (!t.empty()) out.push_back(t);
+  return out;
+}
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Everything a (tier, system) needs before a build: the mesh, its edit, adjacency, unknowns and operator.
+// Members are heap-held and never move: EnergyOperator keeps references to Vn and adj.
+struct Problem {
+  Mesh mesh;
+  Points Vn;
+  Adjacency adj;
+  Unknowns unk;
+  std::unique_ptr<EnergyOperator> op;
+};
+
+struct Case {
+  std::string tier, mesh_path, system, build;
+};
+
+std::map<std::string, std::unique_ptr<Problem>>& problems() {
+  static std::map<std::string, std::unique_ptr<Problem>> p;
+  return p;
+}
+
+const Problem& problem(const Case& c) {
+  auto& cache = problems();
+  const std::string key = c.tier + "/" + c.system;
+  auto it = cache.find(key);
+  if (it != cache.end()) return *it->second;
+  auto p = std::make_unique<Problem>();
+  p->mesh = read_mesh(c.mesh_path);
+  validate_mesh(p->mesh);
+  const Edit edit = harness::make_thesis_edit(p->mesh);
+  p->Vn = Normalization::fit(p->mesh.V).apply(p->mesh.V);
+  p->adj = vertex_adjacency(p->mesh);
+  const auto kinds = classify(edit, ConstraintMode::Soft);
+  check_every_component_anchored(p->adj, kinds);
+  p->unk = make_unknowns(kinds, 1.0);
+  p->op = std::make_unique<EnergyOperator>(p->Vn, p->mesh.F, p->adj, parse_energy(c.system), EnergyOptions{});
+  return *cache.emplace(key, std::move(p)).first->second;
+}
+
+// Systems per (tier, system, build), built once.
+const NormalSystem& system_of(const Case& c) {
+  static std::map<std::string, std::unique_ptr<NormalSystem>> cache;
+  const std::string key = c.tier + "/" + c.system + "/" + c.build;
+  auto it = cache.find(key);
+  if (it != cache.end()) return *it->second;
+  const Problem& p = problem(c);
+  auto s = std::make_unique<NormalSystem>(build_normal_system(*p.op, p.unk, parse_build(c.build)));
+  return *cache.emplace(key, std::move(s)).first->second;
+}
+
+// The deformation's right-hand side is not needed for timing a solve: any dense block of the right shape is.
+DenseMat rhs_of(const NormalSystem& s) {
+  DenseMat b = s.g0;
+  b.array() += 1.0;  // g0 of TF is zero; keep the solve away from the trivial x = 0
+  return b;
+}
+
+// One factorized solver, reused by the repetitions of the current solve benchmark (benchmarks run in order, so
+// holding only the latest keeps memory to one factor).
+struct Factored {
+  std::string key;
+  std::unique_ptr<LinearSolver> solver;
+};
+Factored& factored() {
+  static Factored f;
+  return f;
+}
+
+void set_counters(benchmark::State& st, const NormalSystem& s, const FactorStats* f, double bytes) {
+  st.counters["n"] = benchmark::Counter(double(s.n()));
+  st.counters["nnz"] = benchmark::Counter(double(s.build == Build::Dense ? s.K_dense.size() : s.K.nonZeros()));
+  if (f) st.counters["nnz_L"] = benchmark::Counter(double(f->nnz_factor));
+  st.counters["bytes"] = benchmark::Counter(bytes, benchmark::Counter::kDefaults, benchmark::Counter::kIs1024);
+}
+
+void bm_build(benchmark::State& st, Case c) {
+  try {
+    const Problem& p = problem(c);
+    double held = 0;
+    for (auto _ : st) {
+      const auto t0 = Clock::now();
+      NormalSystem s = build_normal_system(*p.op, p.unk, parse_build(c.build));
+      st.SetIterationTime(seconds_since(t0));
+      held = double(s.total_held_bytes());
+      benchmark::DoNotOptimize(s.K.nonZeros());
+    }
+    set_counters(st, system_of(c), nullptr, held);
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+  }
+}
+
+void bm_analyze(benchmark::State& st, Case c, std::string backend) {
+  try {
+    const NormalSystem& s = system_of(c);
+    SolverOptions so;
+    so.block_size = s.block;
+    FactorStats f;
+    for (auto _ : st) {
+      auto solver = make_solver(backend, so);
+      const auto t0 = Clock::now();
+      solver->analyze(s.K);
+      st.SetIterationTime(seconds_since(t0));
+      f = solver->stats();
+    }
+    set_counters(st, s, &f, double(f.factor_bytes));
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+  }
+}
+
+void bm_factorize(benchmark::State& st, Case c, std::string backend) {
+  try {
+    const NormalSystem& s = system_of(c);
+    SolverOptions so;
+    so.block_size = s.block;
+    auto solver = make_solver(backend, so);
+    solver->analyze(s.K);
+    for (auto _ : st) {
+      const auto t0 = Clock::now();
+      solver->factorize(s.K);
+      st.SetIterationTime(seconds_since(t0));
+    }
+    const FactorStats f = solver->stats();
+    set_counters(st, s, &f, double(f.factor_bytes));
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+  }
+}
+
+void bm_solve(benchmark::State& st, Case c, std::string backend, std::string name) {
+  try {
+    const NormalSystem& s = system_of(c);
+    Factored& fz = factored();
+    if (fz.key != name) {
+      fz.solver.reset();
+      SolverOptions so;
+      so.block_size = s.block;
+      fz.solver = make_solver(backend, so);
+      fz.solver->analyze(s.K);
+      fz.solver->factorize(s.K);
+      fz.key = name;
+    }
+    const DenseMat b = rhs_of(s);
+    DenseMat x;
+    for (auto _ : st) {
+      const auto t0 = Clock::now();
+      fz.solver->solve(b, x);
+      st.SetIterationTime(seconds_since(t0));
+      benchmark::DoNotOptimize(x.data());
+    }
+    const FactorStats f = fz.solver->stats();
+    set_counters(st, s, &f, double(f.factor_bytes));
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+  }
+}
+
+struct Options {
+  std::string data;
+  std::vector<std::string> tiers = {"hand", "armadillo"}, systems = {"lap", "tf"}, builds = {"structured"},
+                           backends = {"cholmod_supernodal", "cholmod_simplicial_ldlt", "eigen_simplicial_llt",
+                                       "umfpack"};
+};
+
+// Takes our own flags out of argv (Google Benchmark rejects flags it does not know).
+Options parse_own_flags(int& argc, char** argv) {
+  Options o;
+  const char* src = std::getenv("DEFORMBENCH_SOURCE_DIR");
+  o.data = src ? (fs::path(src) / "data").string() : "data";
+  bool full = false, tiers_given = false;
+  int w = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw Error(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--data") o.data = value();
+    else if (a == "--tiers") o.tiers = split(value()), tiers_given = true;
+    else if (a == "--systems") o.systems = split(value());
+    else if (a == "--builds") o.builds = split(value());
+    else if (a == "--backends") o.backends = split(value());
+    else if (a == "--full") full = true;
+    else argv[w++] = argv[i];
+  }
+  argc = w;
+  if (full && !tiers_given) o.tiers = {"hand", "man", "armadillo", "armadillo_loop1"};
+  return o;
+}
+
+std::string mesh_path(const std::string& data, const std::string& tier) {
+  const fs::path d(data);
+  if (tier == "armadillo_loop1") return (d / "generated" / "armadillo_loop1.off").string();
+  if (tier == "hand" || tier == "man" || tier == "armadillo") return (d / "meshes" / (tier + ".off")).string();
+  throw InputError(fmt::format("unknown tier '{}' (hand, man, armadillo, armadillo_loop1)", tier));
+}
+
+void register_all(const Options& o) {
+  for (const auto& b : o.backends) solver_info(b);  // unknown names fail here, not mid-run
+  for (const auto& tier : o.tiers) {
+    const std::string path = mesh_path(o.data, tier);
+    if (!fs::exists(path)) throw InputError(fmt::format("mesh {} not found: run scripts/data.sh", path));
+    for (const auto& system : o.systems) {
+      parse_energy(system);
+      for (const auto& build : o.builds) {
+        parse_build(build);
+        if (build == "dense" && tier != "hand") continue;  // gigabytes beyond the hand tier
+        const Case c{tier, path, system, build};
+        const std::string stem = fmt::format("mesh:{}/system:{}/build:{}", tier, system, build);
+        benchmark::RegisterBenchmark(("build/" + stem).c_str(), bm_build, c)->UseManualTime()->Unit(
+            benchmark::kMillisecond);
+        if (build == "dense") continue;  // the sparse backends take K, not K_dense
+        for (const auto& be : o.backends) {
+          const std::string tail = stem + "/backend:" + be;
+          benchmark::RegisterBenchmark(("analyze/" + tail).c_str(), bm_analyze, c, be)
+              ->UseManualTime()
+              ->Unit(benchmark::kMillisecond);
+          benchmark::RegisterBenchmark(("factorize/" + tail).c_str(), bm_factorize, c, be)
+              ->UseManualTime()
+              ->Unit(benchmark::kMillisecond);
+          benchmark::RegisterBenchmark(("solve/" + tail).c_str(), bm_solve, c, be, "solve/" + tail)
+              ->UseManualTime()
+              ->Unit(benchmark::kMicrosecond);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Options o = parse_own_flags(argc, argv);
+    register_all(o);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_phases: error: " << e.what() << "\n";
+    return exit_code(e);
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  for (const auto& [k, v] : provenance().columns()) benchmark::AddCustomContext("deformbench_" + k, v);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

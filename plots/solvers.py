@@ -1,0 +1,202 @@
+#!/usr/bin/env python3
+"""Plots of the solver-choice experiment (experiments/solvers.cpp). Reads CSVs only, never recomputes.
+
+  solvers.py --results DIR --out DIR
+
+Reads RESULTS/solvers.csv (and RESULTS/solvers_blas_*.csv when present) and writes
+  OUT/solvers_factorize_vs_solve.png  factorize against per-solve time, per backend (default ordering)
+  OUT/solvers_scaling.png             factorize and solve time against the number of unknowns n
+  OUT/solvers_orderings.png           nnz(L) and factorize time per ordering, sparse direct backends, largest tier
+  OUT/solvers_blas.png                factorize time per OpenBLAS kernel set (only with solvers_blas_*.csv)
+"""
+import argparse
+import csv
+import glob
+import math
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+SYSTEMS = ["lap", "tf"]
+FAMILY_STYLE = {"sparse-cholesky": "-", "sparse-lu": "--", "dense": ":", "iterative": "-."}
+
+
+def load(path):
+    """(model, system, backend, ordering) -> {measure: value} for ok cells, plus per-cell metadata."""
+    cells = defaultdict(dict)
+    meta = {}
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            key = (row["model"], row["system"], row["backend"], row["ordering"])
+            meta[key] = row
+            if row["status"] != "ok" or row["value"] == "":
+                continue
+            cells[key][row["measure"]] = float(row["value"])
+    return cells, meta
+
+
+def backends_in(cells):
+    seen = []
+    for (_, _, b, _) in cells:
+        if b not in seen:
+            seen.append(b)
+    return seen
+
+
+def style(meta, backend):
+    fam = next((m["family"] for k, m in meta.items() if k[2] == backend), "")
+    return FAMILY_STYLE.get(fam, "-")
+
+
+def colors(backends):
+    cmap = plt.get_cmap("tab20")
+    return {b: cmap(i % 20) for i, b in enumerate(backends)}
+
+
+def plot_factor_vs_solve(cells, meta, out):
+    bks = backends_in(cells)
+    col = colors(bks)
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
+    for ax, system in zip(axes, SYSTEMS):
+        for b in bks:
+            pts = sorted((v["n"], v["factorize_s"], v["solve_s"], k[0]) for k, v in cells.items()
+                         if k[1] == system and k[2] == b and k[3] == "default"
+                         and "factorize_s" in v and "solve_s" in v)
+            if not pts:
+                continue
+            xs = [max(p[1], 1e-7) for p in pts]
+            ys = [max(p[2], 1e-7) for p in pts]
+            ax.plot(xs, ys, style(meta, b), marker="o", color=col[b], label=b)
+            for p, x, y in zip(pts, xs, ys):
+                ax.annotate(p[3][:4], (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("factorize time [s] (once per edit)")
+        ax.set_ylabel("solve time [s] (every frame)")
+        ax.set_title(f"{system}: factorize vs solve, default ordering")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[1].legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "solvers_factorize_vs_solve.png"), dpi=120)
+    plt.close(fig)
+
+
+def plot_scaling(cells, meta, out):
+    bks = backends_in(cells)
+    col = colors(bks)
+    fig, axes = plt.subplots(2, 2, figsize=(13, 9), sharex="col")
+    for j, system in enumerate(SYSTEMS):
+        for i, (measure, label) in enumerate([("factorize_s", "factorize [s]"), ("solve_s", "solve [s]")]):
+            ax = axes[i][j]
+            for b in bks:
+                pts = sorted((v["n"], v[measure]) for k, v in cells.items()
+                             if k[1] == system and k[2] == b and k[3] == "default" and measure in v and "n" in v)
+                if not pts:
+                    continue
+                ax.plot([p[0] for p in pts], [max(p[1], 1e-7) for p in pts], style(meta, b), marker="o",
+                        color=col[b], label=b)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_ylabel(label)
+            ax.set_title(f"{system}: {label.split()[0]} vs unknowns")
+            ax.grid(True, which="both", alpha=0.3)
+            if i == 1:
+                ax.set_xlabel("unknowns n")
+    axes[0][1].legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "solvers_scaling.png"), dpi=120)
+    plt.close(fig)
+
+
+def plot_orderings(cells, meta, out):
+    models = []
+    for k in meta:
+        if k[0] not in models:
+            models.append(k[0])
+    if not models:
+        return
+    big = max(models, key=lambda m: max((v.get("vertices", 0) for k, v in cells.items() if k[0] == m), default=0))
+    fig, axes = plt.subplots(2, 2, figsize=(14, 9))
+    for j, system in enumerate(SYSTEMS):
+        keys = [k for k in meta if k[0] == big and k[1] == system
+                and meta[k]["family"] in ("sparse-cholesky", "sparse-lu")]
+        labels = [f"{k[2]}\n{k[3]}" for k in keys]
+        for i, (measure, ylabel) in enumerate([("nnz_factor", "nnz(L) (L+U for LU)"), ("factorize_s", "factorize [s]")]):
+            ax = axes[i][j]
+            vals = [cells.get(k, {}).get(measure, float("nan")) for k in keys]
+            xs = range(len(keys))
+            ax.bar(xs, [0 if math.isnan(v) else v for v in vals],
+                   color=["tab:blue" if meta[k]["family"] == "sparse-cholesky" else "tab:orange" for k in keys])
+            for x, v, k in zip(xs, vals, keys):
+                if math.isnan(v):
+                    ax.text(x, 0, meta[k]["status"], rotation=90, fontsize=6, va="bottom", ha="center")
+            ax.set_yscale("log")
+            ax.set_xticks(list(xs))
+            ax.set_xticklabels(labels, rotation=90, fontsize=6)
+            ax.set_ylabel(ylabel)
+            ax.set_title(f"{big} {system}: {ylabel} per ordering (blue Cholesky, orange LU)")
+            ax.grid(True, axis="y", which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "solvers_orderings.png"), dpi=120)
+    plt.close(fig)
+
+
+def core_of(path):
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            return f"{row.get('blas_core', '?')} (OPENBLAS_CORETYPE={row.get('blas_coretype_env', '?')})"
+    return "?"
+
+
+def plot_blas(results, cells, out):
+    variants = sorted(glob.glob(os.path.join(results, "solvers_blas_*.csv")))
+    if not variants:
+        return
+    runs = [(core_of(os.path.join(results, "solvers.csv")), cells)]
+    for v in variants:
+        runs.append((core_of(v), load(v)[0]))
+    keys = sorted(k for k in runs[1][1] if k[3] == "default" and "factorize_s" in runs[1][1][k] and k in cells)
+    if not keys:
+        return
+    fig, ax = plt.subplots(figsize=(max(8, 0.5 * len(keys) + 3), 5.5))
+    width = 0.8 / len(runs)
+    for r, (label, c) in enumerate(runs):
+        ys = [c.get(k, {}).get("factorize_s", float("nan")) for k in keys]
+        ax.bar([i + r * width for i in range(len(keys))], ys, width, label=label)
+    ax.set_xticks([i + 0.4 - width / 2 for i in range(len(keys))])
+    ax.set_xticklabels([f"{k[0]}/{k[1]}\n{k[2]}" for k in keys], rotation=90, fontsize=6)
+    ax.set_yscale("log")
+    ax.set_ylabel("factorize [s]")
+    ax.set_title("factorize time per OpenBLAS kernel set (dense_llt = Eigen, no BLAS: control)")
+    ax.legend(fontsize=7)
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "solvers_blas.png"), dpi=120)
+    plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--results", required=True)
+    ap.add_argument("--out", required=True)
+    a = ap.parse_args()
+    path = os.path.join(a.results, "solvers.csv")
+    if not os.path.exists(path):
+        print(f"solvers.py: {path} not found (run exp_solvers); nothing to plot", file=sys.stderr)
+        return 0
+    os.makedirs(a.out, exist_ok=True)
+    cells, meta = load(path)
+    plot_factor_vs_solve(cells, meta, a.out)
+    plot_scaling(cells, meta, a.out)
+    plot_orderings(cells, meta, a.out)
+    plot_blas(a.results, cells, a.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,159 @@
+#!/usr/bin/env bash
+# Reruns the Google Benchmark suite (bench/phases.cpp -> bench_phases) and compares it with the committed
+# baseline results/bench/baseline.json: prints Google Benchmark's compare.py report and FAILS (exit 1) when any
+# benchmark's median time is slower than the baseline by more than the threshold.
+#
+#   scripts/bench_compare.sh [--threshold PCT] [--repetitions N] [--min-time S] [--full]
+#                            [--baseline FILE] [--update-baseline] [-- EXTRA bench_phases FLAGS]
+#
+#   --threshold PCT     allowed slowdown of the median over repetitions, percent (default 25)
+#   --repetitions N     repetitions per benchmark (default 5); --min-time S: seconds per repetition (default 0.1)
+#   --full              also the man and armadillo_loop1 tiers (not in the baseline: reported, never gated)
+#   --update-baseline   record this run as the new baseline instead of comparing
+#   after --             passed to bench_phases, e.g. -- --benchmark_filter='factorize/.*'
+#
+# Works from a fresh clone: configures and builds bench_phases in $DEFORMBENCH_BUILD_DIR (default build/) and runs
+# scripts/data.sh when the meshes are missing. Each run is kept as results/bench/run-<UTC time>.json (git-ignored);
+# the comparison as results/bench/run-<UTC time>.compare.json. Exit codes: 0 no regression, 1 regression or a
+# benchmark that errored / disappeared, 2 usage or setup error.
+#
+# Timings are machine-specific: the baseline was recorded on the machine named in its "context" (and in its
+# deformbench_* keys: CPU, BLAS core, git sha). On another machine record your own first with --update-baseline.
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD=${DEFORMBENCH_BUILD_DIR:-$ROOT/build}
+JOBS=${JOBS:-2}
+PY=/usr/bin/python3
+COMPARE=/usr/share/benchmark/compare.py
+BASELINE=$ROOT/results/bench/baseline.json
+THRESHOLD=25
+REPS=5
+MIN_TIME=0.1
+FULL=()
+UPDATE=0
+EXTRA=()
+
+die() { echo "bench_compare: error: $*" >&2; exit 2; }
+log() { echo "bench_compare: $*" >&2; }
+
+while (($#)); do
+  case "$1" in
+    --threshold) THRESHOLD=${2:?--threshold needs a value}; shift 2 ;;
+    --repetitions) REPS=${2:?}; shift 2 ;;
+    --min-time) MIN_TIME=${2:?}; shift 2 ;;
+    --full) FULL=(--full); shift ;;
+    --baseline) BASELINE=${2:?}; shift 2 ;;
+    --update-baseline) UPDATE=1; shift ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    --) shift; EXTRA=("$@"); break ;;
+    *) die "unknown argument '$1' (see --help)" ;;
+  esac
+done
+
+[[ -x $PY ]] || die "$PY not found"
+[[ -f $COMPARE ]] || die "$COMPARE not found: install libbenchmark-tools (./run test installs it)"
+
+# Build (configure when the build folder is new).
+if [[ ! -f $BUILD/CMakeCache.txt ]]; then
+  log "configuring $BUILD"
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null || die "cmake configure failed"
+fi
+log "building bench_phases in $BUILD"
+cmake --build "$BUILD" -j "$JOBS" --target bench_phases >/dev/null || die "build of bench_phases failed"
+
+# Data (hand and armadillo; --full needs man and armadillo_loop1, also made by the default data step).
+need=("$ROOT/data/meshes/hand.off" "$ROOT/data/meshes/armadillo.off")
+((${#FULL[@]})) && need+=("$ROOT/data/meshes/man.off" "$ROOT/data/generated/armadillo_loop1.off")
+for f in "${need[@]}"; do
+  if [[ ! -f $f ]]; then
+    log "$f missing: running scripts/data.sh"
+    DEFORMBENCH_BUILD_DIR=$BUILD bash "$ROOT/scripts/data.sh" || die "data step failed"
+    break
+  fi
+done
+
+mkdir -p "$ROOT/results/bench"
+STAMP=$(date -u +%Y%m%dT%H%M%SZ)
+RUN=$ROOT/results/bench/run-$STAMP.json
+export DEFORMBENCH_SOURCE_DIR=$ROOT
+log "OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset: auto-detected>}; $REPS repetitions x ${MIN_TIME}s"
+"$BUILD/bench_phases" --data "$ROOT/data" "${FULL[@]}" \
+  --benchmark_repetitions="$REPS" --benchmark_min_time="$MIN_TIME" \
+  --benchmark_display_aggregates_only=true \
+  --benchmark_out="$RUN" --benchmark_out_format=json "${EXTRA[@]}" || die "bench_phases failed"
+log "wrote $RUN"
+
+if ((UPDATE)); then
+  cp "$RUN" "$BASELINE"
+  log "baseline updated: $BASELINE"
+  exit 0
+fi
+[[ -f $BASELINE ]] || die "no baseline at $BASELINE (record one with --update-baseline)"
+
+# The report: compare.py's table (with a Mann-Whitney U test when scipy is available).
+UTEST=()
+if ! "$PY" -c 'import scipy, numpy' 2>/dev/null; then
+  log "scipy/numpy missing for $PY (install python3-scipy): comparing without the U test"
+  UTEST=(--no-utest)
+fi
+COLOR=()
+[[ -t 1 ]] || COLOR=(--no-color)
+"$PY" "$COMPARE" "${COLOR[@]}" "${UTEST[@]}" -a --dump_to_json "${RUN%.json}.compare.json" \
+  benchmarks "$BASELINE" "$RUN" || log "compare.py failed (the gate below still runs)"
+
+# The gate: median real time per benchmark against the baseline's.
+FILTERED=0
+for a in "${EXTRA[@]}"; do if [[ $a == --benchmark_filter* ]]; then FILTERED=1; fi; done
+"$PY" - "$BASELINE" "$RUN" "$THRESHOLD" "$FILTERED" <<'EOF'
+import json, statistics, sys
+
+UNIT = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+
+def medians(path):
+    with open(path) as f:
+        runs = json.load(f)["benchmarks"]
+    med, reps, errors = {}, {}, {}
+    for b in runs:
+        name = b.get("run_name", b["name"])
+        if b.get("error_occurred"):
+            errors[name] = b.get("error_message", "error")
+            continue
+        t = b["real_time"] * UNIT[b.get("time_unit", "ns")]
+        if b.get("run_type") == "aggregate":
+            if b.get("aggregate_name") == "median":
+                med[name] = t
+        else:
+            reps.setdefault(name, []).append(t)
+    for name, ts in reps.items():
+        med.setdefault(name, statistics.median(ts))
+    return med, errors
+
+base, base_err = medians(sys.argv[1])
+new, new_err = medians(sys.argv[2])
+limit = 1.0 + float(sys.argv[3]) / 100.0
+allow_missing = sys.argv[4] == "1"
+bad = []
+print(f"\ngate: median real time, new / baseline, fails above {limit:.2f}")
+for name in sorted(set(base) | set(new) | set(new_err)):
+    if name in new_err:
+        print(f"  ERROR      {name}: {new_err[name]}")
+        bad.append(name)
+    elif name not in new:
+        if allow_missing:
+            continue  # filtered out on purpose
+        print(f"  MISSING    {name} (in the baseline, not in this run)")
+        bad.append(name)
+    elif name not in base:
+        print(f"  NEW        {name}: {new[name]:.4g} s (no baseline)")
+    else:
+        r = new[name] / base[name]
+        tag = "SLOWER" if r > limit else ("faster" if r < 1 / limit else "ok")
+        if r > limit:
+            bad.append(name)
+        print(f"  {tag:10s} {name}: {base[name]:.4g} s -> {new[name]:.4g} s ({(r - 1) * 100:+.1f}%)")
+if bad:
+    print(f"\nbench_compare: FAIL: {len(bad)} benchmark(s) regressed by more than {(limit - 1) * 100:.0f}% "
+          "or errored / disappeared")
+    sys.exit(1)
+print(f"\nbench_compare: OK: no benchmark slower than the baseline by more than {(limit - 1) * 100:.0f}%")
+EOF
