@@ -3,10 +3,10 @@
 // Every cell runs in a fresh child process (this executable re-run with --cell) under a memory and a time
 // budget checked against a prediction first; cells over budget are recorded as #over / #slow, never attempted.
 //
-//   exp_table_2_1 --data DIR --results DIR [--full] [--memory-budget-mb MB] [--time-budget-s S]
+//   exp_table_2_1 --data DIR --results DIR [--full] [--memory-budget-mb MiB] [--time-budget-s S]
 //                 [--cell-timeout-s S] [--frames N] [--tiers hand,man,...] [--systems lap,tf]
 //                 [--builds dense,naive,structured] [--backend NAME] [--ordering NAME] [--no-scaling]
-//                 [--mesh-cache DIR]
+//                 [--mesh-cache DIR] [--repeats N]
 // Writes RESULTS/table_2_1.csv (long: one row per model x system x build x measure), table_2_1_thesis.csv,
 // table_2_1.md, scaling.csv and scaling_fits.csv; per-cell raw child lines go to RESULTS/cells/table_2_1/.
 #include <algorithm>
@@ -132,6 +132,7 @@ struct Config {
   bool full = false;
   double memory_budget = 0, time_budget = 0, cell_timeout = 0;
   int frames = 20;
+  int repeats = 1;  // fresh children per cell; the table keeps the median
   std::vector<std::string> tiers, systems, builds;
   std::string backend, ordering;
   bool scaling = true;
@@ -223,8 +224,14 @@ class Runner {
       return r;
     }
     const std::string exe = self_executable();
-    CellResult r = run_budgeted(s, p, cfg_.memory_budget, cfg_.time_budget,
-                                [&](const CellSpec& c) { return run_cell_in_child(exe, c, cfg_.cell_timeout); });
+    CellResult r = run_budgeted(s, p, cfg_.memory_budget, cfg_.time_budget, [&](const CellSpec& c) {
+      std::vector<CellResult> runs;
+      for (int i = 0; i < cfg_.repeats; ++i) {
+        runs.push_back(run_cell_in_child(exe, c, cfg_.cell_timeout));
+        if (!runs.back().ok()) return runs.back();  // a failure is reported as it happened
+      }
+      return median_of(runs);
+    });
     // Raw record of the child's answer, for debugging a surprising number.
     try {
       const fs::path dir = cfg_.results / "cells" / "table_2_1";
@@ -412,10 +419,10 @@ void write_markdown(const Config& cfg, const MachineRates& rates, const std::vec
   o << fmt::format(
       "Budgets: memory {:.0f} MiB per cell (checked against a prediction before a cell runs), time {:.0f} s per "
       "cell (predicted from flop counts at the rates measured at start: dense GEMM {:.1f} GFlop/s, sparse A^T A "
-      "{:.2f} GFlop/s, matrix-vector {:.2f} GFlop/s); a running cell is killed after {:.0f} s. Frames per cell: {}. Backend: {} (ordering {}); the "
+      "{:.2f} GFlop/s, matrix-vector {:.2f} GFlop/s); a running cell is killed after {:.0f} s. Frames per cell: {}; runs per cell: {} (fresh children, median). Backend: {} (ordering {}); the "
       "dense build factors with Eigen's dense LLT.\n\n",
       cfg.memory_budget / kMiB, cfg.time_budget, rates.dense / 1e9, rates.sparse / 1e9, rates.stream / 1e9,
-      cfg.cell_timeout, cfg.frames,
+      cfg.cell_timeout, cfg.frames, cfg.repeats,
       cfg.backend, cfg.ordering);
   o << "**The edit** (harness/thesis_edit.h): region of interest = the whole mesh; handle = the 100 vertices nearest "
        "the extreme vertex along the longest bounding-box axis, dragged by a translation of 0.2 x the bounding-box "
@@ -558,8 +565,9 @@ void write_markdown(const Config& cfg, const MachineRates& rates, const std::vec
       }
   if (!any) o << "none\n";
   o << "\n## Notes\n\n"
-       "- Each cell ran once for init (no repetition); frame times are medians over the drag. Other processes on "
-       "the machine (builds) add noise to single-shot timings.\n"
+       "- Init is measured once per run of a cell (--repeats N takes the median of N fresh children); frame times "
+       "are medians over the drag. On a shared 2-core machine other processes (builds) make single-shot timings "
+       "vary by 2x or more between runs: compare orders of magnitude, not digits.\n"
        "- Thesis vertex counts differ from the bundled meshes (the thesis' models are not available); the planck tier "
        "is armadillo Loop-subdivided once, the horse tier CGAL's refined_elephant.\n"
        "- The sparse factor prediction comes from a symbolic analysis of the vertex-level 2-ring graph (for TF expanded "
@@ -587,6 +595,7 @@ int main(int argc, char** argv) {
     cfg.time_budget = a.number("--time-budget-s", cfg.full ? 900 : 120);
     cfg.cell_timeout = a.number("--cell-timeout-s", std::max(120.0, 3 * cfg.time_budget));
     cfg.frames = static_cast<int>(a.number("--frames", 20));
+    cfg.repeats = static_cast<int>(a.number("--repeats", 1));
     cfg.tiers = split(a.get("--tiers", "hand,man,armadillo,horse,planck"));
     cfg.systems = split(a.get("--systems", "lap,tf"));
     cfg.builds = split(a.get("--builds", "dense,naive,structured"));
@@ -594,6 +603,7 @@ int main(int argc, char** argv) {
     cfg.ordering = a.get("--ordering", "default");
     cfg.scaling = !a.has("--no-scaling");
     if (cfg.frames < 1) throw InputError("--frames must be >= 1");
+    if (cfg.repeats < 1) throw InputError("--repeats must be >= 1");
     fs::create_directories(cfg.results);
 
     std::cerr << "[table_2_1] " << provenance_summary() << "\n";

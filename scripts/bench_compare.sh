@@ -3,11 +3,13 @@
 # baseline results/bench/baseline.json: prints Google Benchmark's compare.py report and FAILS (exit 1) when any
 # benchmark's median time is slower than the baseline by more than the threshold.
 #
-#   scripts/bench_compare.sh [--threshold PCT] [--repetitions N] [--min-time S] [--full]
+#   scripts/bench_compare.sh [--threshold PCT] [--repetitions N] [--min-time S] [--threads N] [--full]
 #                            [--baseline FILE] [--update-baseline] [-- EXTRA bench_phases FLAGS]
 #
 #   --threshold PCT     allowed slowdown of the median over repetitions, percent (default 25)
 #   --repetitions N     repetitions per benchmark (default 5); --min-time S: seconds per repetition (default 0.1)
+#   --threads N         OMP_NUM_THREADS and OPENBLAS_NUM_THREADS for the run (default 1: on a shared machine a
+#                       parallel region waits for descheduled threads; the baseline was recorded with 1)
 #   --full              also the man and armadillo_loop1 tiers (not in the baseline: reported, never gated)
 #   --update-baseline   record this run as the new baseline instead of comparing
 #   after --             passed to bench_phases, e.g. -- --benchmark_filter='factorize/.*'
@@ -31,6 +33,7 @@ REPS=5
 MIN_TIME=0.1
 FULL=()
 UPDATE=0
+THREADS=1
 EXTRA=()
 
 die() { echo "bench_compare: error: $*" >&2; exit 2; }
@@ -42,9 +45,10 @@ while (($#)); do
     --repetitions) REPS=${2:?}; shift 2 ;;
     --min-time) MIN_TIME=${2:?}; shift 2 ;;
     --full) FULL=(--full); shift ;;
+    --threads) THREADS=${2:?}; shift 2 ;;
     --baseline) BASELINE=${2:?}; shift 2 ;;
     --update-baseline) UPDATE=1; shift ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
     --) shift; EXTRA=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
   esac
@@ -75,8 +79,8 @@ done
 mkdir -p "$ROOT/results/bench"
 STAMP=$(date -u +%Y%m%dT%H%M%SZ)
 RUN=$ROOT/results/bench/run-$STAMP.json
-export DEFORMBENCH_SOURCE_DIR=$ROOT
-log "OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset: auto-detected>}; $REPS repetitions x ${MIN_TIME}s"
+export DEFORMBENCH_SOURCE_DIR=$ROOT OMP_NUM_THREADS=$THREADS OPENBLAS_NUM_THREADS=$THREADS
+log "OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset: auto-detected>}; $THREADS thread(s); $REPS repetitions x ${MIN_TIME}s"
 "$BUILD/bench_phases" --data "$ROOT/data" "${FULL[@]}" \
   --benchmark_repetitions="$REPS" --benchmark_min_time="$MIN_TIME" \
   --benchmark_display_aggregates_only=true \

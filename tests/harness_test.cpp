@@ -232,6 +232,20 @@ TEST(ResultLine, CellsThatDidNotRunKeepTheCoreMeasures) {
   EXPECT_TRUE(has_pred);
 }
 
+TEST(ResultLine, MedianOfRepeatedRuns) {
+  std::vector<CellResult> runs(3);
+  runs[0].init_s = 3;
+  runs[1].init_s = 1;
+  runs[2].init_s = 2;
+  runs[0].held_bytes = {{"K_upper", 10}};
+  const CellResult m = median_of(runs);
+  EXPECT_DOUBLE_EQ(m.init_s, 2);
+  EXPECT_DOUBLE_EQ(m.runs, 3);
+  EXPECT_TRUE(std::isnan(m.frame_s));
+  ASSERT_EQ(m.held_bytes.size(), 1u);
+  EXPECT_THROW(median_of({}), Error);
+}
+
 TEST(ThesisEdit, HandleAndAnchorsAtOppositeExtremes) {
   const Mesh m = test_mesh();
   const Edit e = make_thesis_edit(m);

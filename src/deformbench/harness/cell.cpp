@@ -59,6 +59,7 @@ const std::vector<Field>& fields() {
       {"ru_maxrss_bytes", "bytes", &CellResult::ru_maxrss_bytes, false},
       {"parent_rss_bytes", "bytes", &CellResult::parent_rss_bytes, false},
       {"cell_wall_s", "s", &CellResult::wall_s, false},
+      {"runs", "count", &CellResult::runs, false},
   };
   return f;
 }
@@ -307,11 +308,25 @@ CellResult run_cell_in_child(const std::string& exe, const CellSpec& spec, doubl
     r.message = fmt::format("child {}; stderr: {}", c.describe(), tail(c.err, 400));
     r.peak_rss_bytes = vmhwm;
   }
+  r.runs = 1;
   r.exit = c.describe();
   r.ru_maxrss_bytes = static_cast<double>(c.ru_maxrss_bytes);
   r.parent_rss_bytes = parent_rss;
   r.wall_s = c.wall_s;
   return r;
+}
+
+CellResult median_of(const std::vector<CellResult>& runs) {
+  if (runs.empty()) throw Error("median_of: no runs");
+  CellResult m = runs.front();
+  for (const Field& f : fields()) {
+    std::vector<double> v;
+    for (const auto& r : runs)
+      if (!std::isnan(r.*f.member)) v.push_back(r.*f.member);
+    m.*f.member = v.empty() ? kNaN : median(v);
+  }
+  m.runs = static_cast<double>(runs.size());
+  return m;
 }
 
 CellResult run_budgeted(const CellSpec& spec, const Prediction& p, double memory_budget_bytes, double time_budget_s,

@@ -62,6 +62,7 @@ struct CellResult {
   std::vector<std::pair<std::string, double>> held_bytes;  //!< matrices held by the build, by name
   // Added by the parent.
   double ru_maxrss_bytes, parent_rss_bytes, wall_s;
+  double runs;       //!< fresh children this result is the median of (median_of)
   std::string exit;  //!< how the child ended ("exit 0", "signal 9 (Killed)", ...)
   Prediction predicted;
 
@@ -96,6 +97,11 @@ int cell_main(int argc, char** argv);
 //! and the parent's own RSS at fork time. A child that crashes, is killed or prints no result line gives
 //! status "error" with the reason and the tail of its stderr; never throws for a failing child.
 CellResult run_cell_in_child(const std::string& exe, const CellSpec& spec, double timeout_s);
+
+//! Field-by-field median of repeated runs of one cell (all ok), so one disturbed run on a shared machine does
+//! not make the table; strings and held bytes come from the first run, `runs` is the count.
+//! \throw Error for an empty list.
+CellResult median_of(const std::vector<CellResult>& runs);
 
 //! The parent's decision: `#over` when the prediction exceeds the memory budget, `#slow` when it exceeds the
 //! time budget (neither calls `runner`); otherwise runner(spec). The prediction is attached to the result.

@@ -73,6 +73,7 @@ void check_every_component_anchored(const Adjacency& adj, const std::vector<Cons
 }
 
 std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
+  validate_mesh(mesh);  // cheap next to any build; library callers may not have loaded through edit_io
   validate_edit(mesh, edit);
   if (!(options.soft_weight > 0) || !std::isfinite(options.soft_weight))
     throw InputError(fmt::format("soft weight must be positive and finite, got {}", options.soft_weight));
