@@ -250,20 +250,30 @@ TEST(Cholmod, BlockOrderingMatchesScalarOrdering) {
   std::mt19937 rng(8);
   const SpMat upper = upper_of(kron3(normal_equations(mesh_laplacian(10, 9, true, rng), 4, rng)));
   const DenseMat B = random_rhs(upper.rows(), 3, rng);
-  for (const char* name : {"cholmod_supernodal", "cholmod_simplicial_ldlt"}) {
-    DenseMat X[2];
-    for (int block : {1, 3}) {
-      db::SolverOptions o;
-      o.ordering = "amd";
-      o.block_size = block;
-      auto s = db::make_solver(name, o);
-      s->analyze(upper);
-      s->factorize(upper);
-      s->solve(B, X[block == 3]);
-      EXPECT_EQ(s->stats().ordering_used, block == 3 ? "amd-block3" : "amd") << name;
+  for (const char* name : {"cholmod_supernodal", "cholmod_simplicial_ldlt"})
+    for (const std::string ordering : {"amd", "metis", "nesdis"}) {
+      DenseMat X[2];
+      for (int block : {1, 3}) {
+        db::SolverOptions o;
+        o.ordering = ordering;
+        o.block_size = block;
+        auto s = db::make_solver(name, o);
+        s->analyze(upper);
+        s->factorize(upper);
+        s->solve(B, X[block == 3]);
+        EXPECT_EQ(s->stats().ordering_used, block == 3 ? ordering + "-block3" : ordering) << name;
+      }
+      EXPECT_LT(rel(X[1], X[0]), 1e-12) << name << " " << ordering;
     }
-    EXPECT_LT(rel(X[1], X[0]), 1e-12) << name;
-  }
+  db::SolverOptions o;
+  o.block_size = 3;  // "default" on a small system: block AMD (CHOLMOD's rule only tries METIS at high fill)
+  auto s = db::make_solver("cholmod_supernodal", o);
+  s->analyze(upper);
+  EXPECT_EQ(s->stats().ordering_used, "amd-block3");
+  o.block_size = 4;  // n is not a multiple of 4: scalar ordering
+  s = db::make_solver("cholmod_supernodal", o);
+  s->analyze(upper);
+  EXPECT_EQ(s->stats().ordering_used.find("block"), std::string::npos);
 }
 
 TEST(Cholmod, NotPositiveDefiniteNamesTheColumn) {

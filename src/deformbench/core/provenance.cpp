@@ -1,7 +1,6 @@
 #include "core/provenance.h"
 
 #include <dlfcn.h>
-#include <omp.h>
 
 #include <array>
 #include <cstdio>
@@ -12,6 +11,8 @@
 #include <thread>
 
 #include <fmt/format.h>
+
+#include "core/resources.h"
 
 namespace db {
 namespace {
@@ -112,7 +113,7 @@ const Provenance& provenance() {
     q.git_sha = git_sha();
     blas_info(q);
     if (const char* e = std::getenv("OPENBLAS_CORETYPE")) q.blas_coretype_env = e;
-    q.build_threads = omp_get_max_threads();
+    q.build_threads = worker_threads();
     q.hardware_threads = static_cast<int>(std::thread::hardware_concurrency());
     q.cpu = cpu_model();
 #if defined(__clang__)

@@ -12,7 +12,7 @@ struct Provenance {
   std::string blas_core;    //!< OpenBLAS kernel set in use (openblas_get_corename), "n/a" otherwise
   std::string blas_coretype_env;  //!< OPENBLAS_CORETYPE as set by the user, "" when unset (auto-detected)
   int blas_threads = 1;     //!< threads the BLAS will use
-  int build_threads = 1;    //!< OpenMP threads of the structured assembly
+  int build_threads = 1;    //!< threads of the structured assembly (DEFORMBENCH_THREADS)
   int hardware_threads = 1;
   std::string cpu;          //!< /proc/cpuinfo model name
   std::string compiler;

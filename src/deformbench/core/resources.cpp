@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <fstream>
+#include <thread>
 #include <sstream>
 #include <string>
 
@@ -27,6 +30,14 @@ std::size_t peak_rss_bytes() { return status_kib("VmHWM:") * 1024; }
 std::size_t current_rss_bytes() { return status_kib("VmRSS:") * 1024; }
 std::size_t physical_memory_bytes() {
   return static_cast<std::size_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
+}
+
+int worker_threads() {
+  if (const char* e = std::getenv("DEFORMBENCH_THREADS")) {
+    const int t = std::atoi(e);
+    if (t >= 1) return t;
+  }
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
 }  // namespace db

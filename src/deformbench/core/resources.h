@@ -11,4 +11,8 @@ std::size_t current_rss_bytes();
 //! Physical memory of the machine, bytes.
 std::size_t physical_memory_bytes();
 
+//! Threads for the project's own parallel loops (structured assembly): DEFORMBENCH_THREADS when set,
+//! else the hardware threads.
+int worker_threads();
+
 }  // namespace db

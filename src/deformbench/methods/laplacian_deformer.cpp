@@ -12,10 +12,6 @@ namespace {
 // right-hand-side columns; TF interleaves them in one column.
 inline double& at(DenseMat& M, int block, int u, int c) { return block == 1 ? M(u, c) : M(3 * u + c, 0); }
 inline int op_block(EnergyKind k) { return k == EnergyKind::Lap ? 1 : 3; }
-// AMD on the vertex graph: METIS finds 5-15% less fill on the 2-ring graphs of surface meshes but takes
-// longer to order than the fill saves in factorization time (measured on the armadillo tiers);
-// --ordering metis|nesdis selects them.
-const char* const kDefaultVertexOrdering = "amd";
 }  // namespace
 
 LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind,

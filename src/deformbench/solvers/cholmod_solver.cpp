@@ -76,14 +76,20 @@ cholmod_dense dense_view(const DenseMat& B) {
   return D;
 }
 
-//! AMD on the compressed block graph (node I = unknowns b*I .. b*I+b-1), expanded to a full permutation:
-//! the graph is b^2 times smaller than the scalar one, so the ordering costs a fraction.
-std::vector<int> block_amd_permutation(const SpMat& upper, int b) {
-  const int n = int(upper.cols());
-  const int nb = n / b;
+//! Compressed block graph of the pattern: node I stands for unknowns b*I .. b*I+b-1 (x,y,z of a
+//! vertex). Full symmetric adjacency without the diagonal, sorted, no duplicates.
+struct BlockGraph {
+  int nb = 0;
+  std::vector<int> Ap, Ai;
+};
+
+BlockGraph block_graph(const SpMat& upper, int b) {
+  BlockGraph g;
+  const int nb = int(upper.cols()) / b;
+  g.nb = nb;
   // Pass 1: distinct off-diagonal block rows of each block column (upper triangle as stored).
-  std::vector<int> mark(std::size_t(nb), -1);
-  std::vector<int> up(std::size_t(nb) + 1, 0), ui;
+  std::vector<int> mark(static_cast<std::size_t>(nb), -1);
+  std::vector<int> up(static_cast<std::size_t>(nb) + 1, 0), ui;
   ui.reserve(std::size_t(upper.nonZeros()) / std::size_t(b * b) + std::size_t(nb));
   for (int J = 0; J < nb; ++J) {
     for (int c = 0; c < b; ++c) {
@@ -98,15 +104,16 @@ std::vector<int> block_amd_permutation(const SpMat& upper, int b) {
     }
     up[std::size_t(J) + 1] = int(ui.size());
   }
-  // Pass 2: symmetrize (AMD wants both triangles), then drop duplicates and sort each column.
-  std::vector<int> cnt(std::size_t(nb) + 1, 0);
+  // Pass 2: symmetrize (orderings want both triangles), then drop duplicates and sort each column.
+  std::vector<int> cnt(static_cast<std::size_t>(nb) + 1, 0);
   for (int J = 0; J < nb; ++J)
     for (int p = up[std::size_t(J)]; p < up[std::size_t(J) + 1]; ++p) {
       ++cnt[std::size_t(J) + 1];
       ++cnt[std::size_t(ui[std::size_t(p)]) + 1];
     }
   for (int J = 0; J < nb; ++J) cnt[std::size_t(J) + 1] += cnt[std::size_t(J)];
-  std::vector<int> Ai(static_cast<std::size_t>(cnt.back()));
+  std::vector<int>& Ai = g.Ai;
+  Ai.assign(static_cast<std::size_t>(cnt.back()), 0);
   std::vector<int> next(cnt.begin(), cnt.end() - 1);
   for (int J = 0; J < nb; ++J)
     for (int p = up[std::size_t(J)]; p < up[std::size_t(J) + 1]; ++p) {
@@ -114,7 +121,7 @@ std::vector<int> block_amd_permutation(const SpMat& upper, int b) {
       Ai[std::size_t(next[std::size_t(J)]++)] = I;
       Ai[std::size_t(next[std::size_t(I)]++)] = J;
     }
-  std::vector<int> Ap(std::size_t(nb) + 1, 0);
+  g.Ap.assign(static_cast<std::size_t>(nb) + 1, 0);
   std::fill(mark.begin(), mark.end(), -1);
   int w = 0;
   for (int J = 0; J < nb; ++J) {
@@ -127,16 +134,49 @@ std::vector<int> block_amd_permutation(const SpMat& upper, int b) {
       }
     }
     std::sort(Ai.begin() + start, Ai.begin() + w);
-    Ap[std::size_t(J) + 1] = w;
+    g.Ap[std::size_t(J) + 1] = w;
   }
-  std::vector<int> P(static_cast<std::size_t>(nb));
-  double info[AMD_INFO];
-  const int status = amd_order(nb, Ap.data(), Ai.data(), P.data(), nullptr, info);
-  if (status != AMD_OK && status != AMD_OK_BUT_JUMBLED)
-    throw SolverError(fmt::format("amd_order on the {}x{} block graph failed (status {})", nb, nb, status));
-  std::vector<int> perm(static_cast<std::size_t>(n));
-  for (int i = 0; i < nb; ++i)
-    for (int c = 0; c < b; ++c) perm[std::size_t(b * i + c)] = b * P[std::size_t(i)] + c;
+  Ai.resize(static_cast<std::size_t>(w));
+  return g;
+}
+
+//! Fill-reducing ordering ("amd", "metis", "nesdis") of the block graph, expanded to the unknowns
+//! (perm[b*i + c] = b*p[i] + c): the graph is ~b^2 times smaller, so ordering it costs a fraction.
+std::vector<int> block_permutation(const BlockGraph& g, int b, const std::string& method, cholmod_common& cc) {
+  const std::size_t nb = std::size_t(g.nb);
+  std::vector<int> P(nb);
+  if (method == "amd") {
+    double info[AMD_INFO];
+    const int status = amd_order(g.nb, g.Ap.data(), g.Ai.data(), P.data(), nullptr, info);
+    if (status != AMD_OK && status != AMD_OK_BUT_JUMBLED)
+      throw SolverError(fmt::format("amd_order on the {0}x{0} block graph failed (status {1})", g.nb, status));
+  } else {
+    // Pattern-only symmetric view (stype = 1 reads the upper part of the full adjacency).
+    cholmod_sparse G{};
+    G.nrow = G.ncol = nb;
+    G.nzmax = g.Ai.size();
+    G.p = const_cast<int*>(g.Ap.data());
+    G.i = const_cast<int*>(g.Ai.data());
+    G.stype = 1;
+    G.itype = CHOLMOD_INT;
+    G.xtype = CHOLMOD_PATTERN;
+    G.dtype = CHOLMOD_DOUBLE;
+    G.sorted = 1;
+    G.packed = 1;
+    bool ok;
+    if (method == "metis") {
+      ok = cholmod_metis(&G, nullptr, 0, /*postorder=*/0, P.data(), &cc);
+    } else {
+      std::vector<int> cparent(nb), cmember(nb);
+      ok = cholmod_nested_dissection(&G, nullptr, 0, P.data(), cparent.data(), cmember.data(), &cc) >= 0;
+    }
+    if (!ok || cc.status < CHOLMOD_OK)
+      throw SolverError(fmt::format("CHOLMOD {} on the {}x{} block graph failed: {}", method, g.nb, g.nb,
+                                    status_name(cc.status)));
+  }
+  std::vector<int> perm(nb * std::size_t(b));
+  for (std::size_t i = 0; i < nb; ++i)
+    for (int c = 0; c < b; ++c) perm[std::size_t(b) * i + std::size_t(c)] = b * P[i] + c;
   return perm;
 }
 
@@ -173,16 +213,51 @@ class CholmodSolver final : public LinearSolver {
     free_factor();
     const int n = int(upper.cols());
     const int b = options_.block_size;
-    const bool blocked = b > 1 && n % b == 0 && (options_.ordering == "default" || options_.ordering == "amd");
+    // The block path is taken for every ordering but natural; "default" then mimics CHOLMOD's own
+    // rule on the block graph: AMD, plus METIS when AMD's fill is high, keeping the smaller nnz(L).
+    const bool blocked = b > 1 && n % b == 0 && options_.ordering != "natural";
     cholmod_sparse A = sparse_view(upper);
-    // A matrix handed over already ordered (the structured build orders the vertex graph) is used as is:
-    // postordering it would make CHOLMOD factor a permuted copy.
-    cc_.postorder = options_.ordering != "natural";
+    cc_.postorder = true;
+    std::string used;
     if (blocked) {
-      const std::vector<int> perm = block_amd_permutation(upper, b);
-      cc_.nmethods = 1;
-      cc_.method[0].ordering = CHOLMOD_GIVEN;
-      L_ = cholmod_analyze_p(&A, const_cast<int*>(perm.data()), nullptr, 0, &cc_);
+      try {  // free partial state if the analysis throws
+        const BlockGraph g = block_graph(upper, b);
+        auto analyze_given = [&](const std::string& method) {
+          std::vector<int> perm = block_permutation(g, b, method, cc_);
+          cc_.nmethods = 1;
+          cc_.method[0].ordering = CHOLMOD_GIVEN;
+          cholmod_factor* L = cholmod_analyze_p(&A, perm.data(), nullptr, 0, &cc_);
+          if (L && cc_.status < CHOLMOD_OK) cholmod_free_factor(&L, &cc_);
+          if (!L)
+            throw SolverError(fmt::format("{}: cholmod_analyze_p failed: {}", name(), status_name(cc_.status)));
+          return L;
+        };
+        used = options_.ordering == "default" ? "amd" : options_.ordering;
+        L_ = analyze_given(used);
+        double lnz = cc_.lnz, fl = cc_.fl;
+        if (options_.ordering == "default" && fl / lnz >= 500 && lnz / double(upper.nonZeros()) >= 5) {
+          cholmod_factor* Lm = nullptr;
+          try {
+            Lm = analyze_given("metis");
+          } catch (const SolverError&) {  // METIS unavailable or failed: AMD's ordering stands
+          }
+          if (Lm && cc_.lnz < lnz) {
+            cholmod_free_factor(&L_, &cc_);
+            L_ = Lm;
+            lnz = cc_.lnz;
+            fl = cc_.fl;
+            used = "metis";
+          } else if (Lm) {
+            cholmod_free_factor(&Lm, &cc_);
+          }
+        }
+        cc_.lnz = lnz;
+        cc_.fl = fl;
+        used = fmt::format("{}-block{}", used, b);
+      } catch (...) {
+        free_factor();
+        throw;
+      }
     } else {
       if (options_.ordering == "default") {
         cc_.nmethods = 0;  // CHOLMOD's default: AMD, METIS too when AMD's fill is high
@@ -194,16 +269,17 @@ class CholmodSolver final : public LinearSolver {
                                                                  : CHOLMOD_NATURAL;
       }
       L_ = cholmod_analyze(&A, &cc_);
+      if (!L_ || cc_.status < CHOLMOD_OK)
+        throw SolverError(fmt::format("{}: cholmod_analyze failed: {}", name(), status_name(cc_.status)));
+      used = ordering_name(L_->ordering);
     }
-    if (!L_ || cc_.status < CHOLMOD_OK)
-      throw SolverError(fmt::format("{}: cholmod_analyze failed: {}", name(), status_name(cc_.status)));
     guard_.remember(upper);
     stats_ = FactorStats{};
     stats_.n = std::size_t(n);
     stats_.nnz_matrix = std::size_t(upper.nonZeros());
     stats_.nnz_factor = std::size_t(cc_.lnz);
     stats_.flops = cc_.fl;
-    stats_.ordering_used = blocked ? fmt::format("amd-block{}", b) : std::string(ordering_name(L_->ordering));
+    stats_.ordering_used = used;
     stats_.factor_bytes = factor_bytes();
   }
 
