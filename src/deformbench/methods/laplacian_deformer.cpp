@@ -34,7 +34,7 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   t.reset();
   std::string vertex_ordering;
   if (options.build == Build::Structured && so.ordering != "natural") {
-    vertex_ordering = so.ordering == "default" ? kDefaultVertexOrdering : so.ordering;
+    vertex_ordering = so.ordering == "default" ? default_vertex_ordering(so.block_size) : so.ordering;
     order_unknowns(adj, unk_, vertex_ordering);
     so.ordering = "natural";
   }

@@ -13,13 +13,14 @@ inline bool row_active(const std::vector<int>& cols, const Unknowns& unk) {
   return false;
 }
 
-//! out(c1, c2) = sum_r X(r, c1) Y(r, c2) for b x b row-major blocks.
-inline void block_AtB(int b, const double* X, const double* Y, double* out) {
-  for (int c1 = 0; c1 < b; ++c1)
-    for (int c2 = 0; c2 < b; ++c2) {
+//! out(c1, c2) = sum_r X(r, c1) Y(r, c2) for B x B row-major blocks.
+template <int B>
+inline void block_AtB(const double* X, const double* Y, double* out) {
+  for (int c1 = 0; c1 < B; ++c1)
+    for (int c2 = 0; c2 < B; ++c2) {
       double s = 0;
-      for (int r = 0; r < b; ++r) s += X[r * b + c1] * Y[r * b + c2];
-      out[c1 * b + c2] = s;
+      for (int r = 0; r < B; ++r) s += X[r * B + c1] * Y[r * B + c2];
+      out[c1 * B + c2] = s;
     }
 }
 

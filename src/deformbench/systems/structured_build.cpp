@@ -80,9 +80,14 @@ SpMat expand_pattern(const BlockPattern& p, int b) {
 
 }  // namespace
 
-NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk) {
+namespace {
+
+// The block size is a template parameter so the 3x3 block products and scatters unroll.
+template <int B>
+NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& unk) {
   const Adjacency& adj = op.adjacency();
-  const int n = op.num_vertices(), b = op.block(), r = op.rhs_cols(), b2 = b * b;
+  constexpr int b = B, b2 = B * B, r = 3 / B;
+  const int n = op.num_vertices();
   const int nu = unk.num_unknowns();
   NormalSystem sys;
   const BlockPattern pat = block_pattern(adj, unk);
@@ -142,7 +147,7 @@ NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk) {
           if (ku >= 0) {
             // Upper triangle only (row block ju <= column block ku), and only the columns this thread owns.
             if (ku < ju || ku < lo || ku >= hi) continue;
-            block_AtB(b, Ca, coeffs.data() + b2 * c, blk);
+            block_AtB<B>(Ca, coeffs.data() + b2 * c, blk);
             const int pos = pat.find(ku, ju) - pat.colptr[ku];
             for (int c2 = 0; c2 < b; ++c2) {
               const int base = Kp[b * ku + c2] + b * pos;
@@ -150,7 +155,7 @@ NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk) {
               for (int c1 = 0; c1 < upto; ++c1) Kv[base + c1] += blk[c1 * b + c2];
             }
           } else if (own_row) {
-            block_AtB(b, Ca, coeffs.data() + b2 * c, blk);
+            block_AtB<B>(Ca, coeffs.data() + b2 * c, blk);
             const int kh = unk.hard_of[k];
             for (int c1 = 0; c1 < b; ++c1)
               for (int c2 = 0; c2 < b; ++c2) ctrip[t].emplace_back(b * ju + c1, b * kh + c2, blk[c1 * b + c2]);
@@ -175,6 +180,12 @@ NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk) {
   sys.held_bytes = {{"K_upper", sparse_bytes(sys.K)}, {"C", sparse_bytes(sys.C)},
                     {"g0", static_cast<std::size_t>(sys.g0.size()) * sizeof(double)}};
   return sys;
+}
+
+}  // namespace
+
+NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk) {
+  return op.block() == 1 ? build_structured_blocks<1>(op, unk) : build_structured_blocks<3>(op, unk);
 }
 
 }  // namespace db::detail
