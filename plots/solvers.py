@@ -12,7 +12,6 @@ Reads RESULTS/solvers.csv (and RESULTS/solvers_blas_*.csv when present) and writ
 import argparse
 import csv
 import glob
-import math
 import os
 import sys
 from collections import defaultdict
@@ -23,6 +22,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 SYSTEMS = ["lap", "tf"]
+# Minimum over a cell's repetitions (interference from other jobs only adds time), as in results/solvers.md.
+FACT = "factorize_min_s"
+SOLVE = "solve_min_s"
 FAMILY_STYLE = {"sparse-cholesky": "-", "sparse-lu": "--", "dense": ":", "iterative": "-."}
 
 
@@ -64,9 +66,9 @@ def plot_factor_vs_solve(cells, meta, out):
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
     for ax, system in zip(axes, SYSTEMS):
         for b in bks:
-            pts = sorted((v["n"], v["factorize_s"], v["solve_s"], k[0]) for k, v in cells.items()
+            pts = sorted((v["n"], v[FACT], v[SOLVE], k[0]) for k, v in cells.items()
                          if k[1] == system and k[2] == b and k[3] == "default"
-                         and "factorize_s" in v and "solve_s" in v)
+                         and FACT in v and SOLVE in v)
             if not pts:
                 continue
             xs = [max(p[1], 1e-7) for p in pts]
@@ -91,7 +93,7 @@ def plot_scaling(cells, meta, out):
     col = colors(bks)
     fig, axes = plt.subplots(2, 2, figsize=(13, 9), sharex="col")
     for j, system in enumerate(SYSTEMS):
-        for i, (measure, label) in enumerate([("factorize_s", "factorize [s]"), ("solve_s", "solve [s]")]):
+        for i, (measure, label) in enumerate([(FACT, "factorize [s]"), (SOLVE, "solve [s]")]):
             ax = axes[i][j]
             for b in bks:
                 pts = sorted((v["n"], v[measure]) for k, v in cells.items()
@@ -121,26 +123,39 @@ def plot_orderings(cells, meta, out):
     if not models:
         return
     big = max(models, key=lambda m: max((v.get("vertices", 0) for k, v in cells.items() if k[0] == m), default=0))
+    direct = [k for k in meta if k[0] == big and meta[k]["family"] in ("sparse-cholesky", "sparse-lu")]
+    backends = []
+    orderings = []
+    for k in direct:
+        if k[2] not in backends:
+            backends.append(k[2])
+        if k[3] not in orderings:
+            orderings.append(k[3])
+    if not backends:
+        return
+    fixed = {"default": "tab:gray", "amd": "tab:orange", "metis": "tab:green", "nesdis": "tab:red",
+             "natural": "tab:purple", "vertex-metis": "tab:brown", "colamd": "tab:pink"}
+    cmap = plt.get_cmap("tab10")
+    width = 0.8 / len(orderings)
     fig, axes = plt.subplots(2, 2, figsize=(14, 9))
     for j, system in enumerate(SYSTEMS):
-        keys = [k for k in meta if k[0] == big and k[1] == system
-                and meta[k]["family"] in ("sparse-cholesky", "sparse-lu")]
-        labels = [f"{k[2]}\n{k[3]}" for k in keys]
-        for i, (measure, ylabel) in enumerate([("nnz_factor", "nnz(L) (L+U for LU)"), ("factorize_s", "factorize [s]")]):
+        for i, (measure, ylabel) in enumerate([("nnz_factor", "nnz(L) (L+U for LU)"), (FACT, "factorize [s]")]):
             ax = axes[i][j]
-            vals = [cells.get(k, {}).get(measure, float("nan")) for k in keys]
-            xs = range(len(keys))
-            ax.bar(xs, [0 if math.isnan(v) else v for v in vals],
-                   color=["tab:blue" if meta[k]["family"] == "sparse-cholesky" else "tab:orange" for k in keys])
-            for x, v, k in zip(xs, vals, keys):
-                if math.isnan(v):
-                    ax.text(x, 0, meta[k]["status"], rotation=90, fontsize=6, va="bottom", ha="center")
+            for o, ordering in enumerate(orderings):
+                xs, ys = [], []
+                for g, b in enumerate(backends):
+                    v = cells.get((big, system, b, ordering), {}).get(measure)
+                    if v is not None and v > 0:
+                        xs.append(g + o * width)
+                        ys.append(v)
+                ax.bar(xs, ys, width, color=fixed.get(ordering, cmap(o % 10)), label=ordering)
             ax.set_yscale("log")
-            ax.set_xticks(list(xs))
-            ax.set_xticklabels(labels, rotation=90, fontsize=6)
+            ax.set_xticks([g + 0.4 - width / 2 for g in range(len(backends))])
+            ax.set_xticklabels(backends, rotation=20, fontsize=8, ha="right")
             ax.set_ylabel(ylabel)
-            ax.set_title(f"{big} {system}: {ylabel} per ordering (blue Cholesky, orange LU)")
+            ax.set_title(f"{big} {system}: {ylabel} per ordering", fontsize=10)
             ax.grid(True, axis="y", which="both", alpha=0.3)
+    axes[0][0].legend(fontsize=7, title="ordering (missing bar: skipped / same as default)", title_fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_orderings.png"), dpi=120)
     plt.close(fig)
@@ -160,13 +175,13 @@ def plot_blas(results, cells, out):
     runs = [(core_of(os.path.join(results, "solvers.csv")), cells)]
     for v in variants:
         runs.append((core_of(v), load(v)[0]))
-    keys = sorted(k for k in runs[1][1] if k[3] == "default" and "factorize_s" in runs[1][1][k] and k in cells)
+    keys = sorted(k for k in runs[1][1] if k[3] == "default" and FACT in runs[1][1][k] and k in cells)
     if not keys:
         return
     fig, ax = plt.subplots(figsize=(max(8, 0.5 * len(keys) + 3), 5.5))
     width = 0.8 / len(runs)
     for r, (label, c) in enumerate(runs):
-        ys = [c.get(k, {}).get("factorize_s", float("nan")) for k in keys]
+        ys = [c.get(k, {}).get(FACT, float("nan")) for k in keys]
         ax.bar([i + r * width for i in range(len(keys))], ys, width, label=label)
     ax.set_xticks([i + 0.4 - width / 2 for i in range(len(keys))])
     ax.set_xticklabels([f"{k[0]}/{k[1]}\n{k[2]}" for k in keys], rotation=90, fontsize=6)

@@ -20,62 +20,6 @@ inline void AtB(int b, const double* X, const double* Y, double* out) {
     }
 }
 
-// Block CSC pattern of K's upper triangle: column ku holds the unknown rows ju <= ku among {k} u N(k), sorted,
-// so the diagonal comes last.
-struct BlockPattern {
-  std::vector<int> colptr, rows;
-  int slot(int col, int row) const {  // position of `row` within block column `col`
-    const int* b = rows.data() + colptr[col];
-    const int* e = rows.data() + colptr[col + 1];
-    return static_cast<int>(std::lower_bound(b, e, row) - b);
-  }
-};
-
-BlockPattern one_ring_pattern(const Adjacency& adj, const Unknowns& unk) {
-  const int nu = unk.num_unknowns();
-  BlockPattern p;
-  p.colptr.assign(nu + 1, 0);
-  std::vector<int> col;
-  for (int ku = 0; ku < nu; ++ku) {
-    const int k = unk.unknown_vertices[ku];
-    col.assign(1, ku);
-    for (const int* a = adj.begin(k); a != adj.end(k); ++a) {
-      const int ju = unk.unknown_of[*a];
-      if (ju >= 0 && ju < ku) col.push_back(ju);
-    }
-    std::sort(col.begin(), col.end());
-    p.rows.insert(p.rows.end(), col.begin(), col.end());
-    p.colptr[ku + 1] = static_cast<int>(p.rows.size());
-  }
-  return p;
-}
-
-// Scalar upper-triangular CSC from the block pattern: entry (b*j + c1, b*k + c2) sits at
-// colptr[b*k + c2] + b * slot(k, j) + c1 (the diagonal block keeps only c1 <= c2).
-SpMat expand(const BlockPattern& p, int b) {
-  const int nu = static_cast<int>(p.colptr.size()) - 1, n = b * nu;
-  std::vector<int> colptr(n + 1, 0);
-  for (int k = 0; k < nu; ++k) {
-    const int nb = p.colptr[k + 1] - p.colptr[k];
-    for (int c2 = 0; c2 < b; ++c2) colptr[b * k + c2 + 1] = colptr[b * k + c2] + b * (nb - 1) + c2 + 1;
-  }
-  SpMat K(n, n);
-  K.resizeNonZeros(colptr[n]);
-  std::copy(colptr.begin(), colptr.end(), K.outerIndexPtr());
-  int* ri = K.innerIndexPtr();
-  for (int k = 0; k < nu; ++k)
-    for (int c2 = 0; c2 < b; ++c2) {
-      int pos = colptr[b * k + c2];
-      for (int t = p.colptr[k]; t < p.colptr[k + 1]; ++t) {
-        const int j = p.rows[t];
-        const int upto = j == k ? c2 + 1 : b;
-        for (int c1 = 0; c1 < upto; ++c1) ri[pos++] = b * j + c1;
-      }
-    }
-  std::fill(K.valuePtr(), K.valuePtr() + colptr[n], 0.0);
-  return K;
-}
-
 struct Counts {
   std::size_t rows = 0;          // active directed edges
   std::size_t nnz_Au = 0, nnz_Ah = 0;
@@ -153,8 +97,8 @@ EdgeSystem build_edge_system(const Adjacency& adj, const Unknowns& unk, int bloc
   using Trip = Eigen::Triplet<double, int>;
 
   if (build == Build::Structured) {
-    const BlockPattern pat = one_ring_pattern(adj, unk);
-    sys.K = expand(pat, b);
+    const InteractionPattern pat = interaction_pattern(adj, unk, 1);
+    sys.K = expand_upper(pat, b);
     double* Kv = sys.K.valuePtr();
     const int* Kp = sys.K.outerIndexPtr();
     // Adds a b x b block X (row block ju, column block ku, ju <= ku) into the upper triangle.

@@ -45,6 +45,68 @@ Unknowns make_unknowns(const std::vector<Constraint>& kind, double soft_weight) 
   return u;
 }
 
+int InteractionPattern::find(int col, int row) const {
+  const int* b = rows.data() + colptr[col];
+  const int* e = rows.data() + colptr[col + 1];
+  return static_cast<int>(std::lower_bound(b, e, row) - rows.data());
+}
+
+InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk, int rings) {
+  const int nu = unk.num_unknowns();
+  InteractionPattern p;
+  p.colptr.assign(nu + 1, 0);
+  p.rows.reserve(static_cast<std::size_t>(nu) * 12);
+  std::vector<int> mark(nu, -1);
+  std::vector<int> col;
+  for (int ku = 0; ku < nu; ++ku) {
+    const int k = unk.unknown_vertices[ku];
+    col.clear();
+    auto visit = [&](int j) {
+      const int ju = unk.unknown_of[j];
+      if (ju < 0 || ju > ku || mark[ju] == ku) return;
+      mark[ju] = ku;
+      col.push_back(ju);
+    };
+    visit(k);
+    for (const int* a = adj.begin(k); a != adj.end(k); ++a) {
+      visit(*a);
+      if (rings > 1)
+        for (const int* c = adj.begin(*a); c != adj.end(*a); ++c) visit(*c);
+    }
+    std::sort(col.begin(), col.end());
+    p.rows.insert(p.rows.end(), col.begin(), col.end());
+    p.colptr[ku + 1] = static_cast<int>(p.rows.size());
+  }
+  return p;
+}
+
+SpMat expand_upper(const InteractionPattern& p, int b) {
+  const int nu = static_cast<int>(p.colptr.size()) - 1;
+  const int n = b * nu;
+  SpMat K(n, n);
+  std::vector<int> colptr(n + 1, 0);
+  for (int k = 0; k < nu; ++k) {
+    const int nb = p.colptr[k + 1] - p.colptr[k];  // includes the diagonal block
+    for (int c2 = 0; c2 < b; ++c2) colptr[b * k + c2 + 1] = colptr[b * k + c2] + b * (nb - 1) + c2 + 1;
+  }
+  const int nnz = colptr[n];
+  K.resizeNonZeros(nnz);
+  std::copy(colptr.begin(), colptr.end(), K.outerIndexPtr());
+  int* ri = K.innerIndexPtr();
+  for (int k = 0; k < nu; ++k) {
+    for (int c2 = 0; c2 < b; ++c2) {
+      int pos = colptr[b * k + c2];
+      for (int t = p.colptr[k]; t < p.colptr[k + 1]; ++t) {
+        const int j = p.rows[t];
+        const int upto = (j == k) ? c2 + 1 : b;
+        for (int c1 = 0; c1 < upto; ++c1) ri[pos++] = b * j + c1;
+      }
+    }
+  }
+  std::fill(K.valuePtr(), K.valuePtr() + nnz, 0.0);
+  return K;
+}
+
 std::size_t sparse_bytes(const SpMat& m) {
   return static_cast<std::size_t>(m.nonZeros()) * (sizeof(double) + sizeof(int)) +
          static_cast<std::size_t>(m.outerSize() + 1) * sizeof(int);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "mesh/mesh.h"
 #include "operators/energy_operator.h"
 
 namespace db {
@@ -59,6 +60,22 @@ struct NormalSystem {
   //! Sum of held_bytes.
   std::size_t total_held_bytes() const;
 };
+
+//! Vertex-level CSC pattern of the upper triangle of a normal matrix, in unknown numbering: unknowns j <= k
+//! interact when they are at most `rings` edges apart (2 for A^T A of 1-ring operators such as LAP and TF,
+//! 1 for edge-based ones such as LRI's). Rows ascend per column; the diagonal comes last.
+struct InteractionPattern {
+  std::vector<int> colptr, rows;
+  //! Index into `rows` of (row, col); the entry must exist.
+  int find(int col, int row) const;
+  //! Position of `row` within column `col`.
+  int slot(int col, int row) const { return find(col, row) - colptr[col]; }
+};
+InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk, int rings = 2);
+
+//! Scalar upper-triangular CSC (values zero) of the pattern expanded to b x b blocks: entry (b*j + c1, b*k + c2)
+//! sits at outer[b*k + c2] + b * slot(k, j) + c1; diagonal blocks keep only c1 <= c2.
+SpMat expand_upper(const InteractionPattern& p, int b);
 
 //! Builds the normal system. \throw BudgetError when `byte_budget` > 0 and the predicted bytes of the
 //! build exceed it (checked before allocating).

@@ -10,78 +10,6 @@
 namespace db::detail {
 namespace {
 
-// Block (vertex-level) CSC pattern of K's upper triangle, columns and rows in unknown numbering.
-struct BlockPattern {
-  std::vector<int> colptr, rows;  // rows sorted ascending per column; the diagonal is last
-  int find(int col, int row) const {
-    const int* b = rows.data() + colptr[col];
-    const int* e = rows.data() + colptr[col + 1];
-    return static_cast<int>(std::lower_bound(b, e, row) - rows.data());
-  }
-};
-
-BlockPattern block_pattern(const Adjacency& adj, const Unknowns& unk) {
-  const int nu = unk.num_unknowns();
-  BlockPattern p;
-  p.colptr.assign(nu + 1, 0);
-  p.rows.reserve(static_cast<std::size_t>(nu) * 12);
-  std::vector<int> mark(nu, -1);
-  std::vector<int> col;
-  for (int ku = 0; ku < nu; ++ku) {
-    const int k = unk.unknown_vertices[ku];
-    col.clear();
-    auto visit = [&](int j) {
-      const int ju = unk.unknown_of[j];
-      if (ju < 0 || ju > ku || mark[ju] == ku) return;
-      mark[ju] = ku;
-      col.push_back(ju);
-    };
-    visit(k);
-    for (const int* a = adj.begin(k); a != adj.end(k); ++a) {
-      visit(*a);
-      for (const int* c = adj.begin(*a); c != adj.end(*a); ++c) visit(*c);
-    }
-    std::sort(col.begin(), col.end());
-    p.rows.insert(p.rows.end(), col.begin(), col.end());
-    p.colptr[ku + 1] = static_cast<int>(p.rows.size());
-  }
-  return p;
-}
-
-// Scalar CSC of the upper triangle: block column k expands to b columns; off-diagonal blocks contribute
-// b rows each, the diagonal block only its upper part. Entry (b*j + c1, b*k + c2) then sits at
-// colptr[b*k + c2] + b * (position of j in block column k) + c1.
-SpMat expand_pattern(const BlockPattern& p, int b) {
-  const int nu = static_cast<int>(p.colptr.size()) - 1;
-  const int n = b * nu;
-  SpMat K(n, n);
-  std::vector<int> colptr(n + 1, 0);
-  for (int k = 0; k < nu; ++k) {
-    const int nb = p.colptr[k + 1] - p.colptr[k];  // includes the diagonal block
-    for (int c2 = 0; c2 < b; ++c2) colptr[b * k + c2 + 1] = colptr[b * k + c2] + b * (nb - 1) + c2 + 1;
-  }
-  const int nnz = colptr[n];
-  K.resizeNonZeros(nnz);
-  std::copy(colptr.begin(), colptr.end(), K.outerIndexPtr());
-  int* ri = K.innerIndexPtr();
-  for (int k = 0; k < nu; ++k) {
-    for (int c2 = 0; c2 < b; ++c2) {
-      int pos = colptr[b * k + c2];
-      for (int t = p.colptr[k]; t < p.colptr[k + 1]; ++t) {
-        const int j = p.rows[t];
-        const int upto = (j == k) ? c2 + 1 : b;
-        for (int c1 = 0; c1 < upto; ++c1) ri[pos++] = b * j + c1;
-      }
-    }
-  }
-  std::fill(K.valuePtr(), K.valuePtr() + nnz, 0.0);
-  return K;
-}
-
-}  // namespace
-
-namespace {
-
 // The block size is a template parameter so the 3x3 block products and scatters unroll.
 template <int B>
 NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& unk) {
@@ -90,8 +18,8 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
   const int n = op.num_vertices();
   const int nu = unk.num_unknowns();
   NormalSystem sys;
-  const BlockPattern pat = block_pattern(adj, unk);
-  sys.K = expand_pattern(pat, b);
+  const InteractionPattern pat = interaction_pattern(adj, unk);
+  sys.K = expand_upper(pat, b);
   double* Kv = sys.K.valuePtr();
   const int* Kp = sys.K.outerIndexPtr();
   sys.g0 = DenseMat::Zero(static_cast<Eigen::Index>(b) * nu, r);

@@ -2,7 +2,6 @@
 
 #include <cholmod.h>
 
-#include <algorithm>
 #include <memory>
 
 #include <fmt/format.h>
@@ -19,28 +18,10 @@ void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& meth
   else throw InputError("unknown vertex ordering '" + method + "' (expected amd, metis or nesdis)");
 
   const int nu = unk.num_unknowns();
-  // Upper triangle (row <= column) of the unknowns' 2-ring interaction graph, pattern only.
-  std::vector<int> colptr(nu + 1, 0), rows;
-  rows.reserve(static_cast<std::size_t>(nu) * 10);
-  std::vector<int> mark(nu, -1), col;
-  for (int ku = 0; ku < nu; ++ku) {
-    const int k = unk.unknown_vertices[ku];
-    col.clear();
-    auto visit = [&](int j) {
-      const int ju = unk.unknown_of[j];
-      if (ju < 0 || ju > ku || mark[ju] == ku) return;
-      mark[ju] = ku;
-      col.push_back(ju);
-    };
-    visit(k);
-    for (const int* a = adj.begin(k); a != adj.end(k); ++a) {
-      visit(*a);
-      for (const int* c = adj.begin(*a); c != adj.end(*a); ++c) visit(*c);
-    }
-    std::sort(col.begin(), col.end());
-    rows.insert(rows.end(), col.begin(), col.end());
-    colptr[ku + 1] = static_cast<int>(rows.size());
-  }
+  // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
+  InteractionPattern pat = interaction_pattern(adj, unk);
+  std::vector<int>& colptr = pat.colptr;
+  std::vector<int>& rows = pat.rows;
 
   cholmod_common cc;
   cholmod_start(&cc);
