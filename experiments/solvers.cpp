@@ -30,7 +30,8 @@
 //   exp_solvers --data DIR --results DIR [--full] [--tiers hand,man,...] [--systems lap,tf]
 //               [--backends a,b,...] [--orderings a,b,...] [--dense-max-n N] [--poor-ordering-max-n N]
 //               [--iterative-max-n N] [--threads N (default 1; 0 = as the environment says)]
-//               [--cell-timeout-s S] [--cell-memory-mb MB] [--solve-reps N] [--factor-reps N] [--seed N]
+//               [--cell-timeout-s S] [--cell-memory-mb MB] [--solve-reps N] [--factor-reps N]
+//               [--rep-seconds S] [--seed N]
 //               [--out FILE] [--md FILE] [--no-md] [--blas-compare FILE,...]
 //
 // Writes RESULTS/solvers.csv (long: one row per cell x measure; provenance columns record the BLAS core of this
@@ -175,8 +176,8 @@ std::vector<std::string> all_backends() {
 // ------------------------------------------------------------------------------------------------ cells
 struct CellSpec {
   std::string model, mesh_path, system, backend, ordering;
-  int solve_reps = 10, factor_reps = 3;
-  double rep_seconds = 1.0;  // stop repeating a phase once it has taken this long in total
+  int solve_reps = 10, factor_reps = 5;
+  double rep_seconds = 2.0;  // stop repeating a phase once it has taken this long in total
   unsigned seed = 1;
   std::size_t memory_limit = 0;  // child's RLIMIT_AS, bytes
   std::string ref_out, ref_in;   // reference solution file (written by the reference cell, read by the others)
@@ -202,8 +203,8 @@ struct CellSpec {
     s.backend = a.get("--backend", kReferenceBackend);
     s.ordering = a.get("--ordering", "default");
     s.solve_reps = std::max(1, int(a.number("--solve-reps", 10)));
-    s.factor_reps = std::max(1, int(a.number("--factor-reps", 3)));
-    s.rep_seconds = a.number("--rep-seconds", 1.0);
+    s.factor_reps = std::max(1, int(a.number("--factor-reps", 5)));
+    s.rep_seconds = a.number("--rep-seconds", 2.0);
     s.seed = unsigned(a.number("--seed", 1));
     s.memory_limit = std::size_t(a.number("--memory-limit", 0));
     s.ref_out = a.get("--ref-out", "-");
@@ -508,8 +509,10 @@ struct Config {
   std::vector<std::string> tiers, systems, backends, orderings, blas_compare;
   double dense_max_n = 4000, poor_ordering_max_n = 20000, iterative_max_n = 20000, cell_timeout = 300,
          cell_memory_mb = 6144;
-  int solve_reps = 10, factor_reps = 3;
+  int solve_reps = 10, factor_reps = 5;
+  double rep_seconds = 2.0;
   unsigned seed = 1;
+  double load_at_start = kNaN;  // /proc/loadavg, 1-minute average
 };
 
 struct Record {
@@ -625,6 +628,7 @@ std::vector<Record> run_grid(const Config& cfg) {
             s.ordering = ordering;
             s.solve_reps = cfg.solve_reps;
             s.factor_reps = cfg.factor_reps;
+            s.rep_seconds = cfg.rep_seconds;
             s.seed = cfg.seed;
             s.memory_limit = std::size_t(cfg.cell_memory_mb * kMiB);
             if (is_ref) s.ref_out = ref;
@@ -834,9 +838,10 @@ void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vec
     << "- Every cell (tier, system, backend, ordering) ran in its own child process: peak RSS is that process' "
        "VmHWM (mesh + system + solver). Factorize: up to " << cfg.factor_reps
     << " repetitions; solve: up to " << cfg.solve_reps
-    << " solves of the deformation's right-hand side (each phase stops repeating once it has taken ~1 s). "
+    << " solves of the deformation's right-hand side (each phase stops repeating once it has taken "
+    << cfg.rep_seconds << " s). "
        "Tables below show the minimum over the repetitions (interference from other jobs only adds time; "
-       "the CSV has the medians too: `factorize_s`, `solve_s`). One BLAS / OpenMP thread unless `--threads`.\n"
+       "the CSV has the medians too: `factorize_s`, `solve_s`). One thread (BLAS, OpenMP, assembly) unless `--threads`.\n"
     << "- Errors: `residual` = ||Kx-b||/||b|| (deformation RHS); `error_exact` = ||x-x_ref||/||x_ref|| for "
        "b = K x_ref with a seeded random x_ref; `error_vs_cholmod` = deformed positions against CHOLMOD "
        "supernodal (default ordering) of the same system.\n"
@@ -844,8 +849,14 @@ void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vec
                    "git {}.\n",
                    p.cpu, p.hardware_threads, p.compiler, p.blas, p.blas_core,
                    p.blas_coretype_env.empty() ? "unset" : p.blas_coretype_env, p.blas_threads, p.git_sha)
-    << "- The machine was shared with other jobs while this ran: single timings carry noise of tens of percent "
-       "(cells above ~1 s had a single repetition); ratios within 0.8-1.25 are not significant.\n\n";
+    << fmt::format("- Load average (1 min) when the run started: {:.1f} on {} hardware threads{}\n\n", cfg.load_at_start,
+                   p.hardware_threads,
+                   cfg.load_at_start > 0.5 * p.hardware_threads
+                       ? fmt::format(": the machine was shared with other jobs, so single timings carry noise of tens "
+                                     "of percent (cells above ~{} s had one or two repetitions); ratios within "
+                                     "0.8-1.25 are not significant.",
+                                     cfg.rep_seconds / 2)
+                       : ".");
 
   // ---------------------------------------------------------------- dense verdict
   o << "## Verdict on the thesis' claim (section 2.2.3: Cholesky is slightly faster than LU and "
@@ -1040,17 +1051,29 @@ void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vec
         o << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.model, r.system, r.backend, fsec(f0),
                          fsec(f1), fratio(f1, f0), fsec(s0), fsec(s1), fratio(s1, s0));
       }
+      const double gb = geomean(fr_blas);
+      auto [clo, chi] = minmax(fr_ctrl);
+      // Noise band: the no-BLAS control's spread, widened to at least +-20% (the control has few cells).
+      const double lo = std::min(std::isnan(clo) ? 1.0 : clo, 1.0 / 1.2), hi = std::max(std::isnan(chi) ? 1.0 : chi, 1.2);
+      std::string verdict;
+      if (std::isnan(gb)) verdict = "not measured";
+      else if (gb >= lo && gb <= hi)
+        verdict = fmt::format("no measurable difference: the ratio lies inside the noise band {:.2f}-{:.2f} (the "
+                              "no-BLAS control's spread, at least +-20%)", lo, hi);
+      else
+        verdict = fmt::format("{} is {} (outside the noise band {:.2f}-{:.2f})", v.blas_core,
+                              gb < 1 ? "faster" : "slower", lo, hi);
       o << fmt::format("\nFactorize ratio, geometric mean over the BLAS-calling cells: **{}** (range {}); Eigen LLT "
-                       "control: {}.\n\n",
-                       fnum(geomean(fr_blas), "{:.2f}"), range(fr_blas), fnum(geomean(fr_ctrl), "{:.2f}"));
+                       "control (no BLAS): {} (range {}). Verdict: {}.\n\n",
+                       fnum(gb, "{:.2f}"), range(fr_blas), fnum(geomean(fr_ctrl), "{:.2f}"), range(fr_ctrl), verdict);
     }
   }
   write_atomically(cfg.md, [&](std::ostream& out) { out << o.str(); });
 }
 
-// Pins the BLAS and OpenMP thread counts of this run (children inherit them) by re-executing the driver with
-// OMP_NUM_THREADS / OPENBLAS_NUM_THREADS set: both libraries read them when they load, and the provenance columns
-// then record what was used. Why 1 by default: on a shared 2-core machine a parallel region waits for a descheduled
+// Pins the thread counts of this run (children inherit them) by re-executing the driver with OMP_NUM_THREADS,
+// OPENBLAS_NUM_THREADS and DEFORMBENCH_THREADS (structured assembly) set: the libraries read them when they load,
+// and the provenance columns then record what was used. Why 1 by default: on a shared 2-core machine a parallel region waits for a descheduled
 // thread (CG with 2 threads measured 100x slower than with 1), and one thread compares algorithms, not schedulers.
 void pin_threads(const Args& a, char** argv) {
   const int threads = int(a.number("--threads", 1));
@@ -1060,9 +1083,8 @@ void pin_threads(const Args& a, char** argv) {
     const char* v = std::getenv(k);
     return v && want == v;
   };
-  if (is("OMP_NUM_THREADS") && is("OPENBLAS_NUM_THREADS")) return;
-  ::setenv("OMP_NUM_THREADS", want.c_str(), 1);
-  ::setenv("OPENBLAS_NUM_THREADS", want.c_str(), 1);
+  if (is("OMP_NUM_THREADS") && is("OPENBLAS_NUM_THREADS") && is("DEFORMBENCH_THREADS")) return;
+  for (const char* k : {"OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "DEFORMBENCH_THREADS"}) ::setenv(k, want.c_str(), 1);
   const std::string exe = self_executable();
   ::execv(exe.c_str(), argv);
   throw Error("could not re-execute " + exe + " with the thread settings");
@@ -1096,11 +1118,16 @@ int driver_main(int argc, char** argv) {
   cfg.cell_memory_mb = a.number("--cell-memory-mb", cfg.cell_memory_mb);
   cfg.solve_reps = int(a.number("--solve-reps", cfg.solve_reps));
   cfg.factor_reps = int(a.number("--factor-reps", cfg.factor_reps));
+  cfg.rep_seconds = a.number("--rep-seconds", cfg.rep_seconds);
   cfg.seed = unsigned(a.number("--seed", cfg.seed));
   fs::create_directories(cfg.results);
   if (!fs::path(cfg.out).parent_path().empty()) fs::create_directories(fs::path(cfg.out).parent_path());
 
-  std::cerr << "[solvers] " << provenance_summary() << "\n";
+  {
+    std::ifstream la("/proc/loadavg");
+    la >> cfg.load_at_start;
+  }
+  std::cerr << "[solvers] " << provenance_summary() << fmt::format(" | load {:.1f}", cfg.load_at_start) << "\n";
   const std::vector<Record> recs = run_grid(cfg);
   write_csv(cfg.out, recs);
   std::cerr << "[solvers] wrote " << cfg.out << "\n";

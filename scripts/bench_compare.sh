@@ -8,8 +8,9 @@
 #
 #   --threshold PCT     allowed slowdown of the median over repetitions, percent (default 25)
 #   --repetitions N     repetitions per benchmark (default 5); --min-time S: seconds per repetition (default 0.1)
-#   --threads N         OMP_NUM_THREADS and OPENBLAS_NUM_THREADS for the run (default 1: on a shared machine a
-#                       parallel region waits for descheduled threads; the baseline was recorded with 1)
+#   --threads N         OMP_NUM_THREADS, OPENBLAS_NUM_THREADS and DEFORMBENCH_THREADS (assembly) for the run
+#                       (default 1: on a shared machine a parallel region waits for descheduled threads; the
+#                       baseline was recorded with 1)
 #   --full              also the man and armadillo_loop1 tiers (not in the baseline: reported, never gated)
 #   --update-baseline   record this run as the new baseline instead of comparing
 #   after --             passed to bench_phases, e.g. -- --benchmark_filter='factorize/.*'
@@ -48,7 +49,7 @@ while (($#)); do
     --threads) THREADS=${2:?}; shift 2 ;;
     --baseline) BASELINE=${2:?}; shift 2 ;;
     --update-baseline) UPDATE=1; shift ;;
-    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     --) shift; EXTRA=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
   esac
@@ -79,11 +80,11 @@ done
 mkdir -p "$ROOT/results/bench"
 STAMP=$(date -u +%Y%m%dT%H%M%SZ)
 RUN=$ROOT/results/bench/run-$STAMP.json
-export DEFORMBENCH_SOURCE_DIR=$ROOT OMP_NUM_THREADS=$THREADS OPENBLAS_NUM_THREADS=$THREADS
+export DEFORMBENCH_SOURCE_DIR=$ROOT OMP_NUM_THREADS=$THREADS OPENBLAS_NUM_THREADS=$THREADS DEFORMBENCH_THREADS=$THREADS
 log "OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset: auto-detected>}; $THREADS thread(s); $REPS repetitions x ${MIN_TIME}s"
 "$BUILD/bench_phases" --data "$ROOT/data" "${FULL[@]}" \
   --benchmark_repetitions="$REPS" --benchmark_min_time="$MIN_TIME" \
-  --benchmark_display_aggregates_only=true \
+  --benchmark_display_aggregates_only=true --benchmark_enable_random_interleaving=true \
   --benchmark_out="$RUN" --benchmark_out_format=json "${EXTRA[@]}" || die "bench_phases failed"
 log "wrote $RUN"
 
@@ -155,6 +156,12 @@ for name in sorted(set(base) | set(new) | set(new_err)):
         if r > limit:
             bad.append(name)
         print(f"  {tag:10s} {name}: {base[name]:.4g} s -> {new[name]:.4g} s ({(r - 1) * 100:+.1f}%)")
+ratios = [new[n] / base[n] for n in new if n in base and base[n] > 0]
+if ratios:
+    import math
+    g = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
+    print(f"\nwhole suite: geometric mean new / baseline = {g:.2f} over {len(ratios)} benchmarks "
+          "(a shift shared by every benchmark usually means machine load, not code)")
 if bad:
     print(f"\nbench_compare: FAIL: {len(bad)} benchmark(s) regressed by more than {(limit - 1) * 100:.0f}% "
           "or errored / disappeared")
