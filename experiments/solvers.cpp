@@ -32,7 +32,10 @@
 //               [--iterative-max-n N] [--threads N (default 1; 0 = as the environment says)]
 //               [--cell-timeout-s S] [--cell-memory-mb MB] [--solve-reps N] [--factor-reps N]
 //               [--rep-seconds S] [--seed N]
-//               [--out FILE] [--md FILE] [--no-md] [--blas-compare FILE,...]
+//               [--out FILE] [--md FILE] [--no-md] [--blas-compare FILE,...] [--summarize]
+//
+// --summarize: no measurement; rewrites the Markdown from the CSV given by --out (default RESULTS/solvers.csv)
+// and the --blas-compare CSVs (e.g. after editing the summary code).
 //
 // Writes RESULTS/solvers.csv (long: one row per cell x measure; provenance columns record the BLAS core of this
 // run) and RESULTS/solvers.md (the verdict). --blas-compare reads CSVs of the same driver run under another
@@ -249,7 +252,7 @@ const std::vector<MeasureDef>& measure_defs() {
       {"ru_maxrss_bytes", "bytes", false},  {"iterations", "count", false},
       {"residual", "relative", true},       {"residual_synthetic", "relative", false},
       {"error_exact", "relative", true},    {"error_vs_cholmod", "relative", false},
-      {"cell_wall_s", "s", false},
+      {"cell_wall_s", "s", false},          {"load_avg_1m", "count", false},
   };
   return d;
 }
@@ -498,6 +501,13 @@ CellResult run_in_child(const CellSpec& s, double timeout_s) {
 }
 
 // ------------------------------------------------------------------------------------------------ driver
+double load_avg() {
+  std::ifstream la("/proc/loadavg");
+  double x = kNaN;
+  la >> x;
+  return x;
+}
+
 struct Tier {
   std::string label, path;
 };
@@ -512,7 +522,6 @@ struct Config {
   int solve_reps = 10, factor_reps = 5;
   double rep_seconds = 2.0;
   unsigned seed = 1;
-  double load_at_start = kNaN;  // /proc/loadavg, 1-minute average
 };
 
 struct Record {
@@ -633,7 +642,9 @@ std::vector<Record> run_grid(const Config& cfg) {
             s.memory_limit = std::size_t(cfg.cell_memory_mb * kMiB);
             if (is_ref) s.ref_out = ref;
             else if (have_ref) s.ref_in = ref;
+            const double load = load_avg();
             rec.res = run_in_child(s, cfg.cell_timeout);
+            rec.res.v["load_avg_1m"] = load;
             if (is_ref && rec.res.ok()) have_ref = true;
             if (ordering == "default" && rec.res.ok()) default_used = rec.res.ordering_used;
           }
@@ -712,6 +723,53 @@ std::vector<std::map<std::string, std::string>> read_csv(const std::string& path
     rows.push_back(std::move(row));
   }
   return rows;
+}
+
+// Records of a CSV this driver wrote (for --summarize), in file order, plus the provenance of its first row.
+std::vector<Record> read_records(const std::string& path, Provenance& prov) {
+  std::vector<Record> recs;
+  std::map<std::string, std::size_t> index;
+  bool first = true;
+  for (const auto& row : read_csv(path)) {
+    auto get = [&](const char* k) {
+      auto it = row.find(k);
+      return it == row.end() ? std::string() : it->second;
+    };
+    if (first) {
+      prov.git_sha = get("git_sha");
+      prov.blas = get("blas");
+      prov.blas_core = get("blas_core");
+      prov.blas_coretype_env = get("blas_coretype_env") == "auto" ? "" : get("blas_coretype_env");
+      prov.blas_threads = std::atoi(get("blas_threads").c_str());
+      prov.build_threads = std::atoi(get("build_threads").c_str());
+      prov.hardware_threads = std::atoi(get("hardware_threads").c_str());
+      prov.cpu = get("cpu");
+      prov.compiler = get("compiler");
+      prov.timestamp = get("timestamp");
+      first = false;
+    }
+    const std::string key = get("model") + "/" + get("system") + "/" + get("backend") + "/" + get("ordering");
+    auto it = index.find(key);
+    if (it == index.end()) {
+      Record r;
+      r.model = get("model");
+      r.system = get("system");
+      r.backend = get("backend");
+      r.family = get("family");
+      r.ordering = get("ordering");
+      r.vertices = get("vertices").empty() ? kNaN : std::stod(get("vertices"));
+      r.res.status = get("status");
+      r.res.message = get("message");
+      r.res.ordering_used = get("ordering_used");
+      it = index.emplace(key, recs.size()).first;
+      recs.push_back(std::move(r));
+    }
+    Record& r = recs[it->second];
+    const std::string v = get("value");
+    r.res.v[get("measure")] = v.empty() ? kNaN : std::stod(v);
+    if (get("measure") == "n") r.n = r.res.v["n"];
+  }
+  return recs;
 }
 
 // A BLAS variant run read back: its provenance and (model/system/backend/ordering/measure) -> value.
@@ -826,10 +884,15 @@ std::string verdict_prose(double g_lu, double g_bk, double g_sparse, const std::
 const char* const kFactor = "factorize_min_s";
 const char* const kSolve = "solve_min_s";
 
-void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vector<Variant>& variants) {
-  const Provenance& p = provenance();
+void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vector<Variant>& variants,
+              const Provenance& p) {
   std::ostringstream o;
   const auto models = models_of(recs);
+  std::vector<double> loads;
+  for (const auto& r : recs)
+    if (!std::isnan(r.res.get("load_avg_1m"))) loads.push_back(r.res.get("load_avg_1m"));
+  const double load_med = median(loads);
+  const double load_max = loads.empty() ? kNaN : *std::max_element(loads.begin(), loads.end());
   o << "# Solver choice for the LAP and TF systems (issue 4)\n\n"
     << "Generated by `exp_solvers` (experiments/solvers.cpp) from `results/solvers.csv`; do not edit by hand.\n\n"
     << "- Systems: the thesis edit of every tier (whole-mesh ROI, 100 handle vertices at one extreme of the longest axis, 100 anchors at the other), soft "
@@ -849,14 +912,17 @@ void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vec
                    "git {}.\n",
                    p.cpu, p.hardware_threads, p.compiler, p.blas, p.blas_core,
                    p.blas_coretype_env.empty() ? "unset" : p.blas_coretype_env, p.blas_threads, p.git_sha)
-    << fmt::format("- Load average (1 min) when the run started: {:.1f} on {} hardware threads{}\n\n", cfg.load_at_start,
-                   p.hardware_threads,
-                   cfg.load_at_start > 0.5 * p.hardware_threads
-                       ? fmt::format(": the machine was shared with other jobs, so single timings carry noise of tens "
-                                     "of percent (cells above ~{} s had one or two repetitions); ratios within "
-                                     "0.8-1.25 are not significant.",
-                                     cfg.rep_seconds / 2)
-                       : ".");
+    << (std::isnan(load_med)
+            ? std::string("- Load average: not recorded.\n\n")
+            : fmt::format("- Load average (1 min) before each cell: median {:.1f}, max {:.1f}, on {} hardware "
+                          "threads{}\n\n",
+                          load_med, load_max, p.hardware_threads,
+                          load_med > 0.5 * p.hardware_threads
+                              ? fmt::format(": the machine was shared with other jobs, so single timings carry noise "
+                                            "of tens of percent (cells above ~{} s had one or two repetitions); "
+                                            "ratios within 0.8-1.25 are not significant.",
+                                            cfg.rep_seconds / 2)
+                              : "."));
 
   // ---------------------------------------------------------------- dense verdict
   o << "## Verdict on the thesis' claim (section 2.2.3: Cholesky is slightly faster than LU and "
@@ -1038,7 +1104,7 @@ void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vec
                        v.coretype_env, fs::path(v.file).filename().string())
         << "| tier | system | backend | factorize here | factorize variant | ratio | solve here | solve variant "
            "| ratio |\n|---|---|---|---:|---:|---:|---:|---:|---:|\n";
-      std::vector<double> fr_blas, fr_ctrl;
+      std::vector<double> fr_blas, fr_ctrl, fr_dense, fr_sparse;
       for (const auto& r : recs) {
         if (r.ordering != "default" || !r.res.ok()) continue;
         const std::string k = fmt::format("{}/{}/{}/{}/", r.model, r.system, r.backend, r.ordering);
@@ -1048,6 +1114,7 @@ void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vec
         const double f0 = r.res.get(kFactor), s0 = r.res.get(kSolve);
         const double f1 = it_f->second, s1 = it_s == v.values.end() ? kNaN : it_s->second;
         (r.backend == "dense_llt" ? fr_ctrl : fr_blas).push_back(f1 / f0);
+        if (r.backend != "dense_llt") (r.family == "dense" ? fr_dense : fr_sparse).push_back(f1 / f0);
         o << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.model, r.system, r.backend, fsec(f0),
                          fsec(f1), fratio(f1, f0), fsec(s0), fsec(s1), fratio(s1, s0));
       }
@@ -1065,7 +1132,11 @@ void write_md(const Config& cfg, const std::vector<Record>& recs, const std::vec
                               gb < 1 ? "faster" : "slower", lo, hi);
       o << fmt::format("\nFactorize ratio, geometric mean over the BLAS-calling cells: **{}** (range {}); Eigen LLT "
                        "control (no BLAS): {} (range {}). Verdict: {}.\n\n",
-                       fnum(gb, "{:.2f}"), range(fr_blas), fnum(geomean(fr_ctrl), "{:.2f}"), range(fr_ctrl), verdict);
+                       fnum(gb, "{:.2f}"), range(fr_blas), fnum(geomean(fr_ctrl), "{:.2f}"), range(fr_ctrl), verdict)
+        << fmt::format("By family: dense LAPACK (dpotrf, dsytrf, dgetrf) {} (range {}); sparse (CHOLMOD supernodal, "
+                       "UMFPACK) {} (range {}).\n\n",
+                       fnum(geomean(fr_dense), "{:.2f}"), range(fr_dense), fnum(geomean(fr_sparse), "{:.2f}"),
+                       range(fr_sparse));
     }
   }
   write_atomically(cfg.md, [&](std::ostream& out) { out << o.str(); });
@@ -1091,7 +1162,7 @@ void pin_threads(const Args& a, char** argv) {
 }
 
 int driver_main(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 1, {"--full", "--no-md"});
+  const Args a = parse_args(argc, argv, 1, {"--full", "--no-md", "--summarize"});
   pin_threads(a, argv);
   Config cfg;
   cfg.data = a.get("--data", "data");
@@ -1123,14 +1194,23 @@ int driver_main(int argc, char** argv) {
   fs::create_directories(cfg.results);
   if (!fs::path(cfg.out).parent_path().empty()) fs::create_directories(fs::path(cfg.out).parent_path());
 
-  {
-    std::ifstream la("/proc/loadavg");
-    la >> cfg.load_at_start;
+  std::vector<Record> recs;
+  Provenance prov = provenance();
+  if (a.has("--summarize")) {
+    // Only the summary, from an earlier run's CSV (its own provenance, backends and systems).
+    recs = read_records(cfg.out, prov);
+    cfg.systems.clear();
+    cfg.backends.clear();
+    for (const auto& r : recs) {
+      if (!contains(cfg.systems, r.system)) cfg.systems.push_back(r.system);
+      if (!contains(cfg.backends, r.backend)) cfg.backends.push_back(r.backend);
+    }
+  } else {
+    std::cerr << "[solvers] " << provenance_summary() << fmt::format(" | load {:.1f}", load_avg()) << "\n";
+    recs = run_grid(cfg);
+    write_csv(cfg.out, recs);
+    std::cerr << "[solvers] wrote " << cfg.out << "\n";
   }
-  std::cerr << "[solvers] " << provenance_summary() << fmt::format(" | load {:.1f}", cfg.load_at_start) << "\n";
-  const std::vector<Record> recs = run_grid(cfg);
-  write_csv(cfg.out, recs);
-  std::cerr << "[solvers] wrote " << cfg.out << "\n";
   if (cfg.write_md) {
     std::vector<Variant> variants;
     for (const auto& f : cfg.blas_compare) {
@@ -1140,7 +1220,7 @@ int driver_main(int argc, char** argv) {
       }
       variants.push_back(read_variant(f));
     }
-    write_md(cfg, recs, variants);
+    write_md(cfg, recs, variants, prov);
     std::cerr << "[solvers] wrote " << cfg.md << "\n";
   }
   int failed = 0;
