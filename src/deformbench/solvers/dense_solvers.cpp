@@ -59,12 +59,7 @@ class DenseSolver : public LinearSolver {
 
   void factorize(const SpMat& upper_in) override {
     SpMat storage;
-    const SpMat& upper = compressed(upper_in, storage);
-    if (guard_.empty())
-      analyze(upper);
-    else
-      guard_.check(upper, name());
-    check_finite_values(upper, name());
+    const SpMat& upper = prepare_factorize(*this, guard_, upper_in, storage);
     factored_ = false;
     factor(dense_from_upper(upper), upper);
     factored_ = true;

@@ -32,12 +32,7 @@ class EigenSparseBase : public LinearSolver {
 
   void factorize(const SpMat& upper_in) override {
     SpMat storage;
-    const SpMat& upper = compressed(upper_in, storage);
-    if (guard_.empty())
-      analyze(upper);
-    else
-      guard_.check(upper, name());
-    check_finite_values(upper, name());
+    const SpMat& upper = prepare_factorize(*this, guard_, upper_in, storage);
     factored_ = false;
     do_factorize(upper);
     factored_ = true;

@@ -49,12 +49,7 @@ class CgSolver final : public LinearSolver {
 
   void factorize(const SpMat& upper_in) override {
     SpMat storage;
-    const SpMat& upper = compressed(upper_in, storage);
-    if (guard_.empty())
-      analyze(upper);
-    else
-      guard_.check(upper, name());
-    check_finite_values(upper, name());
+    const SpMat& upper = prepare_factorize(*this, guard_, upper_in, storage);
     factored_ = false;
     full_ = full_from_upper(upper);
     cg_.factorize(full_);  // (re)binds full_ and computes the preconditioner

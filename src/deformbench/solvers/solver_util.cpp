@@ -110,4 +110,14 @@ double cholesky_flops(const int* col_ptr, Index n) {
   return fl;
 }
 
+const SpMat& prepare_factorize(LinearSolver& solver, const PatternGuard& guard, const SpMat& in, SpMat& storage) {
+  const SpMat& upper = compressed(in, storage);
+  if (guard.empty())
+    solver.analyze(upper);
+  else
+    guard.check(upper, solver.name());
+  check_finite_values(upper, solver.name());
+  return upper;
+}
+
 }  // namespace db::solver_util

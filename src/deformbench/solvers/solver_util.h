@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "solvers/linear_solver.h"
 
 namespace db::solver_util {
 
@@ -42,6 +43,11 @@ class PatternGuard {
  private:
   std::vector<int> outer_, inner_;
 };
+
+//! The shared prologue of factorize(): compresses `in` (into `storage` when needed), runs solver.analyze() when
+//! no pattern was analyzed yet and otherwise checks it is the analyzed one, and rejects non-finite values.
+//! Returns the compressed matrix (`in` or `storage`).
+const SpMat& prepare_factorize(LinearSolver& solver, const PatternGuard& guard, const SpMat& in, SpMat& storage);
 
 //! Cholesky-style flop count from column counts of L (diagonal included): sum_j c_j^2,
 //! the same estimate CHOLMOD reports in Common->fl.
