@@ -1,5 +1,7 @@
 #include "methods/laplacian_deformer.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "core/error.h"
@@ -27,13 +29,15 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   times_.build = t.seconds();
 
   // Structured builds number the unknowns in a fill-reducing order of the vertex graph (counted as analysis)
-  // and hand the solver an already ordered matrix; the other builds leave ordering to the solver, as the
-  // straightforward code would.
+  // and hand the solver an already ordered matrix; the other builds, and backends that order nothing
+  // (iterative ones), leave ordering to the solver, as the straightforward code would.
   SolverOptions so = options.solver_options;
   so.block_size = op_block(kind);
   t.reset();
   std::string vertex_ordering;
-  if (options.build == Build::Structured && so.ordering != "natural") {
+  const auto& accepted = solver_info(options.solver).orderings;
+  const bool takes_natural = std::find(accepted.begin(), accepted.end(), "natural") != accepted.end();
+  if (options.build == Build::Structured && so.ordering != "natural" && takes_natural) {
     vertex_ordering = so.ordering == "default" ? default_vertex_ordering(so.block_size) : so.ordering;
     order_unknowns(adj, unk_, vertex_ordering);
     so.ordering = "natural";
