@@ -37,6 +37,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include "core/args.h"
 #include "core/error.h"
 #include "core/provenance.h"
 #include "harness/thesis_edit.h"
@@ -51,15 +52,6 @@ namespace fs = std::filesystem;
 using namespace db;
 
 namespace {
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  std::string t;
-  while (std::getline(in, t, ','))
-    if (!t.empty()) out.push_back(t);
-  return out;
-}
 
 // Everything a (tier, system) needs before a build: the mesh, its edit, adjacency, unknowns and operator.
 // Members are heap-held and never move: EnergyOperator keeps references to Vn and adj.
@@ -231,10 +223,10 @@ Options parse_own_flags(int& argc, char** argv) {
       return argv[++i];
     };
     if (a == "--data") o.data = value();
-    else if (a == "--tiers") o.tiers = split(value()), tiers_given = true;
-    else if (a == "--systems") o.systems = split(value());
-    else if (a == "--builds") o.builds = split(value());
-    else if (a == "--backends") o.backends = split(value());
+    else if (a == "--tiers") o.tiers = split_list(value()), tiers_given = true;
+    else if (a == "--systems") o.systems = split_list(value());
+    else if (a == "--builds") o.builds = split_list(value());
+    else if (a == "--backends") o.backends = split_list(value());
     else if (a == "--simplicial-max-n") o.simplicial_max_n = std::stod(value());
     else if (a == "--full") full = true;
     else argv[w++] = argv[i];

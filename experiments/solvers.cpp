@@ -94,15 +94,6 @@ constexpr double kMiB = 1024.0 * 1024.0;
 const char* const kReferenceBackend = "cholmod_supernodal";
 const char* const kVertexOrdering = "vertex-metis";
 
-std::vector<std::string> split(const std::string& s, char sep = ',') {
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  std::string t;
-  while (std::getline(in, t, sep))
-    if (!t.empty()) out.push_back(t);
-  return out;
-}
-
 bool contains(const std::vector<std::string>& v, const std::string& s) {
   return std::find(v.begin(), v.end(), s) != v.end();
 }
@@ -1171,17 +1162,17 @@ int driver_main(int argc, char** argv) {
   cfg.write_md = !a.has("--no-md");
   cfg.out = a.get("--out", (cfg.results / "solvers.csv").string());
   cfg.md = a.get("--md", (cfg.results / "solvers.md").string());
-  cfg.tiers = split(a.get("--tiers", ""));
-  cfg.systems = split(a.get("--systems", "lap,tf"));
-  cfg.backends = split(a.get("--backends", ""));
+  cfg.tiers = split_list(a.get("--tiers", ""));
+  cfg.systems = split_list(a.get("--systems", "lap,tf"));
+  cfg.backends = split_list(a.get("--backends", ""));
   if (cfg.backends.empty()) cfg.backends = all_backends();
   // The reference (CHOLMOD supernodal, default ordering) runs first so every other cell can compare with it.
   if (auto it = std::find(cfg.backends.begin(), cfg.backends.end(), kReferenceBackend); it != cfg.backends.end())
     std::rotate(cfg.backends.begin(), it, it + 1);
   for (const auto& b : cfg.backends) backend_info(b);  // throws for an unknown name
   for (const auto& s : cfg.systems) parse_energy(s);
-  cfg.orderings = split(a.get("--orderings", ""));
-  cfg.blas_compare = split(a.get("--blas-compare", ""));
+  cfg.orderings = split_list(a.get("--orderings", ""));
+  cfg.blas_compare = split_list(a.get("--blas-compare", ""));
   cfg.dense_max_n = a.number("--dense-max-n", cfg.dense_max_n);
   cfg.poor_ordering_max_n = a.number("--poor-ordering-max-n", cfg.poor_ordering_max_n);
   cfg.iterative_max_n = a.number("--iterative-max-n", cfg.iterative_max_n);

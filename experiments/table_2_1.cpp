@@ -138,15 +138,6 @@ struct Config {
   bool scaling = true;
 };
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  std::string t;
-  while (std::getline(in, t, ','))
-    if (!t.empty()) out.push_back(t);
-  return out;
-}
-
 class Runner {
  public:
   Runner(const Config& cfg, const MachineRates& rates) : cfg_(cfg), rates_(rates) {}
@@ -596,9 +587,9 @@ int main(int argc, char** argv) {
     cfg.cell_timeout = a.number("--cell-timeout-s", std::max(120.0, 3 * cfg.time_budget));
     cfg.frames = static_cast<int>(a.number("--frames", 20));
     cfg.repeats = static_cast<int>(a.number("--repeats", 1));
-    cfg.tiers = split(a.get("--tiers", "hand,man,armadillo,horse,planck"));
-    cfg.systems = split(a.get("--systems", "lap,tf"));
-    cfg.builds = split(a.get("--builds", "dense,naive,structured"));
+    cfg.tiers = split_list(a.get("--tiers", "hand,man,armadillo,horse,planck"));
+    cfg.systems = split_list(a.get("--systems", "lap,tf"));
+    cfg.builds = split_list(a.get("--builds", "dense,naive,structured"));
     cfg.backend = a.get("--backend", "cholmod_supernodal");
     cfg.ordering = a.get("--ordering", "default");
     cfg.scaling = !a.has("--no-scaling");

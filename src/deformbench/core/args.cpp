@@ -1,6 +1,7 @@
 #include "core/args.h"
 
 #include <algorithm>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -23,6 +24,15 @@ double Args::number(const std::string& k, double def) const {
   } catch (const std::exception&) {
   }
   throw Error(fmt::format("{} expects a number, got '{}'", k, it->second));
+}
+
+std::vector<std::string> split_list(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string t;
+  while (std::getline(in, t, sep))
+    if (!t.empty()) out.push_back(t);
+  return out;
 }
 
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& flags) {

@@ -17,6 +17,9 @@ struct Args {
   double number(const std::string& k, double def) const;
 };
 
+//! "a,b,,c" -> {"a", "b", "c"}: the list form of options such as --tiers (empty items dropped).
+std::vector<std::string> split_list(const std::string& s, char sep = ',');
+
 //! Parses argv[first..argc). Options in `flags` take no value. \throw Error on an option missing its value.
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& flags = {});
 
