@@ -38,7 +38,7 @@ const char* kUsage = R"(usage:
       --lri-orthonormalize gram_schmidt|polar            LRI frame orthonormalization (default gram_schmidt)
       --lri-seed N               seed of the random frame strategy
       --build structured|naive|dense   how the normal matrix is formed (default structured)
-      --solver NAME              linear solver backend (default cholmod_supernodal; see `deformbench solvers`)
+      --solver NAME              linear solver backend (default multifrontal; see `deformbench solvers`)
       --ordering amd|metis|nesdis|natural|default
       --no-normalize             build in raw coordinates (for diagnosis; TF may fail)
       --transform SPEC           override the edit's handle transform (translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | matrix:...)
@@ -67,7 +67,7 @@ int cmd_deform(const db::Args& a) {
   o.lri_orthonormalize = a.get("--lri-orthonormalize", o.lri_orthonormalize);
   o.lri_seed = static_cast<unsigned>(a.number("--lri-seed", o.lri_seed));
   o.build = db::parse_build(a.get("--build", "structured"));
-  o.solver = a.get("--solver", "cholmod_supernodal");
+  o.solver = a.get("--solver", "multifrontal");
   o.solver_options.ordering = a.get("--ordering", "default");
   o.normalize = !a.has("--no-normalize");
   if (a.has("--memory-budget-mb"))

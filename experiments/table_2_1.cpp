@@ -590,7 +590,7 @@ int main(int argc, char** argv) {
     cfg.tiers = split_list(a.get("--tiers", "hand,man,armadillo,horse,planck"));
     cfg.systems = split_list(a.get("--systems", "lap,tf"));
     cfg.builds = split_list(a.get("--builds", "dense,naive,structured"));
-    cfg.backend = a.get("--backend", "cholmod_supernodal");
+    cfg.backend = a.get("--backend", "multifrontal");
     cfg.ordering = a.get("--ordering", "default");
     cfg.scaling = !a.has("--no-scaling");
     if (cfg.frames < 1) throw InputError("--frames must be >= 1");

@@ -24,7 +24,7 @@ log "table 2-1 (dense / naive / structured builds of LAP and TF; scaling of the 
 log "solver choice (backends x orderings; BLAS kernel sets)"
 SOLV=("$BUILD/exp_solvers" --data "$ROOT/data" --results "$ROOT/results")
 [ "$FULL" = --full ] && SOLV+=(--full)
-SOLV_BLAS_BACKENDS=cholmod_supernodal,umfpack,dense_llt,lapack_potrf,dense_ldlt_bk,dense_lu
+SOLV_BLAS_BACKENDS=cholmod_supernodal,multifrontal,umfpack,dense_llt,lapack_potrf,dense_ldlt_bk,dense_lu
 SOLV_VARIANTS=()
 rm -f "$ROOT"/results/solvers_blas_*.csv
 if grep -qw avx512f /proc/cpuinfo && [ "${OPENBLAS_CORETYPE:-}" != SkylakeX ]; then

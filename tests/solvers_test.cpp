@@ -1,5 +1,7 @@
 // Conformance of every registered solver backend (TEST_P over solver_names()), plus backend specifics.
 #include <cmath>
+#include <cstdlib>
+#include <utility>
 #include <random>
 #include <string>
 #include <vector>
@@ -296,6 +298,72 @@ TEST(Cholmod, DifferentPatternNeedsAnalyze) {
   auto s = db::make_solver("cholmod_supernodal");
   s->analyze(a);
   EXPECT_THROW(s->factorize(b), db::SolverError);
+}
+
+//! Sets DEFORMBENCH_THREADS for one scope (the multifrontal backend reads it at analyze()).
+struct ThreadsEnv {
+  explicit ThreadsEnv(int t) { setenv("DEFORMBENCH_THREADS", std::to_string(t).c_str(), 1); }
+  ~ThreadsEnv() { unsetenv("DEFORMBENCH_THREADS"); }
+};
+
+// Large enough that the assembly tree has top supernodes and several subtrees per thread; the answer must not
+// depend on the thread count beyond rounding, and must agree
+// with CHOLMOD, for scalar and 3x3-block systems, with a given (natural) order and the backend's own.
+TEST(Multifrontal, ThreadCountsAndBackendsAgree) {
+  std::mt19937 rng(13);
+  const SpMat scalar = normal_equations(mesh_laplacian(40, 35, true, rng), 6, rng);
+  for (const auto& [full, block] : {std::pair<SpMat, int>{scalar, 1}, {kron3(scalar), 3}}) {
+    const SpMat upper = upper_of(full);
+    const DenseMat B = random_rhs(upper.rows(), 3, rng);
+    for (const std::string ordering : {"natural", "metis", "amd"}) {
+      SCOPED_TRACE(fmt::format("block {} ordering {}", block, ordering));
+      db::SolverOptions o;
+      o.ordering = ordering;
+      o.block_size = block;
+      DenseMat X[3];
+      db::FactorStats st[3];
+      for (int threads : {1, 2, 3}) {
+        ThreadsEnv env(threads);
+        auto s = db::make_solver("multifrontal", o);
+        s->analyze(upper);
+        s->factorize(upper);
+        s->solve(B, X[threads - 1]);
+        st[threads - 1] = s->stats();
+        DenseMat x1;  // one right-hand side takes the single-column kernels
+        s->solve(B.col(2), x1);
+        EXPECT_LT(rel(x1, X[threads - 1].col(2)), 1e-13);
+      }
+      EXPECT_LT(rel(X[1], X[0]), 1e-12);  // not bitwise: the BLAS and the solve sum in thread-dependent order
+      EXPECT_LT(rel(X[2], X[0]), 1e-12);
+      EXPECT_EQ(st[1].nnz_factor, st[0].nnz_factor);
+      EXPECT_GT(st[0].flops, 0);
+      EXPECT_GE(st[0].nnz_factor, std::size_t(upper.nonZeros()));
+      auto ref = db::make_solver("cholmod_supernodal", o);
+      ref->factorize(upper);
+      DenseMat Xref;
+      ref->solve(B, Xref);
+      EXPECT_LT(rel(X[0], Xref), 1e-10);
+      EXPECT_LT(rel(DenseMat(full * X[0]), B), 1e-10);
+    }
+  }
+}
+
+TEST(Multifrontal, NotPositiveDefiniteNamesTheColumn) {
+  std::mt19937 rng(14);
+  SpMat A = normal_equations(mesh_laplacian(30, 30, true, rng), 3, rng);
+  A.coeffRef(700, 700) = -1;
+  for (int threads : {1, 2}) {
+    ThreadsEnv env(threads);
+    auto s = db::make_solver("multifrontal");
+    try {
+      s->factorize(upper_of(A));
+      FAIL() << "expected SolverError";
+    } catch (const db::SolverError& e) {
+      EXPECT_NE(std::string(e.what()).find("not positive definite (failed at column"), std::string::npos) << e.what();
+    }
+    DenseMat X;
+    EXPECT_THROW(s->solve(DenseMat::Ones(A.rows(), 1), X), db::SolverError);  // no factor after a failure
+  }
 }
 
 TEST(Dense, RefusesHugeSystemsBeforeAllocating) {

@@ -19,7 +19,7 @@ struct CellSpec {
   std::string mesh_path;  //!< mesh file the child reads
   std::string system = "tf";            //!< "lap" | "tf"
   std::string build = "structured";     //!< "dense" | "naive" | "structured"
-  std::string backend = "cholmod_supernodal";  //!< solver registry name (dense build: Eigen's LLT, see backend_label)
+  std::string backend = "multifrontal";  //!< solver registry name (dense build: Eigen's LLT, see backend_label)
   std::string ordering = "default";
   int frames = 20;
   ThesisEditOptions edit;
@@ -32,7 +32,7 @@ struct CellSpec {
   static CellSpec from_args(const Args& a);
   //! The backend that actually factors: the dense build always uses Eigen's dense LLT.
   std::string backend_label() const { return build == "dense" ? "eigen_llt" : backend; }
-  //! "hand/tf/structured/cholmod_supernodal"
+  //! "hand/tf/structured/multifrontal"
   std::string key() const;
 };
 

@@ -29,7 +29,7 @@ struct DeformOptions {
   ConstraintMode constraints = ConstraintMode::Hard;
   double soft_weight = 1.0;
   Build build = Build::Structured;
-  std::string solver = "cholmod_supernodal";
+  std::string solver = "multifrontal";
   SolverOptions solver_options;
   bool normalize = true;             //!< center and scale before building (see normalization.h)
   std::size_t memory_budget = 0;     //!< bytes; 0 = unlimited. Checked on predictions before allocating.

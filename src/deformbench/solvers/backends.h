@@ -10,6 +10,9 @@ namespace db::backends {
 //! CHOLMOD, supernodal LL^T (`supernodal` true) or simplicial LDL^T.
 std::unique_ptr<LinearSolver> make_cholmod(bool supernodal, const SolverOptions& options);
 
+//! Multifrontal supernodal LL^T, symbolic phase on the block graph, subtrees on worker threads.
+std::unique_ptr<LinearSolver> make_multifrontal(const SolverOptions& options);
+
 //! Dense on the expanded matrix: kind "llt" (Eigen), "ldlt_bk" (LAPACK dsytrf), "lu" (LAPACK dgetrf).
 std::unique_ptr<LinearSolver> make_dense(const std::string& kind, const SolverOptions& options);
 

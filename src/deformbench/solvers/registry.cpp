@@ -23,6 +23,8 @@ const std::vector<Entry>& table() {
   static const std::vector<Entry> entries = {
       {{"cholmod_supernodal", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(true, o); }},
+      {{"multifrontal", "sparse-cholesky", true, kCholmodOrderings},
+       [](const SolverOptions& o) { return backends::make_multifrontal(o); }},
       {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
       {{"dense_llt", "dense", true, kDenseOrderings},

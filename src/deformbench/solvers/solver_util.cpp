@@ -1,5 +1,6 @@
 #include "solvers/solver_util.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -118,6 +119,63 @@ const SpMat& prepare_factorize(LinearSolver& solver, const PatternGuard& guard, 
     guard.check(upper, solver.name());
   check_finite_values(upper, solver.name());
   return upper;
+}
+
+BlockGraph block_graph(const SpMat& upper, int b) {
+  BlockGraph g;
+  const int nb = int(upper.cols()) / b;
+  g.nb = nb;
+  // Pass 1: distinct off-diagonal block rows of each block column (upper triangle as stored).
+  std::vector<int> mark(static_cast<std::size_t>(nb), -1);
+  std::vector<int> up(static_cast<std::size_t>(nb) + 1, 0), ui;
+  ui.reserve(std::size_t(upper.nonZeros()) / std::size_t(b * b) + std::size_t(nb));
+  for (int J = 0; J < nb; ++J) {
+    for (int c = 0; c < b; ++c) {
+      const int j = J * b + c;
+      for (int p = upper.outerIndexPtr()[j]; p < upper.outerIndexPtr()[j + 1]; ++p) {
+        const int I = upper.innerIndexPtr()[p] / b;
+        if (I != J && mark[std::size_t(I)] != J) {
+          mark[std::size_t(I)] = J;
+          ui.push_back(I);
+        }
+      }
+    }
+    up[std::size_t(J) + 1] = int(ui.size());
+  }
+  // Pass 2: symmetrize (orderings want both triangles), then drop duplicates and sort each column.
+  std::vector<int> cnt(static_cast<std::size_t>(nb) + 1, 0);
+  for (int J = 0; J < nb; ++J)
+    for (int p = up[std::size_t(J)]; p < up[std::size_t(J) + 1]; ++p) {
+      ++cnt[std::size_t(J) + 1];
+      ++cnt[std::size_t(ui[std::size_t(p)]) + 1];
+    }
+  for (int J = 0; J < nb; ++J) cnt[std::size_t(J) + 1] += cnt[std::size_t(J)];
+  std::vector<int>& Ai = g.Ai;
+  Ai.assign(static_cast<std::size_t>(cnt.back()), 0);
+  std::vector<int> next(cnt.begin(), cnt.end() - 1);
+  for (int J = 0; J < nb; ++J)
+    for (int p = up[std::size_t(J)]; p < up[std::size_t(J) + 1]; ++p) {
+      const int I = ui[std::size_t(p)];
+      Ai[std::size_t(next[std::size_t(J)]++)] = I;
+      Ai[std::size_t(next[std::size_t(I)]++)] = J;
+    }
+  g.Ap.assign(static_cast<std::size_t>(nb) + 1, 0);
+  std::fill(mark.begin(), mark.end(), -1);
+  int w = 0;
+  for (int J = 0; J < nb; ++J) {
+    const int start = w;
+    for (int p = cnt[std::size_t(J)]; p < cnt[std::size_t(J) + 1]; ++p) {
+      const int I = Ai[std::size_t(p)];
+      if (mark[std::size_t(I)] != J) {
+        mark[std::size_t(I)] = J;
+        Ai[std::size_t(w++)] = I;
+      }
+    }
+    std::sort(Ai.begin() + start, Ai.begin() + w);
+    g.Ap[std::size_t(J) + 1] = w;
+  }
+  Ai.resize(static_cast<std::size_t>(w));
+  return g;
 }
 
 }  // namespace db::solver_util

@@ -64,4 +64,13 @@ double cholesky_flops(const int* col_ptr, Index n);
 void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who);
 constexpr double kSingularPivotFactor = 10.0;
 
+//! Compressed block graph of a pattern: node I stands for unknowns b*I .. b*I+b-1 (x,y,z of a vertex).
+//! Full symmetric adjacency without the diagonal, sorted, no duplicates.
+struct BlockGraph {
+  int nb = 0;
+  std::vector<int> Ap, Ai;
+};
+//! Block graph of the upper triangle `upper` (columns a multiple of b).
+BlockGraph block_graph(const SpMat& upper, int b);
+
 }  // namespace db::solver_util
