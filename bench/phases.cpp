@@ -21,7 +21,7 @@
 //   --full            adds man and armadillo_loop1 (104k vertices)
 //   --systems a,b     lap,tf
 //   --builds a,b      structured (default); naive and dense also time their build (dense: hand tier only)
-//   --backends a,b    default: cholmod_supernodal,cholmod_simplicial_ldlt,eigen_simplicial_llt,umfpack
+//   --backends a,b    default: multifrontal,cholmod_supernodal,cholmod_simplicial_ldlt,eigen_simplicial_llt,umfpack
 //   --simplicial-max-n N  simplicial backends (cholmod_simplicial_ldlt, eigen_simplicial_*) only on systems with
 //                     at most N unknowns (default 30000: armadillo tf, 78k, takes them 10-20 s a factorization)
 #include <cstdlib>
@@ -204,8 +204,8 @@ void bm_solve(benchmark::State& st, Case c, std::string backend, std::string nam
 struct Options {
   std::string data;
   std::vector<std::string> tiers = {"hand", "armadillo"}, systems = {"lap", "tf"}, builds = {"structured"},
-                           backends = {"cholmod_supernodal", "cholmod_simplicial_ldlt", "eigen_simplicial_llt",
-                                       "umfpack"};
+                           backends = {"multifrontal", "cholmod_supernodal", "cholmod_simplicial_ldlt",
+                                       "eigen_simplicial_llt", "umfpack"};
   double simplicial_max_n = 30000;
 };
 

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "solvers/backends.h"
+#include "solvers/cholmod_views.h"
 #include "solvers/solver_util.h"
 
 namespace db {
@@ -45,22 +46,7 @@ const char* ordering_name(int ordering) {
 
 //! Zero-copy CHOLMOD view of the (compressed) upper triangle; stype = +1 makes CHOLMOD read only it.
 cholmod_sparse sparse_view(const SpMat& upper) {
-  cholmod_sparse A{};
-  A.nrow = std::size_t(upper.rows());
-  A.ncol = std::size_t(upper.cols());
-  A.nzmax = std::size_t(upper.nonZeros());
-  A.p = const_cast<int*>(upper.outerIndexPtr());
-  A.i = const_cast<int*>(upper.innerIndexPtr());
-  A.nz = nullptr;
-  A.x = const_cast<double*>(upper.valuePtr());
-  A.z = nullptr;
-  A.stype = 1;
-  A.itype = CHOLMOD_INT;
-  A.xtype = CHOLMOD_REAL;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = 1;
-  A.packed = 1;
-  return A;
+  return cholmod_upper_view(std::size_t(upper.cols()), upper.outerIndexPtr(), upper.innerIndexPtr(), upper.valuePtr());
 }
 
 cholmod_dense dense_view(const DenseMat& B) {
@@ -88,17 +74,7 @@ std::vector<int> block_permutation(const BlockGraph& g, int b, const std::string
       throw SolverError(fmt::format("amd_order on the {0}x{0} block graph failed (status {1})", g.nb, status));
   } else {
     // Pattern-only symmetric view (stype = 1 reads the upper part of the full adjacency).
-    cholmod_sparse G{};
-    G.nrow = G.ncol = nb;
-    G.nzmax = g.Ai.size();
-    G.p = const_cast<int*>(g.Ap.data());
-    G.i = const_cast<int*>(g.Ai.data());
-    G.stype = 1;
-    G.itype = CHOLMOD_INT;
-    G.xtype = CHOLMOD_PATTERN;
-    G.dtype = CHOLMOD_DOUBLE;
-    G.sorted = 1;
-    G.packed = 1;
+    cholmod_sparse G = cholmod_upper_view(nb, g.Ap.data(), g.Ai.data(), nullptr);
     bool ok;
     if (method == "metis") {
       ok = cholmod_metis(&G, nullptr, 0, /*postorder=*/0, P.data(), &cc);
@@ -199,10 +175,7 @@ class CholmodSolver final : public LinearSolver {
         cc_.nmethods = 0;  // CHOLMOD's default: AMD, METIS too when AMD's fill is high
       } else {
         cc_.nmethods = 1;
-        cc_.method[0].ordering = options_.ordering == "amd"      ? CHOLMOD_AMD
-                                 : options_.ordering == "metis"  ? CHOLMOD_METIS
-                                 : options_.ordering == "nesdis" ? CHOLMOD_NESDIS
-                                                                 : CHOLMOD_NATURAL;
+        cc_.method[0].ordering = cholmod_ordering_code(options_.ordering);
       }
       L_ = cholmod_analyze(&A, &cc_);
       if (!L_ || cc_.status < CHOLMOD_OK)

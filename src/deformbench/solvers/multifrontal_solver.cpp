@@ -30,6 +30,7 @@
 #include "core/error.h"
 #include "core/resources.h"
 #include "solvers/backends.h"
+#include "solvers/cholmod_views.h"
 #include "solvers/solver_util.h"
 
 extern "C" {
@@ -175,17 +176,7 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method, in
     Ui.push_back(J);
     Up[std::size_t(J) + 1] = int(Ui.size());
   }
-  cholmod_sparse G{};
-  G.nrow = G.ncol = std::size_t(nb);
-  G.nzmax = Ui.size();
-  G.p = Up.data();
-  G.i = Ui.data();
-  G.stype = 1;
-  G.itype = CHOLMOD_INT;
-  G.xtype = CHOLMOD_PATTERN;
-  G.dtype = CHOLMOD_DOUBLE;
-  G.sorted = 1;
-  G.packed = 1;
+  cholmod_sparse G = cholmod_upper_view(std::size_t(nb), Up.data(), Ui.data(), nullptr);
 
   cholmod_common cc;
   cholmod_start(&cc);
@@ -199,10 +190,7 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method, in
     cc.nmethods = 0;
   } else {
     cc.nmethods = 1;
-    cc.method[0].ordering = method == "amd"      ? CHOLMOD_AMD
-                            : method == "metis"  ? CHOLMOD_METIS
-                            : method == "nesdis" ? CHOLMOD_NESDIS
-                                                 : CHOLMOD_NATURAL;
+    cc.method[0].ordering = cholmod_ordering_code(method);
   }
   cholmod_factor* L = cholmod_analyze(&G, &cc);
   if (!L || cc.status < CHOLMOD_OK || !L->is_super) {
@@ -306,8 +294,63 @@ class FactorValues {
   std::size_t bytes_ = 0;
 };
 
-//! Right-hand sides handled together in one pass of the forward solve.
+//! Right-hand sides handled together in one pass of the solves.
 constexpr int kMaxInterleaved = 4;
+
+// Dense kernels of the solves on one supernode: L is its m x nc column-major block (diagonal block on top),
+// x a row-major m x RC block of RC right-hand sides (the supernode's own entries, then its rows below). The
+// solves stream through the factor once per direction, bound by memory bandwidth and by dependent adds, so
+// they are plain loops (BLAS handles a few right-hand sides poorly: dgemm with n = 1..3), compiled for the
+// baseline ISA and for AVX2/FMA CPUs, chosen when the library loads.
+template <int RC>
+inline __attribute__((always_inline)) void forward_block(const double* L, int m, int nc, double* x) {
+  // x_j /= L_jj, then x_i -= L_ij x_j below j (rows under the diagonal block start at zero and end as -L_rs y_s).
+  for (int j = 0; j < nc; ++j) {
+    const double* col = L + std::size_t(j) * std::size_t(m);
+    double xj[RC];
+    for (int c = 0; c < RC; ++c) xj[c] = (x[std::size_t(j) * RC + c] /= col[j]);
+    for (int i = j + 1; i < m; ++i)
+      for (int c = 0; c < RC; ++c) x[std::size_t(i) * RC + c] -= col[i] * xj[c];
+  }
+}
+
+template <int RC>
+inline __attribute__((always_inline)) void backward_block(const double* L, int m, int nc, double* x) {
+  // x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj; two sets of partial sums break the chain of dependent adds.
+  for (int j = nc - 1; j >= 0; --j) {
+    const double* col = L + std::size_t(j) * std::size_t(m);
+    double a0[RC] = {}, a1[RC] = {};
+    int i = j + 1;
+    for (; i + 1 < m; i += 2)
+      for (int c = 0; c < RC; ++c) {
+        a0[c] += col[i] * x[std::size_t(i) * RC + c];
+        a1[c] += col[i + 1] * x[std::size_t(i + 1) * RC + c];
+      }
+    if (i < m)
+      for (int c = 0; c < RC; ++c) a0[c] += col[i] * x[std::size_t(i) * RC + c];
+    for (int c = 0; c < RC; ++c) x[std::size_t(j) * RC + c] = (x[std::size_t(j) * RC + c] - (a0[c] + a1[c])) / col[j];
+  }
+}
+
+__attribute__((target_clones("arch=haswell", "default"))) void forward_kernel(const double* L, int m, int nc, int rc,
+                                                                               double* x) {
+  switch (rc) {
+    case 1: forward_block<1>(L, m, nc, x); break;
+    case 2: forward_block<2>(L, m, nc, x); break;
+    case 3: forward_block<3>(L, m, nc, x); break;
+    default: forward_block<4>(L, m, nc, x); break;
+  }
+}
+
+__attribute__((target_clones("arch=haswell", "default"))) void backward_kernel(const double* L, int m, int nc, int rc,
+                                                                                double* x) {
+  switch (rc) {
+    case 1: backward_block<1>(L, m, nc, x); break;
+    case 2: backward_block<2>(L, m, nc, x); break;
+    case 3: backward_block<3>(L, m, nc, x); break;
+    default: backward_block<4>(L, m, nc, x); break;
+  }
+}
 
 //! Per-thread scratch: row -> front position map, relative indices.
 struct Workspace {
@@ -542,10 +585,6 @@ class MultifrontalSolver final : public LinearSolver {
     return true;
   }
 
-  // The solves stream through the factor once per direction and are bound by memory bandwidth, so they use
-  // plain loops over each supernode's columns (one pass, r right-hand sides interleaved) instead of BLAS
-  // calls, which handle a few right-hand sides poorly (dgemm with n = 1..3).
-
   //! y_s := L_ss^{-1} y_s, then y_rows -= L_rs y_s. Thread t adds to columns it does not own in acc_[t].
   void forward(int s, int t, std::vector<double>& tmp) {
     const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s), nr = m - nc;
@@ -553,42 +592,24 @@ class MultifrontalSolver final : public LinearSolver {
     const double* Ls = values_.get() + S_.xptr[std::size_t(s)];
     const int r = int(y_.cols());
     const std::size_t ldy = std::size_t(y_.rows());
-    double* y = y_.data() + f;
-    tmp.assign(std::size_t(nr) * std::size_t(r), 0.0);  // row-major nr x r: the rows below, negated
-    double yj[kMaxInterleaved];
     for (int c0 = 0; c0 < r; c0 += kMaxInterleaved) {
       const int rc = std::min(kMaxInterleaved, r - c0);
-      for (int j = 0; j < nc; ++j) {
-        const double* col = Ls + std::size_t(j) * std::size_t(m);
-        for (int c = 0; c < rc; ++c) yj[c] = (y[std::size_t(c0 + c) * ldy + std::size_t(j)] /= col[j]);
-        if (rc == 1) {
-          double* yc = y + std::size_t(c0) * ldy;
-          const double v = yj[0];
-          for (int i = j + 1; i < nc; ++i) yc[i] -= col[i] * v;
-          double* tc = tmp.data() + c0;  // r == 1 here unless several chunks; stride r
-          if (r == 1)
-            for (int k = 0; k < nr; ++k) tc[k] += col[nc + k] * v;
-          else
-            for (int k = 0; k < nr; ++k) tc[std::size_t(k) * std::size_t(r)] += col[nc + k] * v;
-        } else {
-          for (int i = j + 1; i < nc; ++i)
-            for (int c = 0; c < rc; ++c) y[std::size_t(c0 + c) * ldy + std::size_t(i)] -= col[i] * yj[c];
-          for (int k = 0; k < nr; ++k) {
-            double* tk = tmp.data() + std::size_t(k) * std::size_t(r) + c0;
-            const double l = col[nc + k];
-            for (int c = 0; c < rc; ++c) tk[c] += l * yj[c];
-          }
-        }
+      tmp.assign(std::size_t(m) * std::size_t(rc), 0.0);
+      for (int c = 0; c < rc; ++c) {
+        const double* yc = y_.data() + std::size_t(c0 + c) * ldy + f;
+        for (int k = 0; k < nc; ++k) tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)] = yc[k];
       }
-    }
-    for (int c = 0; c < r; ++c) {
-      double* yc = y_.data() + std::size_t(c) * ldy;
-      double* ac = t >= 0 ? acc_[std::size_t(t)].data() + std::size_t(c) * ldy : nullptr;
-      for (int k = 0; k < nr; ++k) {
-        const int i = R[nc + k];
-        const double v = tmp[std::size_t(k) * std::size_t(r) + std::size_t(c)];
-        if (t < 0 || S_.owner[std::size_t(i)] == t) yc[i] -= v;
-        else ac[i] -= v;
+      forward_kernel(Ls, m, nc, rc, tmp.data());
+      for (int c = 0; c < rc; ++c) {
+        double* yc = y_.data() + std::size_t(c0 + c) * ldy;
+        double* ac = t >= 0 ? acc_[std::size_t(t)].data() + std::size_t(c0 + c) * ldy : nullptr;
+        for (int k = 0; k < nc; ++k) yc[f + k] = tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)];
+        for (int k = 0; k < nr; ++k) {
+          const int i = R[nc + k];
+          const double v = tmp[std::size_t(nc + k) * std::size_t(rc) + std::size_t(c)];
+          if (t < 0 || S_.owner[std::size_t(i)] == t) yc[i] += v;
+          else ac[i] += v;
+        }
       }
     }
   }
@@ -600,30 +621,6 @@ class MultifrontalSolver final : public LinearSolver {
     const double* Ls = values_.get() + S_.xptr[std::size_t(s)];
     const int r = int(y_.cols());
     const std::size_t ldy = std::size_t(y_.rows());
-    double* y = y_.data() + f;
-    if (r == 1) {
-      // Gather the rows below after this supernode's own entries: one contiguous vector for the dot products.
-      tmp.resize(std::size_t(m));
-      for (int k = 0; k < nr; ++k) tmp[std::size_t(nc + k)] = y_.data()[R[nc + k]];
-      for (int j = nc - 1; j >= 0; --j) {
-        const double* col = Ls + std::size_t(j) * std::size_t(m);
-        // Four partial sums: a single running sum is one dependent add per entry (latency bound).
-        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-        int i = j + 1;
-        for (; i < nc; ++i) s0 += col[i] * y[i];
-        for (; i + 3 < m; i += 4) {
-          s0 += col[i] * tmp[std::size_t(i)];
-          s1 += col[i + 1] * tmp[std::size_t(i) + 1];
-          s2 += col[i + 2] * tmp[std::size_t(i) + 2];
-          s3 += col[i + 3] * tmp[std::size_t(i) + 3];
-        }
-        for (; i < m; ++i) s0 += col[i] * tmp[std::size_t(i)];
-        y[j] = (y[j] - ((s0 + s1) + (s2 + s3))) / col[j];
-      }
-      return;
-    }
-    // Several right-hand sides: row-major m x rc block (own entries, then the gathered rows below), the
-    // right-hand sides interleaved so every factor entry is read once per chunk.
     for (int c0 = 0; c0 < r; c0 += kMaxInterleaved) {
       const int rc = std::min(kMaxInterleaved, r - c0);
       tmp.resize(std::size_t(m) * std::size_t(rc));
@@ -632,29 +629,9 @@ class MultifrontalSolver final : public LinearSolver {
         for (int k = 0; k < nc; ++k) tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)] = yc[f + k];
         for (int k = 0; k < nr; ++k) tmp[std::size_t(nc + k) * std::size_t(rc) + std::size_t(c)] = yc[R[nc + k]];
       }
-      double acc[kMaxInterleaved];
-      for (int j = nc - 1; j >= 0; --j) {
-        const double* col = Ls + std::size_t(j) * std::size_t(m);
-        double acc2[kMaxInterleaved];  // second set of partial sums: two entries per step
-        for (int c = 0; c < rc; ++c) acc[c] = acc2[c] = 0;
-        int i = j + 1;
-        for (; i + 1 < m; i += 2) {
-          const double l0 = col[i], l1 = col[i + 1];
-          const double* ti = tmp.data() + std::size_t(i) * std::size_t(rc);
-          for (int c = 0; c < rc; ++c) {
-            acc[c] += l0 * ti[c];
-            acc2[c] += l1 * ti[rc + c];
-          }
-        }
-        if (i < m) {
-          const double* ti = tmp.data() + std::size_t(i) * std::size_t(rc);
-          for (int c = 0; c < rc; ++c) acc[c] += col[i] * ti[c];
-        }
-        double* tj = tmp.data() + std::size_t(j) * std::size_t(rc);
-        for (int c = 0; c < rc; ++c) tj[c] = (tj[c] - (acc[c] + acc2[c])) / col[j];
-      }
+      backward_kernel(Ls, m, nc, rc, tmp.data());
       for (int c = 0; c < rc; ++c) {
-        double* yc = y + std::size_t(c0 + c) * ldy;
+        double* yc = y_.data() + std::size_t(c0 + c) * ldy + f;
         for (int k = 0; k < nc; ++k) yc[k] = tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)];
       }
     }

@@ -7,15 +7,14 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "solvers/cholmod_views.h"
 
 namespace db {
 
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method) {
-  int ordering = 0;
-  if (method == "amd") ordering = CHOLMOD_AMD;
-  else if (method == "metis") ordering = CHOLMOD_METIS;
-  else if (method == "nesdis") ordering = CHOLMOD_NESDIS;
-  else throw InputError("unknown vertex ordering '" + method + "' (expected amd, metis or nesdis)");
+  if (method != "amd" && method != "metis" && method != "nesdis")
+    throw InputError("unknown vertex ordering '" + method + "' (expected amd, metis or nesdis)");
+  const int ordering = cholmod_ordering_code(method);
 
   const int nu = unk.num_unknowns();
   // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
@@ -30,17 +29,7 @@ void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& meth
   cc.method[0].ordering = ordering;
   cc.postorder = true;
   cc.supernodal = CHOLMOD_SIMPLICIAL;  // only the permutation is wanted; skip the supernodal symbolic phase
-  cholmod_sparse A{};
-  A.nrow = A.ncol = nu;
-  A.nzmax = rows.size();
-  A.p = colptr.data();
-  A.i = rows.data();
-  A.stype = 1;
-  A.itype = CHOLMOD_INT;
-  A.xtype = CHOLMOD_PATTERN;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = true;
-  A.packed = true;
+  cholmod_sparse A = cholmod_upper_view(std::size_t(nu), colptr.data(), rows.data(), nullptr);
   cholmod_factor* L = cholmod_analyze(&A, &cc);
   if (!L || cc.status < CHOLMOD_OK)
     throw SolverError(fmt::format("vertex ordering ({}) failed with CHOLMOD status {}", method, cc.status));
