@@ -40,7 +40,6 @@
 // Writes RESULTS/solvers.csv (long: one row per cell x measure; provenance columns record the BLAS core of this
 // run) and RESULTS/solvers.md (the verdict). --blas-compare reads CSVs of the same driver run under another
 // OPENBLAS_CORETYPE (scripts/experiments.sh makes them) and adds their factorize / solve ratios to the summary.
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -435,30 +434,18 @@ CellResult measure_cell(const CellSpec& s) {
 
 int cell_main(int argc, char** argv) {
   CellResult r;
-  int code = 0;
-  try {
+  const harness::CellOutcome o = harness::run_guarded_cell([&] {
     const CellSpec s = CellSpec::from_args(parse_args(argc, argv, 1, {"--cell"}));
-    if (s.memory_limit > 0) {
-      const rlimit lim{s.memory_limit, s.memory_limit};
-      ::setrlimit(RLIMIT_AS, &lim);
-    }
+    harness::limit_address_space(s.memory_limit);
     r = measure_cell(s);
-  } catch (const BudgetError& e) {
-    r.status = "#over";
-    r.message = e.what();
-    code = exit_code(e);
-  } catch (const std::bad_alloc&) {
-    r.status = "error";
-    r.message = "out of memory (std::bad_alloc; the cell's address-space limit may have been reached)";
-    code = 1;
-  } catch (const std::exception& e) {
-    r.status = "error";
-    r.message = e.what();
-    code = exit_code(e);
+  });
+  if (o.status != "ok") {
+    r.status = o.status;
+    r.message = o.message;
   }
   if (std::isnan(r.get("peak_rss_bytes"))) r.v["peak_rss_bytes"] = double(peak_rss_bytes());
   std::cout << '\n' << encode(r) << std::endl;
-  return code;
+  return o.exit_code;
 }
 
 std::string tail(const std::string& text, std::size_t max_chars) {

@@ -1,7 +1,6 @@
 #include "harness/cell.h"
 
 #include <malloc.h>
-#include <sys/resource.h>
 
 #include <cmath>
 #include <cstdio>
@@ -261,30 +260,19 @@ CellResult measure_cell(const CellSpec& spec) {
 
 int cell_main(int argc, char** argv) {
   CellResult r;
-  int code = 0;
-  try {
+  // The spec is parsed inside the guard: a malformed command line is an error result too.
+  const CellOutcome o = run_guarded_cell([&] {
     const CellSpec spec = CellSpec::from_args(parse_args(argc, argv, 1, {"--cell"}));
-    if (spec.address_space_limit > 0) {
-      const rlimit lim{spec.address_space_limit, spec.address_space_limit};
-      ::setrlimit(RLIMIT_AS, &lim);
-    }
+    limit_address_space(spec.address_space_limit);
     r = measure_cell(spec);
-  } catch (const BudgetError& e) {
-    r.status = "#over";
-    r.message = e.what();
-    code = exit_code(e);
-  } catch (const std::bad_alloc&) {
-    r.status = "error";
-    r.message = "out of memory (std::bad_alloc; the child's address-space limit may have been reached)";
-    code = 1;
-  } catch (const std::exception& e) {
-    r.status = "error";
-    r.message = e.what();
-    code = exit_code(e);
+  });
+  if (o.status != "ok") {
+    r.status = o.status;
+    r.message = o.message;
   }
   if (std::isnan(r.peak_rss_bytes)) r.peak_rss_bytes = static_cast<double>(peak_rss_bytes());
   std::cout << '\n' << encode_result(r) << std::endl;
-  return code;
+  return o.exit_code;
 }
 
 CellResult run_cell_in_child(const std::string& exe, const CellSpec& spec, double timeout_s) {

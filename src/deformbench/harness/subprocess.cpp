@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <new>
 
 #include <fmt/format.h>
 
@@ -118,6 +119,32 @@ ChildRun run_child(const std::vector<std::string>& argv, double timeout_s) {
   r.user_s = ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6;
   r.sys_s = ru.ru_stime.tv_sec + ru.ru_stime.tv_usec * 1e-6;
   return r;
+}
+
+void limit_address_space(std::size_t bytes) {
+  if (bytes == 0) return;
+  const rlimit lim{bytes, bytes};
+  ::setrlimit(RLIMIT_AS, &lim);
+}
+
+CellOutcome run_guarded_cell(const std::function<void()>& measure) {
+  CellOutcome o;
+  try {
+    measure();
+  } catch (const BudgetError& e) {
+    o.status = "#over";
+    o.message = e.what();
+    o.exit_code = exit_code(e);
+  } catch (const std::bad_alloc&) {
+    o.status = "error";
+    o.message = "out of memory (std::bad_alloc; the cell's address-space limit may have been reached)";
+    o.exit_code = 1;
+  } catch (const std::exception& e) {
+    o.status = "error";
+    o.message = e.what();
+    o.exit_code = exit_code(e);
+  }
+  return o;
 }
 
 }  // namespace db::harness

@@ -2,6 +2,7 @@
 //! Running a measurement in a fresh child process (fork + exec), so that cells never share a heap, a page
 //! cache of freed blocks or a high-water mark.
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,5 +31,19 @@ ChildRun run_child(const std::vector<std::string>& argv, double timeout_s = 0);
 
 //! Absolute path of the running executable (/proc/self/exe), for re-executing the driver in cell mode.
 std::string self_executable();
+
+//! How a cell's measurement ended, on the child's side.
+struct CellOutcome {
+  std::string status = "ok";  //!< ok | #over (BudgetError) | error
+  std::string message;
+  int exit_code = 0;  //!< the process exit code (core/error.h's codes)
+};
+
+//! Runs a cell's measurement in the child and turns what `measure` throws into the outcome. Never throws.
+CellOutcome run_guarded_cell(const std::function<void()>& measure);
+
+//! Caps this process's address space (bytes; 0: no cap), so an underpredicted cell fails with bad_alloc
+//! instead of being OOM-killed.
+void limit_address_space(std::size_t bytes);
 
 }  // namespace db::harness
