@@ -316,7 +316,22 @@ inline __attribute__((always_inline)) void forward_block(const double* L, int m,
 
 template <int RC>
 inline __attribute__((always_inline)) void backward_block(const double* L, int m, int nc, double* x) {
-  // x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj; two sets of partial sums break the chain of dependent adds.
+  // x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj; independent partial sums break the chain of dependent adds (the
+  // compiler may not reorder a floating-point sum itself). One right-hand side: eight lanes, which the
+  // compiler maps onto vector registers.
+  if constexpr (RC == 1) {
+    for (int j = nc - 1; j >= 0; --j) {
+      const double* col = L + std::size_t(j) * std::size_t(m);
+      double a[8] = {};
+      int i = j + 1;
+      for (; i + 7 < m; i += 8)
+        for (int k = 0; k < 8; ++k) a[k] += col[i + k] * x[i + k];
+      double sum = ((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]));
+      for (; i < m; ++i) sum += col[i] * x[i];
+      x[j] = (x[j] - sum) / col[j];
+    }
+    return;
+  }
   for (int j = nc - 1; j >= 0; --j) {
     const double* col = L + std::size_t(j) * std::size_t(m);
     double a0[RC] = {}, a1[RC] = {};
@@ -332,7 +347,7 @@ inline __attribute__((always_inline)) void backward_block(const double* L, int m
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void forward_kernel(const double* L, int m, int nc, int rc,
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_kernel(const double* L, int m, int nc, int rc,
                                                                                double* x) {
   switch (rc) {
     case 1: forward_block<1>(L, m, nc, x); break;
@@ -342,7 +357,7 @@ __attribute__((target_clones("arch=haswell", "default"))) void forward_kernel(co
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void backward_kernel(const double* L, int m, int nc, int rc,
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_kernel(const double* L, int m, int nc, int rc,
                                                                                 double* x) {
   switch (rc) {
     case 1: backward_block<1>(L, m, nc, x); break;
