@@ -40,9 +40,6 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
             std::size_t, std::size_t, std::size_t);
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
             const int* lda, const double* beta, double* c, const int* ldc, std::size_t, std::size_t);
-void dgemm_(const char* ta, const char* tb, const int* m, const int* n, const int* k, const double* alpha,
-            const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
-            const int* ldc, std::size_t, std::size_t);
 }
 
 namespace db {
@@ -156,7 +153,7 @@ void schedule(Symbolic& S, int threads) {
   for (std::size_t t = 0; t < S.subtrees.size(); ++t)
     for (int r : S.subtrees[t])
       for (int s = S.first[std::size_t(r)]; s <= r; ++s)
-        for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) S.owner[std::size_t(j)] = char(t);
+        for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) S.owner[std::size_t(j)] = static_cast<signed char>(t);
   S.top_columns.clear();
   for (int s : S.top)
     for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) S.top_columns.push_back(j);
@@ -186,12 +183,11 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method, in
   cc.postorder = true;
   // CHOLMOD's amalgamation thresholds count columns; a block column is b scalar columns.
   for (int k = 0; k < 3; ++k) cc.nrelax[k] = std::max<std::size_t>(1, (cc.nrelax[k] + std::size_t(b) - 1) / std::size_t(b));
-  if (method == "default") {
-    cc.nmethods = 0;
-  } else {
-    cc.nmethods = 1;
-    cc.method[0].ordering = cholmod_ordering_code(method);
-  }
+  // "default": METIS for block systems, AMD for scalar ones, the structured builds' vertex orderings
+  // (systems/vertex_ordering.h): on the 2-ring graphs of TF systems METIS saves a third of the flops for a
+  // fraction of a second. CHOLMOD's own rule, applied to the smaller block graph, would keep AMD.
+  cc.nmethods = 1;
+  cc.method[0].ordering = cholmod_ordering_code(method == "default" ? (b > 1 ? "metis" : "amd") : method);
   cholmod_factor* L = cholmod_analyze(&G, &cc);
   if (!L || cc.status < CHOLMOD_OK || !L->is_super) {
     if (L) cholmod_free_factor(&L, &cc);
@@ -294,76 +290,48 @@ class FactorValues {
   std::size_t bytes_ = 0;
 };
 
-//! Right-hand sides handled together in one pass of the solves.
-constexpr int kMaxInterleaved = 4;
-
 // Dense kernels of the solves on one supernode: L is its m x nc column-major block (diagonal block on top),
-// x a row-major m x RC block of RC right-hand sides (the supernode's own entries, then its rows below). The
+// x a column-major m x r block of r right-hand sides (the supernode's own entries, then its rows below). The
 // solves stream through the factor once per direction, bound by memory bandwidth and by dependent adds, so
-// they are plain loops (BLAS handles a few right-hand sides poorly: dgemm with n = 1..3), compiled for the
-// baseline ISA and for AVX2/FMA CPUs, chosen when the library loads.
-template <int RC>
-inline __attribute__((always_inline)) void forward_block(const double* L, int m, int nc, double* x) {
-  // x_j /= L_jj, then x_i -= L_ij x_j below j (rows under the diagonal block start at zero and end as -L_rs y_s).
+// they are plain loops (BLAS handles a few right-hand sides poorly: dgemm with n = 1..3); each column of L is
+// read from memory once and from cache for the further right-hand sides. Compiled for the baseline ISA and
+// for x86-64-v3 (AVX2, FMA), chosen when the library loads.
+
+//! sum_{i in [lo, hi)} a_i b_i with eight independent partial sums: a single running sum is one dependent
+//! add per entry (the compiler may not reorder a floating-point sum itself); eight lanes map onto vectors.
+inline __attribute__((always_inline)) double dot8(const double* a, const double* b, int lo, int hi) {
+  double p[8] = {};
+  int i = lo;
+  for (; i + 7 < hi; i += 8)
+    for (int k = 0; k < 8; ++k) p[k] += a[i + k] * b[i + k];
+  double sum = ((p[0] + p[4]) + (p[1] + p[5])) + ((p[2] + p[6]) + (p[3] + p[7]));
+  for (; i < hi; ++i) sum += a[i] * b[i];
+  return sum;
+}
+
+//! x_j /= L_jj, then x_i -= L_ij x_j below j: the rows under the diagonal block start at zero and end as
+//! -L_rs y_s.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_kernel(const double* L, int m, int nc, int r,
+                                                                                 double* x) {
   for (int j = 0; j < nc; ++j) {
     const double* col = L + std::size_t(j) * std::size_t(m);
-    double xj[RC];
-    for (int c = 0; c < RC; ++c) xj[c] = (x[std::size_t(j) * RC + c] /= col[j]);
-    for (int i = j + 1; i < m; ++i)
-      for (int c = 0; c < RC; ++c) x[std::size_t(i) * RC + c] -= col[i] * xj[c];
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(m);
+      const double v = (xc[j] /= col[j]);
+      for (int i = j + 1; i < m; ++i) xc[i] -= col[i] * v;
+    }
   }
 }
 
-template <int RC>
-inline __attribute__((always_inline)) void backward_block(const double* L, int m, int nc, double* x) {
-  // x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj; independent partial sums break the chain of dependent adds (the
-  // compiler may not reorder a floating-point sum itself). One right-hand side: eight lanes, which the
-  // compiler maps onto vector registers.
-  if constexpr (RC == 1) {
-    for (int j = nc - 1; j >= 0; --j) {
-      const double* col = L + std::size_t(j) * std::size_t(m);
-      double a[8] = {};
-      int i = j + 1;
-      for (; i + 7 < m; i += 8)
-        for (int k = 0; k < 8; ++k) a[k] += col[i + k] * x[i + k];
-      double sum = ((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]));
-      for (; i < m; ++i) sum += col[i] * x[i];
-      x[j] = (x[j] - sum) / col[j];
-    }
-    return;
-  }
+//! x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj, bottom up.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_kernel(const double* L, int m, int nc, int r,
+                                                                                  double* x) {
   for (int j = nc - 1; j >= 0; --j) {
     const double* col = L + std::size_t(j) * std::size_t(m);
-    double a0[RC] = {}, a1[RC] = {};
-    int i = j + 1;
-    for (; i + 1 < m; i += 2)
-      for (int c = 0; c < RC; ++c) {
-        a0[c] += col[i] * x[std::size_t(i) * RC + c];
-        a1[c] += col[i + 1] * x[std::size_t(i + 1) * RC + c];
-      }
-    if (i < m)
-      for (int c = 0; c < RC; ++c) a0[c] += col[i] * x[std::size_t(i) * RC + c];
-    for (int c = 0; c < RC; ++c) x[std::size_t(j) * RC + c] = (x[std::size_t(j) * RC + c] - (a0[c] + a1[c])) / col[j];
-  }
-}
-
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_kernel(const double* L, int m, int nc, int rc,
-                                                                               double* x) {
-  switch (rc) {
-    case 1: forward_block<1>(L, m, nc, x); break;
-    case 2: forward_block<2>(L, m, nc, x); break;
-    case 3: forward_block<3>(L, m, nc, x); break;
-    default: forward_block<4>(L, m, nc, x); break;
-  }
-}
-
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_kernel(const double* L, int m, int nc, int rc,
-                                                                                double* x) {
-  switch (rc) {
-    case 1: backward_block<1>(L, m, nc, x); break;
-    case 2: backward_block<2>(L, m, nc, x); break;
-    case 3: backward_block<3>(L, m, nc, x); break;
-    default: backward_block<4>(L, m, nc, x); break;
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(m);
+      xc[j] = (xc[j] - dot8(col, xc, j + 1, m)) / col[j];
+    }
   }
 }
 
@@ -394,7 +362,7 @@ class MultifrontalSolver final : public LinearSolver {
     const int b = options_.block_size > 1 && n % options_.block_size == 0 ? options_.block_size : 1;
     factored_ = false;
     values_.reset();
-    threads_ = std::max(1, worker_threads());
+    threads_ = std::clamp(worker_threads(), 1, 64);  // owner[] holds a thread index in a signed char
     S_ = analyze_blocks(upper, b, options_.ordering, threads_);
     guard_.remember(upper);
     stats_ = FactorStats{};
@@ -402,7 +370,7 @@ class MultifrontalSolver final : public LinearSolver {
     stats_.nnz_matrix = std::size_t(upper.nonZeros());
     stats_.nnz_factor = S_.nnz;
     stats_.flops = S_.flops;
-    stats_.ordering_used = (options_.ordering == "default" ? std::string("cholmod-default") : options_.ordering) +
+    stats_.ordering_used = (options_.ordering == "default" ? std::string(b > 1 ? "metis" : "amd") : options_.ordering) +
                            (b > 1 ? fmt::format("-block{}", b) : "");
     stats_.factor_bytes = factor_bytes();
   }
@@ -604,27 +572,21 @@ class MultifrontalSolver final : public LinearSolver {
   void forward(int s, int t, std::vector<double>& tmp) {
     const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s), nr = m - nc;
     const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
-    const double* Ls = values_.get() + S_.xptr[std::size_t(s)];
     const int r = int(y_.cols());
     const std::size_t ldy = std::size_t(y_.rows());
-    for (int c0 = 0; c0 < r; c0 += kMaxInterleaved) {
-      const int rc = std::min(kMaxInterleaved, r - c0);
-      tmp.assign(std::size_t(m) * std::size_t(rc), 0.0);
-      for (int c = 0; c < rc; ++c) {
-        const double* yc = y_.data() + std::size_t(c0 + c) * ldy + f;
-        for (int k = 0; k < nc; ++k) tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)] = yc[k];
-      }
-      forward_kernel(Ls, m, nc, rc, tmp.data());
-      for (int c = 0; c < rc; ++c) {
-        double* yc = y_.data() + std::size_t(c0 + c) * ldy;
-        double* ac = t >= 0 ? acc_[std::size_t(t)].data() + std::size_t(c0 + c) * ldy : nullptr;
-        for (int k = 0; k < nc; ++k) yc[f + k] = tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)];
-        for (int k = 0; k < nr; ++k) {
-          const int i = R[nc + k];
-          const double v = tmp[std::size_t(nc + k) * std::size_t(rc) + std::size_t(c)];
-          if (t < 0 || S_.owner[std::size_t(i)] == t) yc[i] += v;
-          else ac[i] += v;
-        }
+    tmp.assign(std::size_t(m) * std::size_t(r), 0.0);
+    for (int c = 0; c < r; ++c)
+      std::copy_n(y_.data() + std::size_t(c) * ldy + f, nc, tmp.data() + std::size_t(c) * std::size_t(m));
+    forward_kernel(values_.get() + S_.xptr[std::size_t(s)], m, nc, r, tmp.data());
+    for (int c = 0; c < r; ++c) {
+      const double* xc = tmp.data() + std::size_t(c) * std::size_t(m);
+      double* yc = y_.data() + std::size_t(c) * ldy;
+      double* ac = t >= 0 ? acc_[std::size_t(t)].data() + std::size_t(c) * ldy : nullptr;
+      std::copy_n(xc, nc, yc + f);
+      for (int k = 0; k < nr; ++k) {
+        const int i = R[nc + k];
+        if (t < 0 || S_.owner[std::size_t(i)] == t) yc[i] += xc[nc + k];
+        else ac[i] += xc[nc + k];
       }
     }
   }
@@ -633,23 +595,18 @@ class MultifrontalSolver final : public LinearSolver {
   void backward(int s, std::vector<double>& tmp) {
     const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s), nr = m - nc;
     const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
-    const double* Ls = values_.get() + S_.xptr[std::size_t(s)];
     const int r = int(y_.cols());
     const std::size_t ldy = std::size_t(y_.rows());
-    for (int c0 = 0; c0 < r; c0 += kMaxInterleaved) {
-      const int rc = std::min(kMaxInterleaved, r - c0);
-      tmp.resize(std::size_t(m) * std::size_t(rc));
-      for (int c = 0; c < rc; ++c) {
-        const double* yc = y_.data() + std::size_t(c0 + c) * ldy;
-        for (int k = 0; k < nc; ++k) tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)] = yc[f + k];
-        for (int k = 0; k < nr; ++k) tmp[std::size_t(nc + k) * std::size_t(rc) + std::size_t(c)] = yc[R[nc + k]];
-      }
-      backward_kernel(Ls, m, nc, rc, tmp.data());
-      for (int c = 0; c < rc; ++c) {
-        double* yc = y_.data() + std::size_t(c0 + c) * ldy + f;
-        for (int k = 0; k < nc; ++k) yc[k] = tmp[std::size_t(k) * std::size_t(rc) + std::size_t(c)];
-      }
+    tmp.resize(std::size_t(m) * std::size_t(r));
+    for (int c = 0; c < r; ++c) {
+      const double* yc = y_.data() + std::size_t(c) * ldy;
+      double* xc = tmp.data() + std::size_t(c) * std::size_t(m);
+      std::copy_n(yc + f, nc, xc);
+      for (int k = 0; k < nr; ++k) xc[nc + k] = yc[R[nc + k]];
     }
+    backward_kernel(values_.get() + S_.xptr[std::size_t(s)], m, nc, r, tmp.data());
+    for (int c = 0; c < r; ++c)
+      std::copy_n(tmp.data() + std::size_t(c) * std::size_t(m), nc, y_.data() + std::size_t(c) * ldy + f);
   }
 
   std::vector<double> pivots() const {
