@@ -433,12 +433,8 @@ class MultifrontalSolver final : public LinearSolver {
     check_rhs(B, Index(S_.n), name());
     const Index n = S_.n, r = B.cols();
     y_.resize(n, r);
-    if (S_.perm.empty()) {
-      y_ = B;
-    } else {
-      for (Index c = 0; c < r; ++c)
-        for (Index k = 0; k < n; ++k) y_(k, c) = B(S_.perm[std::size_t(k)], c);
-    }
+    for (Index c = 0; c < r; ++c)
+      for (Index k = 0; k < n; ++k) y_(k, c) = B(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c);
     // Forward: subtrees in parallel (contributions to top columns collected per thread), then the top.
     const std::size_t T = S_.subtrees.size();
     acc_.resize(T);
@@ -466,12 +462,8 @@ class MultifrontalSolver final : public LinearSolver {
         for (int s = *it; s >= S_.first[std::size_t(*it)]; --s) backward(s, tmp);
     });
     X.resize(n, r);
-    if (S_.perm.empty()) {
-      X = y_;
-    } else {
-      for (Index c = 0; c < r; ++c)
-        for (Index k = 0; k < n; ++k) X(S_.perm[std::size_t(k)], c) = y_(k, c);
-    }
+    for (Index c = 0; c < r; ++c)
+      for (Index k = 0; k < n; ++k) X(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c) = y_(k, c);
     check_finite_result(X, name());
   }
 
@@ -570,43 +562,40 @@ class MultifrontalSolver final : public LinearSolver {
 
   //! y_s := L_ss^{-1} y_s, then y_rows -= L_rs y_s. Thread t adds to columns it does not own in acc_[t].
   void forward(int s, int t, std::vector<double>& tmp) {
-    const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s), nr = m - nc;
+    const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s);
     const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
     const int r = int(y_.cols());
-    const std::size_t ldy = std::size_t(y_.rows());
-    tmp.assign(std::size_t(m) * std::size_t(r), 0.0);
-    for (int c = 0; c < r; ++c)
-      std::copy_n(y_.data() + std::size_t(c) * ldy + f, nc, tmp.data() + std::size_t(c) * std::size_t(m));
+    const std::size_t sm = std::size_t(m), sr = std::size_t(r);
+    double* y = y_.data();
+    tmp.assign(sm * sr, 0.0);
+    for (int k = 0; k < nc; ++k)
+      for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = y[std::size_t(f + k) * sr + std::size_t(c)];
     forward_kernel(values_.get() + S_.xptr[std::size_t(s)], m, nc, r, tmp.data());
-    for (int c = 0; c < r; ++c) {
-      const double* xc = tmp.data() + std::size_t(c) * std::size_t(m);
-      double* yc = y_.data() + std::size_t(c) * ldy;
-      double* ac = t >= 0 ? acc_[std::size_t(t)].data() + std::size_t(c) * ldy : nullptr;
-      std::copy_n(xc, nc, yc + f);
-      for (int k = 0; k < nr; ++k) {
-        const int i = R[nc + k];
-        if (t < 0 || S_.owner[std::size_t(i)] == t) yc[i] += xc[nc + k];
-        else ac[i] += xc[nc + k];
-      }
+    for (int k = 0; k < nc; ++k)
+      for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
+    double* acc = t >= 0 ? acc_[std::size_t(t)].data() : nullptr;
+    for (int k = nc; k < m; ++k) {
+      const int i = R[k];
+      double* dst = (t < 0 || S_.owner[std::size_t(i)] == t ? y : acc) + std::size_t(i) * sr;
+      for (int c = 0; c < r; ++c) dst[c] += tmp[std::size_t(c) * sm + std::size_t(k)];
     }
   }
 
   //! y_s -= L_rs^T y_rows, then y_s := L_ss^{-T} y_s.
   void backward(int s, std::vector<double>& tmp) {
-    const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s), nr = m - nc;
+    const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s);
     const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
     const int r = int(y_.cols());
-    const std::size_t ldy = std::size_t(y_.rows());
-    tmp.resize(std::size_t(m) * std::size_t(r));
-    for (int c = 0; c < r; ++c) {
-      const double* yc = y_.data() + std::size_t(c) * ldy;
-      double* xc = tmp.data() + std::size_t(c) * std::size_t(m);
-      std::copy_n(yc + f, nc, xc);
-      for (int k = 0; k < nr; ++k) xc[nc + k] = yc[R[nc + k]];
+    const std::size_t sm = std::size_t(m), sr = std::size_t(r);
+    double* y = y_.data();
+    tmp.resize(sm * sr);
+    for (int k = 0; k < m; ++k) {
+      const double* src = y + std::size_t(k < nc ? f + k : R[k]) * sr;
+      for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = src[c];
     }
     backward_kernel(values_.get() + S_.xptr[std::size_t(s)], m, nc, r, tmp.data());
-    for (int c = 0; c < r; ++c)
-      std::copy_n(tmp.data() + std::size_t(c) * std::size_t(m), nc, y_.data() + std::size_t(c) * ldy + f);
+    for (int k = 0; k < nc; ++k)
+      for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
   }
 
   std::vector<double> pivots() const {
@@ -634,8 +623,10 @@ class MultifrontalSolver final : public LinearSolver {
   FactorValues values_;
   std::vector<std::unique_ptr<double[]>> updates_;  //!< update matrix of each supernode until its parent takes it
   std::atomic<std::int64_t> failed_column_{-1};
-  DenseMat y_;
-  std::vector<DenseMat> acc_;
+  // Row-major: a row gathered or scattered in a solve is one cache line for all its right-hand sides.
+  using RowMajorMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajorMat y_;
+  std::vector<RowMajorMat> acc_;
   PatternGuard guard_;
   FactorStats stats_;
   bool factored_ = false;
