@@ -82,18 +82,33 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
     times_.factorize = t.seconds();
     rep.factor = solver_->stats();
     if (!vertex_ordering.empty()) rep.factor.ordering_used = vertex_ordering + "-vertex-graph";
+    frame_rows_ = handle_rows();
   }
   systems_.push_back(std::move(rep));
 }
 
-Points LaplacianDeformer::deform(const Mat4& handle_transform) {
+std::vector<int> LaplacianDeformer::handle_rows() const {
+  const int b = sys_.block;
+  std::vector<char> changes(static_cast<std::size_t>(sys_.n()), 0);
+  for (int v : unk_.soft_vertices)
+    if (edit_.roles[v] == Role::Handle)
+      for (int c = 0; c < b; ++c) changes[static_cast<std::size_t>(b * unk_.unknown_of[v] + c)] = 1;
+  for (int h = 0; h < unk_.num_hard(); ++h)
+    if (edit_.roles[unk_.hard_vertices[h]] == Role::Handle)
+      for (int c = 0; c < b; ++c)
+        for (SpMat::InnerIterator it(sys_.C, b * h + c); it; ++it) changes[static_cast<std::size_t>(it.row())] = 1;
+  std::vector<int> rows;
+  for (std::size_t i = 0; i < changes.size(); ++i)
+    if (changes[i]) rows.push_back(static_cast<int>(i));
+  return rows;
+}
+
+void LaplacianDeformer::assemble_rhs(const Mat4& T) {
   const int b = sys_.block, r = sys_.rhs_cols;
-  const Mat4 T = norm_.conjugate(handle_transform);
   auto target = [&](int v) -> Vec3 {
     const Vec3 p = Vn_.row(v).transpose();
     return edit_.roles[v] == Role::Handle ? apply(T, p) : p;
   };
-  Timer t;
   xh_.resize(static_cast<Eigen::Index>(b) * unk_.num_hard(), r);
   for (int h = 0; h < unk_.num_hard(); ++h) {
     const Vec3 p = target(unk_.hard_vertices[h]);
@@ -109,12 +124,28 @@ Points LaplacianDeformer::deform(const Mat4& handle_transform) {
     const Vec3 p = target(v);
     for (int c = 0; c < 3; ++c) at(rhs_, b, unk_.unknown_of[v], c) += w2 * p(c);
   }
+}
+
+Points LaplacianDeformer::deform(const Mat4& handle_transform) {
+  const int b = sys_.block;
+  double base_seconds = 0;
+  if (solver_ && !base_rhs_set_) {
+    // The rest pose's right-hand side, from which every frame differs only in frame_rows_: the solver can then
+    // redo just the part of the forward substitution those rows reach. Paid once, in the first frame's solve.
+    Timer tb;
+    assemble_rhs(Mat4::Identity());
+    solver_->set_base_rhs(rhs_, frame_rows_);
+    base_rhs_set_ = true;
+    base_seconds = tb.seconds();
+  }
+  Timer t;
+  assemble_rhs(norm_.conjugate(handle_transform));
   times_.rhs = t.seconds();
 
   t.reset();
   if (llt_) x_ = llt_->solve(rhs_);
-  else solver_->solve(rhs_, x_);
-  times_.solve = t.seconds();
+  else solver_->solve_changed(rhs_, x_);
+  times_.solve = base_seconds + t.seconds();
   if (!x_.allFinite()) throw SolverError("the solve produced non-finite positions");
 
   t.reset();

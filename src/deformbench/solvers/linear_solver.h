@@ -45,6 +45,17 @@ class LinearSolver {
   //! X = A^{-1} B for any number of columns. \throw SolverError on a non-finite result or no convergence.
   virtual void solve(const DenseMat& B, DenseMat& X) = 0;
   virtual FactorStats stats() const = 0;
+
+  //! Per-frame fast path for right-hand sides that differ from a fixed B0 only in a few rows (interactive
+  //! editing: only rows coupled to the handle change). After set_base_rhs(B0, rows), solve_changed(B)
+  //! returns what solve(B) returns. A backend may precompute the forward substitution of B0 and redo only
+  //! the part reached from `rows`; the default simply solves. A B that differs from B0 outside `rows` is
+  //! still solved correctly (in full). Call set_base_rhs again after each factorize().
+  virtual void set_base_rhs(const DenseMat& B0, const std::vector<int>& rows) {
+    (void)B0;
+    (void)rows;
+  }
+  virtual void solve_changed(const DenseMat& B, DenseMat& X) { solve(B, X); }
 };
 
 //! Backend by name; see solver_names(). \throw Error for an unknown name (the message lists the valid ones).

@@ -362,6 +362,7 @@ class MultifrontalSolver final : public LinearSolver {
     const int b = options_.block_size > 1 && n % options_.block_size == 0 ? options_.block_size : 1;
     factored_ = false;
     values_.reset();
+    base_.resize(0, 0);
     threads_ = std::clamp(worker_threads(), 1, 64);  // owner[] holds a thread index in a signed char
     S_ = analyze_blocks(upper, b, options_.ordering, threads_);
     guard_.remember(upper);
@@ -395,6 +396,9 @@ class MultifrontalSolver final : public LinearSolver {
       permuted.setFromTriplets(t.begin(), t.end());
     }
     const SpMat& A = S_.perm.empty() ? given : permuted;
+    base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
+    iperm_.assign(S_.perm.size(), 0);
+    for (std::size_t k = 0; k < S_.perm.size(); ++k) iperm_[std::size_t(S_.perm[k])] = int(k);
     values_ = FactorValues(S_.xptr.back());
     updates_.clear();
     updates_.resize(std::size_t(S_.nsuper()));
@@ -431,17 +435,93 @@ class MultifrontalSolver final : public LinearSolver {
   void solve(const DenseMat& B, DenseMat& X) override {
     if (!factored_) throw SolverError(fmt::format("{}: solve() before a successful factorize()", name()));
     check_rhs(B, Index(S_.n), name());
+    load_rhs(B);
+    forward_all();
+    backward_all();
+    store_solution(X);
+  }
+
+  void set_base_rhs(const DenseMat& B0, const std::vector<int>& rows) override {
+    if (!factored_) throw SolverError(fmt::format("{}: set_base_rhs() before a successful factorize()", name()));
+    check_rhs(B0, Index(S_.n), name());
+    base_.resize(0, 0);
+    std::vector<char> changing(std::size_t(S_.n), 0);
+    for (int i : rows) {
+      if (i < 0 || i >= S_.n) throw SolverError(fmt::format("{}: set_base_rhs(): row {} out of range", name(), i));
+      changing[std::size_t(i)] = 1;
+    }
+    // Supernodes the changing rows reach: those holding them and all their ancestors (ascending = postorder).
+    std::vector<int> super_of(std::size_t(S_.n));
+    for (int s = 0; s < S_.nsuper(); ++s)
+      std::fill(super_of.begin() + S_.col0[std::size_t(s)], super_of.begin() + S_.col0[std::size_t(s) + 1], s);
+    std::vector<char> reached(std::size_t(S_.nsuper()), 0);
+    for (int i : rows)
+      for (int s = super_of[std::size_t(iperm(i))]; s >= 0 && !reached[std::size_t(s)]; s = S_.parent[std::size_t(s)])
+        reached[std::size_t(s)] = 1;
+    reach_.clear();
+    reach_columns_.clear();
+    for (int s = 0; s < S_.nsuper(); ++s)
+      if (reached[std::size_t(s)]) {
+        reach_.push_back(s);
+        for (int j = S_.col0[std::size_t(s)]; j < S_.col0[std::size_t(s) + 1]; ++j) reach_columns_.push_back(j);
+      }
+    load_rhs(B0);
+    forward_all();
+    y0_ = y_;
+    changing_ = std::move(changing);
+    changing_rows_ = rows;
+    base_ = B0;
+  }
+
+  void solve_changed(const DenseMat& B, DenseMat& X) override {
+    if (!factored_) throw SolverError(fmt::format("{}: solve() before a successful factorize()", name()));
+    check_rhs(B, Index(S_.n), name());
+    if (base_.rows() != B.rows() || base_.cols() != B.cols() || !matches_base_outside_changing_rows(B)) {
+      solve(B, X);
+      return;
+    }
+    // L z = P (B - B0) has z = 0 outside the reached supernodes; y = y0 + z.
+    y_ = y0_;
+    for (int j : reach_columns_) y_.row(j).setZero();
+    for (int i : changing_rows_)
+      for (Index c = 0; c < B.cols(); ++c) y_(iperm(i), c) += B(i, c) - base_(i, c);
+    std::vector<double> tmp;
+    for (int s : reach_) forward(s, -1, tmp);
+    for (int j : reach_columns_) y_.row(j) += y0_.row(j);
+    backward_all();
+    store_solution(X);
+  }
+
+  FactorStats stats() const override { return stats_; }
+
+ private:
+  int iperm(int i) const { return iperm_.empty() ? i : iperm_[std::size_t(i)]; }
+
+  //! y_ := P B (row-major).
+  void load_rhs(const DenseMat& B) {
     const Index n = S_.n, r = B.cols();
     y_.resize(n, r);
     for (Index c = 0; c < r; ++c)
       for (Index k = 0; k < n; ++k) y_(k, c) = B(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c);
-    // Forward: subtrees in parallel (contributions to top columns collected per thread), then the top.
+  }
+
+  //! X := P^T y_.
+  void store_solution(DenseMat& X) const {
+    const Index n = S_.n, r = y_.cols();
+    X.resize(n, r);
+    for (Index c = 0; c < r; ++c)
+      for (Index k = 0; k < n; ++k) X(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c) = y_(k, c);
+    check_finite_result(X, name());
+  }
+
+  //! y_ := L^{-1} y_: subtrees in parallel (contributions to top columns collected per thread), then the top.
+  void forward_all() {
+    const Index n = S_.n, r = y_.cols();
     const std::size_t T = S_.subtrees.size();
     acc_.resize(T);
     for (auto& a : acc_) {
       a.resize(n, r);
-      for (Index c = 0; c < r; ++c)
-        for (int j : S_.top_columns) a(j, c) = 0.0;
+      for (int j : S_.top_columns) a.row(j).setZero();
     }
     parallel_subtrees([&](std::size_t t) {
       std::vector<double> tmp;
@@ -449,27 +529,29 @@ class MultifrontalSolver final : public LinearSolver {
         for (int s = S_.first[std::size_t(root)]; s <= root; ++s) forward(s, int(t), tmp);
     });
     for (std::size_t t = 0; t < T; ++t)
-      for (Index c = 0; c < r; ++c)
-        for (int j : S_.top_columns) y_(j, c) += acc_[t](j, c);
-    {
-      std::vector<double> tmp;
-      for (int s : S_.top) forward(s, -1, tmp);
-      for (auto it = S_.top.rbegin(); it != S_.top.rend(); ++it) backward(*it, tmp);
-    }
-    parallel_subtrees([&](std::size_t t) {
-      std::vector<double> tmp;
-      for (auto it = S_.subtrees[t].rbegin(); it != S_.subtrees[t].rend(); ++it)
-        for (int s = *it; s >= S_.first[std::size_t(*it)]; --s) backward(s, tmp);
-    });
-    X.resize(n, r);
-    for (Index c = 0; c < r; ++c)
-      for (Index k = 0; k < n; ++k) X(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c) = y_(k, c);
-    check_finite_result(X, name());
+      for (int j : S_.top_columns) y_.row(j) += acc_[t].row(j);
+    std::vector<double> tmp;
+    for (int s : S_.top) forward(s, -1, tmp);
   }
 
-  FactorStats stats() const override { return stats_; }
+  //! y_ := L^{-T} y_: the top first, then the subtrees in parallel.
+  void backward_all() {
+    std::vector<double> tmp;
+    for (auto it = S_.top.rbegin(); it != S_.top.rend(); ++it) backward(*it, tmp);
+    parallel_subtrees([&](std::size_t t) {
+      std::vector<double> tmp_t;
+      for (auto it = S_.subtrees[t].rbegin(); it != S_.subtrees[t].rend(); ++it)
+        for (int s = *it; s >= S_.first[std::size_t(*it)]; --s) backward(s, tmp_t);
+    });
+  }
 
- private:
+  bool matches_base_outside_changing_rows(const DenseMat& B) const {
+    for (Index c = 0; c < B.cols(); ++c)
+      for (Index k = 0; k < B.rows(); ++k)
+        if (!changing_[std::size_t(k)] && B(k, c) != base_(k, c)) return false;
+    return true;
+  }
+
   //! fn(t) for every thread t, on threads when there are several; the BLAS runs single-threaded meanwhile.
   template <class Fn>
   void parallel_subtrees(Fn fn) {
@@ -627,6 +709,13 @@ class MultifrontalSolver final : public LinearSolver {
   using RowMajorMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   RowMajorMat y_;
   std::vector<RowMajorMat> acc_;
+  std::vector<int> iperm_;  //!< inverse of S_.perm (empty: identity)
+  // set_base_rhs(): the base right-hand side, its forward substitution, the rows that may change and the
+  // supernodes (and their columns) they reach.
+  DenseMat base_;
+  RowMajorMat y0_;
+  std::vector<char> changing_;
+  std::vector<int> changing_rows_, reach_, reach_columns_;
   PatternGuard guard_;
   FactorStats stats_;
   bool factored_ = false;
