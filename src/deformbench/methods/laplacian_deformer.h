@@ -17,10 +17,6 @@ class LaplacianDeformer : public Deformer {
   LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind, const DeformOptions& options);
   Points deform(const Mat4& handle_transform) override;
 
-  //! Solver rows whose right-hand side depends on the handle transform: the soft handle vertices' rows and the
-  //! rows coupled to hard handle vertices through C. Every other row is the same in every frame.
-  const std::vector<int>& frame_rows() const { return frame_rows_; }
-
   //! The assembled system (for cross-checks between builds).
   const NormalSystem& system() const { return sys_; }
 
@@ -38,6 +34,8 @@ class LaplacianDeformer : public Deformer {
 
   //! rhs_ and xh_ for a handle transform in normalized coordinates.
   void assemble_rhs(const Mat4& T);
+  //! Solver rows whose right-hand side depends on the handle transform: the soft handle vertices' rows and the
+  //! rows coupled to hard handle vertices through C. Every other row is the same in every frame.
   std::vector<int> handle_rows() const;
 };
 
