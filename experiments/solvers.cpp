@@ -247,27 +247,6 @@ const std::vector<MeasureDef>& measure_defs() {
   return d;
 }
 
-std::string pct_encode(const std::string& s) {
-  std::string o;
-  for (unsigned char c : s) {
-    if (c <= ' ' || c == '%' || c == '=' || c >= 0x7f) o += fmt::format("%{:02X}", c);
-    else o += static_cast<char>(c);
-  }
-  return o;
-}
-std::string pct_decode(const std::string& s) {
-  std::string o;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s[i] == '%' && i + 2 < s.size()) {
-      o += static_cast<char>(std::stoi(s.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      o += s[i];
-    }
-  }
-  return o;
-}
-
 std::string encode(const CellResult& r) {
   std::string o = "DBSOLV status=" + pct_encode(r.status) + " message=" + pct_encode(r.message) +
                   " ordering_used=" + pct_encode(r.ordering_used);
@@ -276,17 +255,8 @@ std::string encode(const CellResult& r) {
 }
 
 CellResult decode(const std::string& out) {
-  const std::size_t at = out.rfind("DBSOLV ");
-  if (at == std::string::npos || (at > 0 && out[at - 1] != '\n')) throw Error("no DBSOLV line in the child's output");
-  std::string line = out.substr(at + 7);
-  line = line.substr(0, line.find('\n'));
   CellResult r;
-  std::istringstream in(line);
-  std::string tok;
-  while (in >> tok) {
-    const std::size_t eq = tok.find('=');
-    if (eq == std::string::npos) throw Error("malformed DBSOLV field: " + tok);
-    const std::string k = tok.substr(0, eq), val = pct_decode(tok.substr(eq + 1));
+  for (const auto& [k, val] : parse_result_line(out, "DBSOLV")) {
     if (k == "status") r.status = val;
     else if (k == "message") r.message = val;
     else if (k == "ordering_used") r.ordering_used = val;
@@ -448,14 +418,6 @@ int cell_main(int argc, char** argv) {
   return o.exit_code;
 }
 
-std::string tail(const std::string& text, std::size_t max_chars) {
-  std::string t = text.size() > max_chars ? text.substr(text.size() - max_chars) : text;
-  for (char& c : t)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!t.empty() && t.back() == ' ') t.pop_back();
-  return t;
-}
-
 CellResult run_in_child(const CellSpec& s, double timeout_s) {
   std::vector<std::string> argv{self_executable()};
   for (auto& a : s.to_args()) argv.push_back(a);
@@ -470,7 +432,7 @@ CellResult run_in_child(const CellSpec& s, double timeout_s) {
   if (!decoded || c.timed_out || c.term_signal) {
     r = CellResult{};
     r.status = "error";
-    r.message = fmt::format("child {}; stderr: {}", c.describe(), tail(c.err, 400));
+    r.message = fmt::format("child {}; stderr: {}", c.describe(), c.stderr_tail(400));
   }
   r.exit = c.describe();
   r.v["ru_maxrss_bytes"] = double(c.ru_maxrss_bytes);

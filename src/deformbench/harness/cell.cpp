@@ -63,28 +63,6 @@ const std::vector<Field>& fields() {
   return f;
 }
 
-std::string pct_encode(const std::string& s) {
-  std::string o;
-  for (unsigned char c : s) {
-    if (c <= ' ' || c == '%' || c == '=' || c >= 0x7f) o += fmt::format("%{:02X}", c);
-    else o += static_cast<char>(c);
-  }
-  return o;
-}
-
-std::string pct_decode(const std::string& s) {
-  std::string o;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s[i] == '%' && i + 2 < s.size()) {
-      o += static_cast<char>(std::stoi(s.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      o += s[i];
-    }
-  }
-  return o;
-}
-
 double parse_double(const std::string& v) {
   if (v == "nan") return kNaN;
   std::size_t pos = 0;
@@ -99,14 +77,6 @@ std::string fmt_double(double v) {
 }
 
 // Last line of `text`, flattened, for error messages.
-std::string tail(const std::string& text, std::size_t max_chars) {
-  std::string t = text.size() > max_chars ? text.substr(text.size() - max_chars) : text;
-  for (char& c : t)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!t.empty() && t.back() == ' ') t.pop_back();
-  return t;
-}
-
 }  // namespace
 
 CellResult::CellResult() {
@@ -178,19 +148,10 @@ std::string encode_result(const CellResult& r) {
 }
 
 CellResult decode_result(const std::string& out) {
-  const std::size_t at = out.rfind("DBCELL ");
-  if (at == std::string::npos || (at > 0 && out[at - 1] != '\n')) throw Error("no DBCELL line in the child's output");
-  std::string line = out.substr(at + 7);
-  line = line.substr(0, line.find('\n'));
   std::map<std::string, const Field*> by_name;
   for (const Field& f : fields()) by_name[f.name] = &f;
   CellResult r;
-  std::istringstream in(line);
-  std::string tok;
-  while (in >> tok) {
-    const std::size_t eq = tok.find('=');
-    if (eq == std::string::npos) throw Error("malformed DBCELL field: " + tok);
-    const std::string k = tok.substr(0, eq), v = pct_decode(tok.substr(eq + 1));
+  for (const auto& [k, v] : parse_result_line(out, "DBCELL")) {
     if (k == "status") r.status = v;
     else if (k == "message") r.message = v;
     else if (k == "ordering") r.ordering = v;
@@ -293,7 +254,7 @@ CellResult run_cell_in_child(const std::string& exe, const CellSpec& spec, doubl
     const double vmhwm = decoded ? r.peak_rss_bytes : kNaN;
     r = CellResult{};
     r.status = "error";
-    r.message = fmt::format("child {}; stderr: {}", c.describe(), tail(c.err, 400));
+    r.message = fmt::format("child {}; stderr: {}", c.describe(), c.stderr_tail(400));
     r.peak_rss_bytes = vmhwm;
   }
   r.runs = 1;

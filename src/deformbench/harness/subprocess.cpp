@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <new>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -119,6 +120,55 @@ ChildRun run_child(const std::vector<std::string>& argv, double timeout_s) {
   r.user_s = ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6;
   r.sys_s = ru.ru_stime.tv_sec + ru.ru_stime.tv_usec * 1e-6;
   return r;
+}
+
+std::string ChildRun::stderr_tail(std::size_t max_chars) const {
+  const std::string& text = err;
+  std::string t = text.size() > max_chars ? text.substr(text.size() - max_chars) : text;
+  for (char& c : t)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!t.empty() && t.back() == ' ') t.pop_back();
+  return t;
+}
+
+std::string pct_encode(const std::string& s) {
+  std::string o;
+  for (unsigned char c : s) {
+    if (c <= ' ' || c == '%' || c == '=' || c >= 0x7f) o += fmt::format("%{:02X}", c);
+    else o += static_cast<char>(c);
+  }
+  return o;
+}
+
+std::string pct_decode(const std::string& s) {
+  std::string o;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '%' && i + 2 < s.size()) {
+      o += static_cast<char>(std::stoi(s.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      o += s[i];
+    }
+  }
+  return o;
+}
+
+std::vector<std::pair<std::string, std::string>> parse_result_line(const std::string& out, const std::string& tag) {
+  const std::string head = tag + " ";
+  const std::size_t at = out.rfind(head);
+  if (at == std::string::npos || (at > 0 && out[at - 1] != '\n'))
+    throw Error(fmt::format("no {} line in the child's output", tag));
+  std::string line = out.substr(at + head.size());
+  line = line.substr(0, line.find('\n'));
+  std::vector<std::pair<std::string, std::string>> fields;
+  std::istringstream in(line);
+  std::string tok;
+  while (in >> tok) {
+    const std::size_t eq = tok.find('=');
+    if (eq == std::string::npos) throw Error(fmt::format("malformed {} field: {}", tag, tok));
+    fields.emplace_back(tok.substr(0, eq), pct_decode(tok.substr(eq + 1)));
+  }
+  return fields;
 }
 
 void limit_address_space(std::size_t bytes) {

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace db::harness {
@@ -22,6 +23,8 @@ struct ChildRun {
   bool ok() const { return exit_code == 0 && term_signal == 0 && !timed_out; }
   //! "exit 3", "signal 9 (Killed)", "timed out after 12.0 s".
   std::string describe() const;
+  //! The last `max_chars` characters of stderr on one line (newlines as spaces), for error messages.
+  std::string stderr_tail(std::size_t max_chars) const;
 };
 
 //! Forks, execs argv[0] with argv (no shell, no PATH search), collects stdout and stderr through pipes and waits
@@ -31,6 +34,14 @@ ChildRun run_child(const std::vector<std::string>& argv, double timeout_s = 0);
 
 //! Absolute path of the running executable (/proc/self/exe), for re-executing the driver in cell mode.
 std::string self_executable();
+
+//! Percent-encoding for the "KEY=VALUE ..." result line a cell child prints: spaces, '=', '%', control and
+//! non-ASCII bytes become %XX, so a value is one token.
+std::string pct_encode(const std::string& s);
+std::string pct_decode(const std::string& s);
+//! The fields (decoded values) of the last line of `out` that starts with "TAG ", e.g. "DBCELL status=ok n=1197".
+//! \throw Error when there is no such line or a field has no '='.
+std::vector<std::pair<std::string, std::string>> parse_result_line(const std::string& out, const std::string& tag);
 
 //! How a cell's measurement ended, on the child's side.
 struct CellOutcome {
