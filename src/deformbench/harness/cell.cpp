@@ -76,7 +76,6 @@ std::string fmt_double(double v) {
   return fmt::format("{}", v);
 }
 
-// Last line of `text`, flattened, for error messages.
 }  // namespace
 
 CellResult::CellResult() {
