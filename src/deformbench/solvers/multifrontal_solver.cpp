@@ -82,17 +82,21 @@ struct Symbolic {
   std::vector<std::size_t> xptr;  //!< nsuper + 1: offsets of the m x ncols column-major value blocks
   std::vector<int> parent, first;
   std::vector<int> cptr, child;  //!< children lists
-  // Schedule: subtrees per thread (processed in parallel), then the top supernodes (ascending, serial).
-  std::vector<std::vector<int>> subtrees;
-  std::vector<int> top;
-  std::vector<int> top_columns;  //!< columns of the top supernodes (rows several threads update in a solve)
-  std::vector<signed char> owner;  //!< per column: thread that owns it, -1 for top columns
   double flops = 0;
   std::size_t nnz = 0;
 
   int nsuper() const { return int(col0.size()) - 1; }
   int ncols(int s) const { return col0[std::size_t(s) + 1] - col0[std::size_t(s)]; }
   int nrows(int s) const { return rptr[std::size_t(s) + 1] - rptr[std::size_t(s)]; }
+};
+
+//! How the assembly tree is shared among threads: subtrees per thread (processed in parallel), then the top
+//! supernodes (ascending, serial).
+struct Plan {
+  std::vector<std::vector<int>> subtrees;
+  std::vector<int> top;
+  std::vector<int> top_columns;  //!< columns of the top supernodes (rows several threads update in a solve)
+  std::vector<signed char> owner;  //!< per column: thread that owns it, -1 for top columns
 };
 
 //! Flops of the dense work of supernode s (sum over its columns of (column count)^2, as CHOLMOD counts).
@@ -103,21 +107,23 @@ double supernode_flops(const Symbolic& S, int s) {
   return f;
 }
 
-//! Splits the assembly tree into `threads` groups of independent subtrees of about equal flops plus the
-//! top supernodes above them: the heaviest subtree is opened (its root moves to the top set) until a greedy
-//! assignment of the open subtrees balances within 10%.
-void schedule(Symbolic& S, int threads) {
+//! Splits the assembly tree into `threads` groups of independent subtrees of about equal cost (`cost(s)` of
+//! each supernode, summed over a subtree) plus the top supernodes above them: the heaviest subtree is opened
+//! (its root moves to the top set) until a greedy assignment of the open subtrees balances within 10%.
+template <class Cost>
+Plan schedule(const Symbolic& S, int threads, Cost cost) {
+  Plan P;
   const int ns = S.nsuper();
   std::vector<double> work(std::size_t(ns), 0.0);
   for (int s = 0; s < ns; ++s) {
-    work[std::size_t(s)] += supernode_flops(S, s);
+    work[std::size_t(s)] += cost(s);
     if (S.parent[std::size_t(s)] >= 0) work[std::size_t(S.parent[std::size_t(s)])] += work[std::size_t(s)];
   }
   std::vector<int> open;
   for (int s = 0; s < ns; ++s)
     if (S.parent[std::size_t(s)] < 0) open.push_back(s);
   std::vector<char> is_top(std::size_t(ns), 0);
-  S.subtrees.assign(std::size_t(std::max(threads, 1)), {});
+  P.subtrees.assign(std::size_t(std::max(threads, 1)), {});
   auto assign = [&](std::vector<std::vector<int>>& bins) {
     std::vector<double> load(bins.size(), 0.0);
     for (auto& b : bins) b.clear();
@@ -132,7 +138,7 @@ void schedule(Symbolic& S, int threads) {
     return *std::max_element(load.begin(), load.end()) <= 1.1 * total / double(bins.size()) + 1.0;
   };
   if (threads > 1) {
-    for (int iter = 0; iter < 4096 && !assign(S.subtrees); ++iter) {
+    for (int iter = 0; iter < 4096 && !assign(P.subtrees); ++iter) {
       auto h = std::max_element(open.begin(), open.end(),
                                 [&](int a, int b) { return work[std::size_t(a)] < work[std::size_t(b)]; });
       const int s = *h;
@@ -141,27 +147,28 @@ void schedule(Symbolic& S, int threads) {
       for (int p = S.cptr[std::size_t(s)]; p < S.cptr[std::size_t(s) + 1]; ++p) open.push_back(S.child[std::size_t(p)]);
       if (open.empty()) break;
     }
-    assign(S.subtrees);
+    assign(P.subtrees);
   } else {
-    S.subtrees[0] = open;
+    P.subtrees[0] = open;
   }
-  for (auto& b : S.subtrees) std::sort(b.begin(), b.end());
-  S.top.clear();
+  for (auto& b : P.subtrees) std::sort(b.begin(), b.end());
+  P.top.clear();
   for (int s = 0; s < ns; ++s)
-    if (is_top[std::size_t(s)]) S.top.push_back(s);
-  S.owner.assign(std::size_t(S.n), -1);
-  for (std::size_t t = 0; t < S.subtrees.size(); ++t)
-    for (int r : S.subtrees[t])
+    if (is_top[std::size_t(s)]) P.top.push_back(s);
+  P.owner.assign(std::size_t(S.n), -1);
+  for (std::size_t t = 0; t < P.subtrees.size(); ++t)
+    for (int r : P.subtrees[t])
       for (int s = S.first[std::size_t(r)]; s <= r; ++s)
-        for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) S.owner[std::size_t(j)] = static_cast<signed char>(t);
-  S.top_columns.clear();
-  for (int s : S.top)
-    for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) S.top_columns.push_back(j);
+        for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) P.owner[std::size_t(j)] = static_cast<signed char>(t);
+  P.top_columns.clear();
+  for (int s : P.top)
+    for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) P.top_columns.push_back(j);
+  return P;
 }
 
 //! CHOLMOD's supernodal symbolic analysis of the block graph (ordering `method`, postordered, relaxed
 //! supernodes), expanded to b x b blocks.
-Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method, int threads) {
+Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
   const BlockGraph g = block_graph(upper, b);
   const int nb = g.nb;
   // Upper triangle with the diagonal, the pattern CHOLMOD analyzes.
@@ -252,7 +259,6 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method, in
     S.first[std::size_t(p)] = std::min(S.first[std::size_t(p)], S.first[std::size_t(s)]);
   }
   for (int s = 0; s < ns; ++s) S.flops += supernode_flops(S, s);
-  schedule(S, threads);
   return S;
 }
 
@@ -364,7 +370,10 @@ class MultifrontalSolver final : public LinearSolver {
     values_.reset();
     base_.resize(0, 0);
     threads_ = std::clamp(worker_threads(), 1, 64);  // owner[] holds a thread index in a signed char
-    S_ = analyze_blocks(upper, b, options_.ordering, threads_);
+    S_ = analyze_blocks(upper, b, options_.ordering);
+    factor_plan_ = schedule(S_, threads_, [&](int s) { return supernode_flops(S_, s); });
+    // A solve reads each factor entry once per direction: its threads are balanced by entries, not flops.
+    solve_plan_ = schedule(S_, threads_, [&](int s) { return double(S_.xptr[std::size_t(s) + 1] - S_.xptr[std::size_t(s)]); });
     guard_.remember(upper);
     stats_ = FactorStats{};
     stats_.n = std::size_t(n);
@@ -406,7 +415,7 @@ class MultifrontalSolver final : public LinearSolver {
     std::atomic<bool> ok{true};
     parallel_subtrees([&](std::size_t t) {
       Workspace ws(S_.n);
-      for (int root : S_.subtrees[t])
+      for (int root : factor_plan_.subtrees[t])
         for (int s = S_.first[std::size_t(root)]; s <= root; ++s)
           if (!ok.load(std::memory_order_relaxed) || !factor_supernode(A, s, ws)) {
             ok = false;
@@ -415,7 +424,7 @@ class MultifrontalSolver final : public LinearSolver {
     });
     if (ok) {
       Workspace ws(S_.n);
-      for (int s : S_.top)
+      for (int s : factor_plan_.top)
         if (!factor_supernode(A, s, ws)) break;
     }
     updates_.clear();
@@ -517,30 +526,30 @@ class MultifrontalSolver final : public LinearSolver {
   //! y_ := L^{-1} y_: subtrees in parallel (contributions to top columns collected per thread), then the top.
   void forward_all() {
     const Index n = S_.n, r = y_.cols();
-    const std::size_t T = S_.subtrees.size();
+    const std::size_t T = solve_plan_.subtrees.size();
     acc_.resize(T);
     for (auto& a : acc_) {
       a.resize(n, r);
-      for (int j : S_.top_columns) a.row(j).setZero();
+      for (int j : solve_plan_.top_columns) a.row(j).setZero();
     }
     parallel_subtrees([&](std::size_t t) {
       std::vector<double> tmp;
-      for (int root : S_.subtrees[t])
+      for (int root : solve_plan_.subtrees[t])
         for (int s = S_.first[std::size_t(root)]; s <= root; ++s) forward(s, int(t), tmp);
     });
     for (std::size_t t = 0; t < T; ++t)
-      for (int j : S_.top_columns) y_.row(j) += acc_[t].row(j);
+      for (int j : solve_plan_.top_columns) y_.row(j) += acc_[t].row(j);
     std::vector<double> tmp;
-    for (int s : S_.top) forward(s, -1, tmp);
+    for (int s : solve_plan_.top) forward(s, -1, tmp);
   }
 
   //! y_ := L^{-T} y_: the top first, then the subtrees in parallel.
   void backward_all() {
     std::vector<double> tmp;
-    for (auto it = S_.top.rbegin(); it != S_.top.rend(); ++it) backward(*it, tmp);
+    for (auto it = solve_plan_.top.rbegin(); it != solve_plan_.top.rend(); ++it) backward(*it, tmp);
     parallel_subtrees([&](std::size_t t) {
       std::vector<double> tmp_t;
-      for (auto it = S_.subtrees[t].rbegin(); it != S_.subtrees[t].rend(); ++it)
+      for (auto it = solve_plan_.subtrees[t].rbegin(); it != solve_plan_.subtrees[t].rend(); ++it)
         for (int s = *it; s >= S_.first[std::size_t(*it)]; --s) backward(s, tmp_t);
     });
   }
@@ -555,7 +564,7 @@ class MultifrontalSolver final : public LinearSolver {
   //! fn(t) for every thread t, on threads when there are several; the BLAS runs single-threaded meanwhile.
   template <class Fn>
   void parallel_subtrees(Fn fn) {
-    const std::size_t T = S_.subtrees.size();
+    const std::size_t T = factor_plan_.subtrees.size();  // the same thread count in both plans
     if (T <= 1) {
       if (T == 1) fn(0);
       return;
@@ -658,7 +667,7 @@ class MultifrontalSolver final : public LinearSolver {
     double* acc = t >= 0 ? acc_[std::size_t(t)].data() : nullptr;
     for (int k = nc; k < m; ++k) {
       const int i = R[k];
-      double* dst = (t < 0 || S_.owner[std::size_t(i)] == t ? y : acc) + std::size_t(i) * sr;
+      double* dst = (t < 0 || solve_plan_.owner[std::size_t(i)] == t ? y : acc) + std::size_t(i) * sr;
       for (int c = 0; c < r; ++c) dst[c] += tmp[std::size_t(c) * sm + std::size_t(k)];
     }
   }
@@ -701,6 +710,7 @@ class MultifrontalSolver final : public LinearSolver {
 
   SolverOptions options_;
   Symbolic S_;
+  Plan factor_plan_, solve_plan_;
   int threads_ = 1;
   FactorValues values_;
   std::vector<std::unique_ptr<double[]>> updates_;  //!< update matrix of each supernode until its parent takes it
