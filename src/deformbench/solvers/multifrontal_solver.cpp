@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <cstring>
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -389,16 +388,16 @@ class MultifrontalSolver final : public LinearSolver {
     SpMat storage;
     const SpMat& given = prepare_factorize(*this, guard_, upper_in, storage);
     factored_ = false;
+    iperm_.assign(S_.perm.size(), 0);
+    for (std::size_t k = 0; k < S_.perm.size(); ++k) iperm_[std::size_t(S_.perm[k])] = int(k);
     SpMat permuted;
     if (!S_.perm.empty()) {  // the analysis chose an order: factor P A P^T
-      std::vector<int> inv(S_.perm.size());
-      for (std::size_t k = 0; k < S_.perm.size(); ++k) inv[std::size_t(S_.perm[k])] = int(k);
       // Upper triangle of P A P^T with sorted columns (the front assembly searches them).
       std::vector<Eigen::Triplet<double, int>> t;
       t.reserve(std::size_t(given.nonZeros()));
       for (int j = 0; j < given.outerSize(); ++j)
         for (SpMat::InnerIterator it(given, j); it; ++it) {
-          const int a = inv[std::size_t(it.row())], c = inv[std::size_t(j)];
+          const int a = iperm_[std::size_t(it.row())], c = iperm_[std::size_t(j)];
           t.emplace_back(std::min(a, c), std::max(a, c), it.value());
         }
       permuted.resize(given.rows(), given.cols());
@@ -406,8 +405,6 @@ class MultifrontalSolver final : public LinearSolver {
     }
     const SpMat& A = S_.perm.empty() ? given : permuted;
     base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
-    iperm_.assign(S_.perm.size(), 0);
-    for (std::size_t k = 0; k < S_.perm.size(); ++k) iperm_[std::size_t(S_.perm[k])] = int(k);
     values_ = FactorValues(S_.xptr.back());
     updates_.clear();
     updates_.resize(std::size_t(S_.nsuper()));
