@@ -106,26 +106,9 @@ CellPredictor::VertexFactor CellPredictor::vertex_factor(const std::string& back
   if (auto it = factors_.find(key); it != factors_.end()) return it->second;
   // Upper triangle of the vertex graph of K: unknowns within two edges (the structured build's block pattern).
   const int nu = unk_.num_unknowns();
-  std::vector<int> colptr(nu + 1, 0), rows, mark(nu, -1), col;
-  rows.reserve(static_cast<std::size_t>(nu) * 10);
-  for (int ku = 0; ku < nu; ++ku) {
-    const int k = unk_.unknown_vertices[ku];
-    col.clear();
-    auto visit = [&](int j) {
-      const int ju = unk_.unknown_of[j];
-      if (ju < 0 || ju > ku || mark[ju] == ku) return;
-      mark[ju] = ku;
-      col.push_back(ju);
-    };
-    visit(k);
-    for (const int* a = adj_.begin(k); a != adj_.end(k); ++a) {
-      visit(*a);
-      for (const int* c = adj_.begin(*a); c != adj_.end(*a); ++c) visit(*c);
-    }
-    std::sort(col.begin(), col.end());
-    rows.insert(rows.end(), col.begin(), col.end());
-    colptr[ku + 1] = static_cast<int>(rows.size());
-  }
+  InteractionPattern pat = interaction_pattern(adj_, unk_);
+  std::vector<int>& colptr = pat.colptr;
+  std::vector<int>& rows = pat.rows;
   SpMat P(nu, nu);
   P.resizeNonZeros(static_cast<Eigen::Index>(rows.size()));
   std::copy(colptr.begin(), colptr.end(), P.outerIndexPtr());
