@@ -95,12 +95,7 @@ std::vector<int> block_permutation(const BlockGraph& g, int b, const std::string
 class CholmodSolver final : public LinearSolver {
  public:
   CholmodSolver(bool supernodal, const SolverOptions& options) : supernodal_(supernodal), options_(options) {
-    static const char* const kOrderings[] = {"default", "amd", "metis", "nesdis", "natural"};
-    if (std::find_if(std::begin(kOrderings), std::end(kOrderings),
-                     [&](const char* o) { return options.ordering == o; }) == std::end(kOrderings))
-      throw Error(fmt::format("{}: unknown ordering '{}' (valid: default, amd, metis, nesdis, natural)", name(),
-                              options.ordering));
-    if (options.block_size < 1) throw Error(fmt::format("{}: block_size must be >= 1", name()));
+    check_options(options, name());
     cholmod_start(&cc_);
     cc_.print = 0;  // failures surface as SolverError, not as stderr chatter
     cc_.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;

@@ -349,12 +349,7 @@ struct Workspace {
 class MultifrontalSolver final : public LinearSolver {
  public:
   explicit MultifrontalSolver(const SolverOptions& options) : options_(options) {
-    static const char* const kOrderings[] = {"default", "amd", "metis", "nesdis", "natural"};
-    if (std::find_if(std::begin(kOrderings), std::end(kOrderings),
-                     [&](const char* o) { return options.ordering == o; }) == std::end(kOrderings))
-      throw Error(fmt::format("{}: unknown ordering '{}' (valid: default, amd, metis, nesdis, natural)", name(),
-                              options.ordering));
-    if (options.block_size < 1) throw Error(fmt::format("{}: block_size must be >= 1", name()));
+    check_options(options, name());
   }
 
   std::string name() const override { return "multifrontal"; }

@@ -10,6 +10,13 @@
 
 namespace db::solver_util {
 
+void check_options(const SolverOptions& options, const std::string& who) {
+  const std::vector<std::string> valid = solver_info(who).orderings;
+  if (std::find(valid.begin(), valid.end(), options.ordering) == valid.end())
+    throw Error(fmt::format("{}: unknown ordering '{}' (valid: {})", who, options.ordering, fmt::join(valid, ", ")));
+  if (options.block_size < 1) throw Error(fmt::format("{}: block_size must be >= 1", who));
+}
+
 void check_square(const SpMat& upper, const std::string& who) {
   if (upper.rows() != upper.cols())
     throw SolverError(fmt::format("{}: matrix is {} x {}, expected square", who, upper.rows(), upper.cols()));

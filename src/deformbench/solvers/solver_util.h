@@ -12,6 +12,9 @@ namespace db::solver_util {
 //! Largest system a dense backend accepts: 16000^2 doubles = 2 GB; beyond that refuse instead of allocating.
 constexpr Index kMaxDenseUnknowns = 16000;
 
+//! \throw Error when options.ordering is not one the registry lists for backend `who` (solver_info), or
+//! options.block_size < 1.
+void check_options(const SolverOptions& options, const std::string& who);
 //! \throw SolverError unless `upper` is square.
 void check_square(const SpMat& upper, const std::string& who);
 //! \throw SolverError naming the first NaN/Inf entry of the matrix values.
