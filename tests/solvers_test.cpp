@@ -404,6 +404,50 @@ TEST(Multifrontal, NotPositiveDefiniteNamesTheColumn) {
   }
 }
 
+// Supernodes wider than a factor panel (256 columns) and update matrices wider than an update panel (128):
+// an arrow matrix whose first `leaves` columns each couple to all of the last `dense` ones, natural order, so
+// the leaves carry `dense`-row update matrices and the last columns form one supernode of several panels.
+// Checked against a dense Cholesky, on one and two threads; a failed pivot in the last panel is named.
+TEST(Multifrontal, WidePanelsMatchDense) {
+  std::mt19937 rng(15);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int leaves = 40, dense = 600, n = leaves + dense;
+  DenseMat M = DenseMat::Zero(n, n);
+  for (int j = 0; j < leaves; ++j)
+    for (int i = leaves; i < n; ++i) M(i, j) = M(j, i) = u(rng);
+  for (int j = leaves; j < n; ++j)
+    for (int i = leaves; i < j; ++i) M(i, j) = M(j, i) = 0.05 * u(rng);
+  for (int i = 0; i < n; ++i) M(i, i) = 2.0 * n;
+  const SpMat full = M.sparseView();
+  const DenseMat B = random_rhs(n, 2, rng);
+  const DenseMat Xref = M.llt().solve(B);
+  db::SolverOptions o;
+  o.ordering = "natural";
+  for (int threads : {1, 2}) {
+    ThreadsEnv env(threads);
+    auto s = db::make_solver("multifrontal", o);
+    s->factorize(upper_of(full));
+    DenseMat X;
+    s->solve(B, X);
+    EXPECT_LT(rel(X, Xref), 1e-12) << threads << " thread(s)";
+    // Stored entries: the lower triangle at most (relaxed amalgamation may merge the leaves), never the square.
+    EXPECT_LE(s->stats().nnz_factor, std::size_t(n) * (n + 1) / 2);
+    EXPECT_GE(s->stats().nnz_factor, std::size_t(n) * (n + 1) / 2 - std::size_t(leaves) * (leaves - 1) / 2);
+    DenseMat X1;
+    s->solve_changed(B, X1);  // no base right-hand side: a full solve
+    EXPECT_LT(rel(X1, Xref), 1e-12);
+  }
+  DenseMat bad = M;
+  bad(n - 5, n - 5) = -1.0;  // column n - 5 lies in the third panel of the last supernode
+  auto s = db::make_solver("multifrontal", o);
+  try {
+    s->factorize(upper_of(SpMat(bad.sparseView())));
+    FAIL() << "expected SolverError";
+  } catch (const db::SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find(fmt::format("failed at column {} of {}", n - 5, n)), std::string::npos) << e.what();
+  }
+}
+
 TEST(Dense, RefusesHugeSystemsBeforeAllocating) {
   SpMat I(16001, 16001);
   I.setIdentity();

@@ -20,8 +20,10 @@ namespace {
 // per-frame buffers (a few hundred bytes per vertex) and the runtime's libraries.
 constexpr double kBaseBytes = 16e6, kBytesPerVertex = 400;
 // CHOLMOD's supernodal factor stores dense supernode blocks: a little more than nnz(L) values (relaxed
-// amalgamation adds explicit zeros) plus the row-index lists of the supernodes.
-constexpr double kSupernodalSlack = 1.15;
+// amalgamation adds explicit zeros, each diagonal block is stored square) plus the row-index lists of the
+// supernodes. The multifrontal backend stores only the trapezoids; its count on the vertex graph already
+// includes the relaxation's zeros, which differ a little from those of the block graph it analyzes later.
+constexpr double kSupernodalSlack = 1.15, kMultifrontalSlack = 1.03;
 // Bytes written per second when the dense build zero-fills and copies its matrices.
 constexpr double kFillBytesPerSecond = 4e9;
 
@@ -131,6 +133,7 @@ CellPredictor::VertexFactor CellPredictor::vertex_factor(const std::string& back
     s->analyze(P);
     st = s->stats();
   }
+  f.backend = used;
   f.nnz = static_cast<double>(st.nnz_factor);
   f.flops = st.flops > 0 ? st.flops : 0;
   f.basis = fmt::format("{} analyze of the {}-vertex 2-ring graph ({} ordering, {} nonzeros in the upper triangle)",
@@ -172,7 +175,7 @@ Prediction CellPredictor::predict(const CellSpec& spec) {
   // Expand vertex counts to b x b blocks: off-diagonal blocks are full, diagonal blocks lower-triangular.
   p.factor_nnz = b * b * (vf.nnz - nuv) + b * (b + 1) / 2 * nuv;
   p.factor_flops = b * b * b * vf.flops;
-  p.factor_bytes = kSupernodalSlack * 8 * p.factor_nnz + 4 * 6 * nu;
+  p.factor_bytes = (vf.backend == "multifrontal" ? kMultifrontalSlack : kSupernodalSlack) * 8 * p.factor_nnz + 4 * 6 * nu;
   p.total_bytes = p.build_bytes + p.factor_bytes + base;
   const double nnz_k = b * b * (vertex_nnz_upper_ - nuv) + b * (b + 1) / 2 * nuv;
   double stencil = 0;  // sum over row blocks of (#columns)^2: the A^T A product's multiply-adds / b^3

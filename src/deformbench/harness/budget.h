@@ -35,6 +35,7 @@ class CellPredictor {
 
  private:
   struct VertexFactor {
+    std::string backend;  // the backend whose analysis counted it
     double nnz = 0, flops = 0;
     std::string basis;
   };

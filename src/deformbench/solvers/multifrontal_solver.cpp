@@ -7,7 +7,11 @@
 //!    the compressed block (vertex) graph, ~b^2 times smaller, and expanded: with dense b x b blocks the
 //!    factor of the expanded matrix is exactly the expanded factor of the block graph;
 //!  - the numeric phase is multifrontal: each supernode assembles a dense front from the matrix and its
-//!    children's update matrices, then one dpotrf, one dtrsm and one dsyrk (large BLAS-3 calls);
+//!    children's update matrices, then dpotrf, dtrsm and dsyrk/dgemm on column panels (large BLAS-3 calls);
+//!  - nothing above the diagonal is stored: a supernode's factor is a lower trapezoid in column panels with
+//!    packed diagonal triangles (FactorBlock), its update matrix a lower triangle in column panels
+//!    (UpdateBlock); full m x n blocks cost 15% more factor memory on the 104k TF system and twice the
+//!    update memory;
 //!  - independent subtrees of the assembly tree run on separate threads with a single-threaded BLAS, the
 //!    few top fronts after them with the multithreaded BLAS; the solves are split the same way.
 #include <algorithm>
@@ -39,6 +43,9 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
             std::size_t, std::size_t, std::size_t);
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
             const int* lda, const double* beta, double* c, const int* ldc, std::size_t, std::size_t);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
+            const int* ldc, std::size_t, std::size_t);
 }
 
 namespace db {
@@ -78,7 +85,7 @@ struct Symbolic {
   std::vector<int> col0;  //!< nsuper + 1: first column of each supernode
   std::vector<int> rptr;  //!< nsuper + 1: offsets into rows
   std::vector<int> rows;  //!< row indices of each supernode, its own columns first, ascending
-  std::vector<std::size_t> xptr;  //!< nsuper + 1: offsets of the m x ncols column-major value blocks
+  std::vector<std::size_t> xptr;  //!< nsuper + 1: offsets of the supernodes' FactorBlocks
   std::vector<int> parent, first;
   std::vector<int> cptr, child;  //!< children lists
   double flops = 0;
@@ -87,6 +94,112 @@ struct Symbolic {
   int nsuper() const { return int(col0.size()) - 1; }
   int ncols(int s) const { return col0[std::size_t(s) + 1] - col0[std::size_t(s)]; }
   int nrows(int s) const { return rptr[std::size_t(s) + 1] - rptr[std::size_t(s)]; }
+};
+
+//! Offset of column j of a packed lower triangle of order w (columns of lengths w, w - 1, ...).
+inline std::size_t packed_column(int j, int w) { return std::size_t(j) * std::size_t(w) - std::size_t(j) * std::size_t(j - 1) / 2; }
+
+//! A supernode's factor: the lower trapezoid of its m rows x n columns (n <= m, the diagonal block on top) in
+//! column panels of kWidth columns. Panel p (columns c0 = p kWidth .. c0 + w) stores its w x w diagonal block
+//! as a packed lower triangle, then the h = m - c0 - w rows below it as a column-major h x w rectangle, the
+//! operand dtrsm and dgemm take. Exactly the trapezoid's m n - n (n - 1) / 2 entries.
+struct FactorBlock {
+  static constexpr int kWidth = 256;  // the k of the panel updates' dgemm calls; the dpotrf scratch is kWidth^2
+  double* base;
+  int m, n;
+
+  static std::size_t size(int m, int n) { return std::size_t(m) * std::size_t(n) - std::size_t(n) * std::size_t(n - 1) / 2; }
+  int panels() const { return (n + kWidth - 1) / kWidth; }
+  int c0(int p) const { return p * kWidth; }
+  int width(int p) const { return std::min(kWidth, n - p * kWidth); }
+  int height(int p) const { return m - c0(p) - width(p); }  //!< rows of panel p's rectangle
+  double* tri(int p) const {
+    // Every panel before p is kWidth wide.
+    const std::size_t K = kWidth, q = std::size_t(p);
+    return base + q * K * (K + 1) / 2 + K * (q * std::size_t(m) - K * q * (q + 1) / 2);
+  }
+  double* rect(int p) const { return tri(p) + std::size_t(width(p)) * std::size_t(width(p) + 1) / 2; }
+};
+
+//! Doubles in an anonymous mapping of their own. Why not the heap: freed heap blocks stay in the process
+//! (glibc keeps them for reuse), so the large update matrices near the root, freed during the factorization,
+//! stayed resident next to the whole factor; a mapping goes back to the OS when released. Advised for transparent huge pages where the
+//! kernel offers them ("madvise" mode): first-touch faults on ~1 GB of 4 KB pages cost a tenth of a second,
+//! and the solves stream through the factor every frame.
+class Mapping {
+ public:
+  Mapping() = default;
+  explicit Mapping(std::size_t count, const char* what) : bytes_(std::max<std::size_t>(count, 1) * sizeof(double)) {
+    void* p = ::mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw BudgetError(fmt::format("multifrontal: cannot map {} MB for {}", bytes_ >> 20, what));
+#ifdef MADV_HUGEPAGE
+    if (bytes_ >= (std::size_t(2) << 20)) ::madvise(p, bytes_, MADV_HUGEPAGE);
+#endif
+    data_ = static_cast<double*>(p);
+  }
+  Mapping(Mapping&& o) noexcept : data_(o.data_), bytes_(o.bytes_) { o.data_ = nullptr; }
+  Mapping& operator=(Mapping&& o) noexcept {
+    std::swap(data_, o.data_);
+    std::swap(bytes_, o.bytes_);
+    return *this;
+  }
+  Mapping(const Mapping&) = delete;
+  Mapping& operator=(const Mapping&) = delete;
+  ~Mapping() {
+    if (data_) ::munmap(data_, bytes_);
+  }
+  double* get() const { return data_; }
+  explicit operator bool() const { return data_ != nullptr; }
+  void reset() { *this = Mapping(); }
+
+ private:
+  double* data_ = nullptr;
+  std::size_t bytes_ = 0;
+};
+
+//! A supernode's update matrix (its r x r Schur complement, lower triangle) in column panels of kWidth
+//! columns: panel u (columns u0 = u kWidth .. u0 + w) is a column-major (r - u0) x w block from row u0 down.
+//! Half the memory of the full square the extend-add needs, and dsyrk/dgemm write it directly.
+class UpdateBlock {
+ public:
+  static constexpr int kWidth = 128;
+  UpdateBlock() = default;
+  explicit UpdateBlock(int r) : r_(r) {
+    std::size_t total = 0;
+    for (int u = 0; u < panels(); ++u) total += std::size_t(r - u * kWidth) * std::size_t(width(u));
+    if (total * sizeof(double) >= kMapBytes) {
+      mapped_ = Mapping(total, "an update matrix");  // zero-filled by the kernel
+      data_ = mapped_.get();
+    } else {
+      heap_.reset(new double[std::max<std::size_t>(total, 1)]);
+      data_ = heap_.get();
+      std::fill(data_, data_ + total, 0.0);
+    }
+  }
+  int panels() const { return (r_ + kWidth - 1) / kWidth; }
+  int width(int u) const { return std::min(kWidth, r_ - u * kWidth); }
+  //! Panel u; its leading dimension is r - u kWidth.
+  double* panel(int u) const {
+    // Panels before u are kWidth wide and r, r - kWidth, ... tall.
+    const std::size_t K = kWidth, q = std::size_t(u);
+    return data_ + K * q * std::size_t(r_) - K * K * (q * q - q) / 2;
+  }
+  //! Column j from its diagonal entry down: entry (i, j), i >= j, is col(j)[i - j].
+  const double* col(int j) const {
+    const int u = j / kWidth, u0 = u * kWidth;
+    return panel(u) + std::size_t(j - u0) * std::size_t(r_ - u0) + std::size_t(j - u0);
+  }
+  double* col(int j) { return const_cast<double*>(static_cast<const UpdateBlock*>(this)->col(j)); }
+  explicit operator bool() const { return data_ != nullptr; }
+
+ private:
+  // Smaller blocks come from the heap: mapping them too kept ~30 MB less resident but its page faults cost
+  // ~10% of the 104k TF factorization.
+  static constexpr std::size_t kMapBytes = std::size_t(16) << 20;
+  int r_ = 0;
+  double* data_ = nullptr;
+  Mapping mapped_;
+  std::unique_ptr<double[]> heap_;
 };
 
 //! How the assembly tree is shared among threads: subtrees per thread (processed in parallel), then the top
@@ -231,8 +344,8 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
     S.rptr[std::size_t(s) + 1] = int(S.rows.size());
     const std::size_t m = std::size_t(S.rptr[std::size_t(s) + 1] - S.rptr[std::size_t(s)]);
     const std::size_t nc = std::size_t(b) * std::size_t(super[s + 1] - super[s]);
-    S.xptr[std::size_t(s) + 1] = S.xptr[std::size_t(s)] + m * nc;
-    S.nnz += m * nc - nc * (nc - 1) / 2;
+    S.xptr[std::size_t(s) + 1] = S.xptr[std::size_t(s)] + FactorBlock::size(int(m), int(nc));
+    S.nnz += FactorBlock::size(int(m), int(nc));
   }
   S.col0[std::size_t(ns)] = S.n;
   S.parent.assign(std::size_t(ns), -1);
@@ -261,81 +374,80 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
   return S;
 }
 
-//! The factor's values: one anonymous mapping, advised to use transparent huge pages where the kernel offers
-//! them ("madvise" mode), since first-touch page faults on ~1 GB of 4 KB pages cost a tenth of a second and
-//! the solves stream through it every frame.
-class FactorValues {
- public:
-  FactorValues() = default;
-  explicit FactorValues(std::size_t count) : bytes_(std::max<std::size_t>(count, 1) * sizeof(double)) {
-    void* p = ::mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (p == MAP_FAILED) throw BudgetError(fmt::format("multifrontal: cannot map {} MB for the factor", bytes_ >> 20));
-#ifdef MADV_HUGEPAGE
-    ::madvise(p, bytes_, MADV_HUGEPAGE);
-#endif
-    data_ = static_cast<double*>(p);
-  }
-  FactorValues(FactorValues&& o) noexcept : data_(o.data_), bytes_(o.bytes_) { o.data_ = nullptr; }
-  FactorValues& operator=(FactorValues&& o) noexcept {
-    std::swap(data_, o.data_);
-    std::swap(bytes_, o.bytes_);
-    return *this;
-  }
-  FactorValues(const FactorValues&) = delete;
-  FactorValues& operator=(const FactorValues&) = delete;
-  ~FactorValues() {
-    if (data_) ::munmap(data_, bytes_);
-  }
-  double* get() const { return data_; }
-  explicit operator bool() const { return data_ != nullptr; }
-  void reset() { *this = FactorValues(); }
+// Dense kernels of the solves on one panel of a FactorBlock: T its packed w x w diagonal triangle, Rr its
+// h x w rectangle below, x a column-major block of r right-hand sides (leading dimension ldx) from the panel's
+// first row: w entries of the panel's own columns, then the h rows below. The solves stream through the factor
+// once per direction, bound by memory bandwidth and by dependent adds, so they are plain loops (BLAS handles a
+// few right-hand sides poorly: dgemm with n = 1..3); each column of L is read from memory once and from cache
+// for the further right-hand sides. Compiled for the baseline ISA and for x86-64-v3 (AVX2, FMA), chosen when
+// the library loads.
 
- private:
-  double* data_ = nullptr;
-  std::size_t bytes_ = 0;
-};
-
-// Dense kernels of the solves on one supernode: L is its m x nc column-major block (diagonal block on top),
-// x a column-major m x r block of r right-hand sides (the supernode's own entries, then its rows below). The
-// solves stream through the factor once per direction, bound by memory bandwidth and by dependent adds, so
-// they are plain loops (BLAS handles a few right-hand sides poorly: dgemm with n = 1..3); each column of L is
-// read from memory once and from cache for the further right-hand sides. Compiled for the baseline ISA and
-// for x86-64-v3 (AVX2, FMA), chosen when the library loads.
-
-//! sum_{i in [lo, hi)} a_i b_i with eight independent partial sums: a single running sum is one dependent
+//! sum_{i in [0, n)} a_i b_i with eight independent partial sums: a single running sum is one dependent
 //! add per entry (the compiler may not reorder a floating-point sum itself); eight lanes map onto vectors.
-inline __attribute__((always_inline)) double dot8(const double* a, const double* b, int lo, int hi) {
+inline __attribute__((always_inline)) double dot8(const double* a, const double* b, int n) {
   double p[8] = {};
-  int i = lo;
-  for (; i + 7 < hi; i += 8)
+  int i = 0;
+  for (; i + 7 < n; i += 8)
     for (int k = 0; k < 8; ++k) p[k] += a[i + k] * b[i + k];
   double sum = ((p[0] + p[4]) + (p[1] + p[5])) + ((p[2] + p[6]) + (p[3] + p[7]));
-  for (; i < hi; ++i) sum += a[i] * b[i];
+  for (; i < n; ++i) sum += a[i] * b[i];
   return sum;
 }
 
-//! x_j /= L_jj, then x_i -= L_ij x_j below j: the rows under the diagonal block start at zero and end as
-//! -L_rs y_s.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_kernel(const double* L, int m, int nc, int r,
-                                                                                 double* x) {
-  for (int j = 0; j < nc; ++j) {
-    const double* col = L + std::size_t(j) * std::size_t(m);
+//! x_j /= L_jj, then x_i -= L_ij x_j below j: the rows under the panel start at zero and end as -L_rs y_s.
+//! The triangle first, then the rectangle four columns at a time (one pass over x's rows per four columns of
+//! L, each column read from memory once for all right-hand sides).
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_panel(const double* T, const double* Rr, int w,
+                                                                                int h, int r, double* x, int ldx) {
+  for (int j = 0; j < w; ++j) {
+    const double* t = T + packed_column(j, w);  // t[i - j] = L_ij, i = j .. w - 1
     for (int c = 0; c < r; ++c) {
-      double* xc = x + std::size_t(c) * std::size_t(m);
-      const double v = (xc[j] /= col[j]);
-      for (int i = j + 1; i < m; ++i) xc[i] -= col[i] * v;
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v = (xc[j] /= t[0]);
+      for (int i = 1; i < w - j; ++i) xc[j + i] -= t[i] * v;
+    }
+  }
+  const std::size_t sh = std::size_t(h);
+  int j = 0;
+  for (; j + 3 < w; j += 4) {
+    const double *q0 = Rr + std::size_t(j) * sh, *q1 = q0 + sh, *q2 = q1 + sh, *q3 = q2 + sh;
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v0 = xc[j], v1 = xc[j + 1], v2 = xc[j + 2], v3 = xc[j + 3];
+      double* xr = xc + w;
+      for (int i = 0; i < h; ++i) xr[i] -= (q0[i] * v0 + q1[i] * v1) + (q2[i] * v2 + q3[i] * v3);
+    }
+  }
+  for (; j < w; ++j) {
+    const double* q = Rr + std::size_t(j) * sh;
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v = xc[j];
+      double* xr = xc + w;
+      for (int i = 0; i < h; ++i) xr[i] -= q[i] * v;
     }
   }
 }
 
-//! x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj, bottom up.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_kernel(const double* L, int m, int nc, int r,
-                                                                                  double* x) {
-  for (int j = nc - 1; j >= 0; --j) {
-    const double* col = L + std::size_t(j) * std::size_t(m);
+//! x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj: the rectangle's dot products first (independent of each other,
+//! the rows below are final), then the triangle bottom up.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_panel(const double* T, const double* Rr, int w,
+                                                                                 int h, int r, double* x, int ldx) {
+  const std::size_t sh = std::size_t(h);
+  for (int j = 0; j < w; ++j) {
+    const double* q = Rr + std::size_t(j) * sh;
     for (int c = 0; c < r; ++c) {
-      double* xc = x + std::size_t(c) * std::size_t(m);
-      xc[j] = (xc[j] - dot8(col, xc, j + 1, m)) / col[j];
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      xc[j] -= dot8(q, xc + w, h);
+    }
+  }
+  for (int j = w - 1; j >= 0; --j) {
+    const double* t = T + packed_column(j, w);
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      double sum = 0;
+      for (int i = 1; i < w - j; ++i) sum += t[i] * xc[j + i];
+      xc[j] = (xc[j] - sum) / t[0];
     }
   }
 }
@@ -343,7 +455,8 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_kernel
 //! Per-thread scratch: row -> front position map, relative indices.
 struct Workspace {
   std::vector<int> map, rel;
-  explicit Workspace(int n) : map(std::size_t(n), -1) {}
+  std::vector<double> diag;  //!< a panel's diagonal block, unpacked for dpotrf
+  explicit Workspace(int n) : map(std::size_t(n), -1), diag(std::size_t(FactorBlock::kWidth) * FactorBlock::kWidth) {}
 };
 
 class MultifrontalSolver final : public LinearSolver {
@@ -400,19 +513,28 @@ class MultifrontalSolver final : public LinearSolver {
     }
     const SpMat& A = S_.perm.empty() ? given : permuted;
     base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
-    values_ = FactorValues(S_.xptr.back());
+    values_ = Mapping(S_.xptr.back(), "the factor");
     updates_.clear();
     updates_.resize(std::size_t(S_.nsuper()));
     failed_column_ = -1;
     std::atomic<bool> ok{true};
+    std::mutex top_mutex;
     parallel_subtrees([&](std::size_t t) {
       Workspace ws(S_.n);
-      for (int root : factor_plan_.subtrees[t])
+      for (int root : factor_plan_.subtrees[t]) {
         for (int s = S_.first[std::size_t(root)]; s <= root; ++s)
           if (!ok.load(std::memory_order_relaxed) || !factor_supernode(A, s, ws)) {
             ok = false;
             return;
           }
+        // Hand the subtree's update matrix to its (top) parent now rather than when the top phase reaches it:
+        // otherwise every subtree root's update is resident at once when the top phase starts (53 MB of the
+        // 104k TF system's peak). Threads finish their subtrees at different times, so this rarely waits.
+        if (const int parent = S_.parent[std::size_t(root)]; parent >= 0) {
+          std::lock_guard<std::mutex> lock(top_mutex);
+          assemble_child(root, parent, ws);
+        }
+      }
     });
     if (ok) {
       Workspace ws(S_.n);
@@ -586,18 +708,59 @@ class MultifrontalSolver final : public LinearSolver {
     if (error) std::rethrow_exception(error);
   }
 
+  //! Front column j of supernode s's FactorBlock L: entries of rows j .. split - 1 are tri[row], those of
+  //! rows split .. m - 1 are rect[row - split] (rows as front positions).
+  struct FrontColumn {
+    double *tri, *rect;
+    int split;
+  };
+  static FrontColumn front_column(const FactorBlock& L, int j) {
+    const int p = j / FactorBlock::kWidth, c0 = L.c0(p), w = L.width(p);
+    return {L.tri(p) + packed_column(j - c0, w) - std::size_t(j), L.rect(p) + std::size_t(j - c0) * std::size_t(L.height(p)),
+            c0 + w};
+  }
+
+  //! Extend-add of child c's update matrix into supernode p's factor block and update matrix (allocated here
+  //! if p has none yet), then frees it. The caller makes sure no other thread works on p meanwhile.
+  void assemble_child(int c, int p, Workspace& ws) {
+    const int nc = S_.ncols(p), m = S_.nrows(p), nr = m - nc;
+    const int* R = S_.rows.data() + S_.rptr[std::size_t(p)];
+    for (int k = 0; k < m; ++k) ws.map[std::size_t(R[k])] = k;
+    const FactorBlock L{values_.get() + S_.xptr[std::size_t(p)], m, nc};
+    UpdateBlock& U = updates_[std::size_t(p)];
+    if (nr > 0 && !U) U = UpdateBlock(nr);
+    const int ncc = S_.ncols(c), nrc = S_.nrows(c) - ncc;
+    const int* Rc = S_.rows.data() + S_.rptr[std::size_t(c)] + ncc;
+    ws.rel.resize(std::size_t(nrc));
+    for (int k = 0; k < nrc; ++k) ws.rel[std::size_t(k)] = ws.map[std::size_t(Rc[k])];
+    const int* rel = ws.rel.data();
+    const UpdateBlock& Uc = updates_[std::size_t(c)];
+    for (int jj = 0; jj < nrc; ++jj) {  // rows ascending: each column splits once
+      const int lj = rel[jj];
+      const double* src = Uc.col(jj) - jj;  // src[ii] = entry (ii, jj)
+      int ii = jj;
+      if (lj < nc) {
+        const FrontColumn col = front_column(L, lj);
+        for (; ii < nrc && rel[ii] < col.split; ++ii) col.tri[rel[ii]] += src[ii];
+        for (; ii < nrc; ++ii) col.rect[rel[ii] - col.split] += src[ii];
+      } else {
+        double* dst = U.col(lj - nc) - (lj - nc) - nc;  // dst[k] = entry (k - nc, lj - nc) of U
+        for (; ii < nrc; ++ii) dst[rel[ii]] += src[ii];
+      }
+    }
+    updates_[std::size_t(c)] = UpdateBlock();
+  }
+
   //! Assembles and factors the front of supernode s; false (and failed_column_ set) when a pivot is not positive.
+  //! Its FactorBlock starts as the mapping's zero pages, and may already hold some children's updates.
   bool factor_supernode(const SpMat& A, int s, Workspace& ws) {
     const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s), nr = m - nc;
+    const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], m, nc};
+    for (int q = S_.cptr[std::size_t(s)]; q < S_.cptr[std::size_t(s) + 1]; ++q)
+      if (updates_[std::size_t(S_.child[std::size_t(q)])]) assemble_child(S_.child[std::size_t(q)], s, ws);
     const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
-    double* Ls = values_.get() + S_.xptr[std::size_t(s)];
-    std::fill(Ls, Ls + std::size_t(m) * std::size_t(nc), 0.0);
-    std::unique_ptr<double[]> U;
-    if (nr > 0) {
-      U.reset(new double[std::size_t(nr) * std::size_t(nr)]);  // lower triangle used
-      for (int j = 0; j < nr; ++j) std::fill(U.get() + std::size_t(j) * nr + j, U.get() + std::size_t(j + 1) * nr, 0.0);
-    }
     for (int k = 0; k < m; ++k) ws.map[std::size_t(R[k])] = k;
+    UpdateBlock U = nr > 0 ? (updates_[std::size_t(s)] ? std::move(updates_[std::size_t(s)]) : UpdateBlock(nr)) : UpdateBlock();
     // Matrix entries A(i, j), j in this supernode, i >= j: the upper triangle holds them as A(j, i) in
     // column i, and every such i is a row of the front.
     const int* Ap = A.outerIndexPtr();
@@ -608,36 +771,49 @@ class MultifrontalSolver final : public LinearSolver {
       const int* b = Ai + Ap[i];
       const int* e = Ai + Ap[i + 1];
       const int last = std::min(i, f + nc - 1);
-      for (const int* p = std::lower_bound(b, e, f); p != e && *p <= last; ++p)
-        Ls[std::size_t(k) + std::size_t(*p - f) * std::size_t(m)] += Ax[p - Ai];
-    }
-    // Extend-add of the children's update matrices.
-    for (int q = S_.cptr[std::size_t(s)]; q < S_.cptr[std::size_t(s) + 1]; ++q) {
-      const int c = S_.child[std::size_t(q)];
-      const int ncc = S_.ncols(c), nrc = S_.nrows(c) - ncc;
-      const int* Rc = S_.rows.data() + S_.rptr[std::size_t(c)] + ncc;
-      ws.rel.resize(std::size_t(nrc));
-      for (int k = 0; k < nrc; ++k) ws.rel[std::size_t(k)] = ws.map[std::size_t(Rc[k])];
-      const double* Uc = updates_[std::size_t(c)].get();
-      for (int jj = 0; jj < nrc; ++jj) {
-        const int lj = ws.rel[std::size_t(jj)];
-        const double* col = Uc + std::size_t(jj) * std::size_t(nrc);
-        double* dst = lj < nc ? Ls + std::size_t(lj) * std::size_t(m) : U.get() + std::size_t(lj - nc) * std::size_t(nr) - nc;
-        for (int ii = jj; ii < nrc; ++ii) dst[ws.rel[std::size_t(ii)]] += col[ii];
+      for (const int* p = std::lower_bound(b, e, f); p != e && *p <= last; ++p) {
+        const FrontColumn col = front_column(L, *p - f);
+        (k < col.split ? col.tri[k] : col.rect[k - col.split]) += Ax[p - Ai];
       }
-      updates_[std::size_t(c)].reset();
     }
-    int info = 0;
-    dpotrf_("L", &nc, Ls, &m, &info, 1);
-    if (info != 0) {
-      std::int64_t expected = -1;
-      failed_column_.compare_exchange_strong(expected, std::int64_t(f + std::max(info, 1) - 1));
-      return false;
+    // Left-looking over the panels: apply the earlier panels, factor the diagonal block, solve the rectangle.
+    const double one = 1.0, minus_one = -1.0;
+    const int K = FactorBlock::kWidth;
+    double* D = ws.diag.data();
+    for (int q = 0; q < L.panels(); ++q) {
+      const int c0 = L.c0(q), w = L.width(q), h = L.height(q);
+      double* T = L.tri(q);
+      for (int j = 0; j < w; ++j)
+        std::copy(T + packed_column(j, w), T + packed_column(j + 1, w), D + std::size_t(j) * std::size_t(w) + std::size_t(j));
+      for (int p = 0; p < q; ++p) {
+        const double* Rp = L.rect(p) + (c0 - L.c0(p) - K);  // panel p's rows from c0 down
+        const int ldp = L.height(p);
+        dsyrk_("L", "N", &w, &K, &minus_one, Rp, &ldp, &one, D, &w, 1, 1);
+        if (h > 0) dgemm_("N", "T", &h, &w, &K, &minus_one, Rp + w, &ldp, Rp, &ldp, &one, L.rect(q), &h, 1, 1);
+      }
+      int info = 0;
+      dpotrf_("L", &w, D, &w, &info, 1);
+      if (info != 0) {
+        std::int64_t expected = -1;
+        failed_column_.compare_exchange_strong(expected, std::int64_t(f + c0 + std::max(info, 1) - 1));
+        return false;
+      }
+      if (h > 0) dtrsm_("R", "L", "T", "N", &h, &w, &one, D, &w, L.rect(q), &h, 1, 1, 1, 1);
+      for (int j = 0; j < w; ++j)
+        std::copy(D + std::size_t(j) * std::size_t(w) + std::size_t(j), D + std::size_t(j + 1) * std::size_t(w), T + packed_column(j, w));
     }
+    // Update matrix: U -= B B^T, B the rows below the supernode's columns, panel by panel of both.
     if (nr > 0) {
-      const double one = 1.0, minus_one = -1.0;
-      dtrsm_("R", "L", "T", "N", &nr, &nc, &one, Ls, &m, Ls + nc, &m, 1, 1, 1, 1);
-      dsyrk_("L", "N", &nr, &nc, &minus_one, Ls + nc, &m, &one, U.get(), &nr, 1, 1);
+      for (int p = 0; p < L.panels(); ++p) {
+        const int wp = L.width(p), ldp = L.height(p);
+        const double* B = L.rect(p) + (nc - L.c0(p) - wp);
+        for (int u = 0; u < U.panels(); ++u) {
+          const int u0 = u * UpdateBlock::kWidth, wu = U.width(u), ldu = nr - u0, below = ldu - wu;
+          dsyrk_("L", "N", &wu, &wp, &minus_one, B + u0, &ldp, &one, U.panel(u), &ldu, 1, 1);
+          if (below > 0)
+            dgemm_("N", "T", &below, &wu, &wp, &minus_one, B + u0 + wu, &ldp, B + u0, &ldp, &one, U.panel(u) + wu, &ldu, 1, 1);
+        }
+      }
       updates_[std::size_t(s)] = std::move(U);
     }
     return true;
@@ -653,7 +829,9 @@ class MultifrontalSolver final : public LinearSolver {
     tmp.assign(sm * sr, 0.0);
     for (int k = 0; k < nc; ++k)
       for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = y[std::size_t(f + k) * sr + std::size_t(c)];
-    forward_kernel(values_.get() + S_.xptr[std::size_t(s)], m, nc, r, tmp.data());
+    const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], m, nc};
+    for (int p = 0; p < L.panels(); ++p)
+      forward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
     for (int k = 0; k < nc; ++k)
       for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
     double* acc = t >= 0 ? acc_[std::size_t(t)].data() : nullptr;
@@ -676,7 +854,9 @@ class MultifrontalSolver final : public LinearSolver {
       const double* src = y + std::size_t(k < nc ? f + k : R[k]) * sr;
       for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = src[c];
     }
-    backward_kernel(values_.get() + S_.xptr[std::size_t(s)], m, nc, r, tmp.data());
+    const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], m, nc};
+    for (int p = L.panels() - 1; p >= 0; --p)
+      backward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
     for (int k = 0; k < nc; ++k)
       for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
   }
@@ -684,12 +864,12 @@ class MultifrontalSolver final : public LinearSolver {
   std::vector<double> pivots() const {
     std::vector<double> d(std::size_t(S_.n));
     for (int s = 0; s < S_.nsuper(); ++s) {
-      const int m = S_.nrows(s);
-      const double* Ls = values_.get() + S_.xptr[std::size_t(s)];
-      for (int k = 0; k < S_.ncols(s); ++k) {
-        const double l = Ls[std::size_t(k) + std::size_t(k) * std::size_t(m)];
-        d[std::size_t(S_.col0[std::size_t(s)] + k)] = l * l;
-      }
+      const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], S_.nrows(s), S_.ncols(s)};
+      for (int p = 0; p < L.panels(); ++p)
+        for (int j = 0; j < L.width(p); ++j) {
+          const double l = L.tri(p)[packed_column(j, L.width(p))];
+          d[std::size_t(S_.col0[std::size_t(s)] + L.c0(p) + j)] = l * l;
+        }
     }
     return d;
   }
@@ -704,8 +884,8 @@ class MultifrontalSolver final : public LinearSolver {
   Symbolic S_;
   Plan factor_plan_, solve_plan_;
   int threads_ = 1;
-  FactorValues values_;
-  std::vector<std::unique_ptr<double[]>> updates_;  //!< update matrix of each supernode until its parent takes it
+  Mapping values_;  //!< the FactorBlocks of all supernodes
+  std::vector<UpdateBlock> updates_;  //!< update matrix of each supernode until its parent takes it
   std::atomic<std::int64_t> failed_column_{-1};
   // Row-major: a row gathered or scattered in a solve is one cache line for all its right-hand sides.
   using RowMajorMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
