@@ -83,16 +83,20 @@ void EnergyOperator::row(int i, std::vector<int>& cols, std::vector<double>& coe
     N.block<4, 3>(0, 4).setZero();
     N.block<3, 3>(4, 4).setIdentity();
   }
-  Mat7 Ninv;
-  Eigen::LDLT<Mat7> ldlt(N);
-  if (ldlt.info() == Eigen::Success && ldlt.isPositive() &&
-      ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()) {
-    Ninv = ldlt.solve(Mat7::Identity());
+  // W = G (N^-1)[0:4, :], i.e. W^T = N^-1 [G^T; 0] (N is symmetric): one 7x7 Cholesky and three solves
+  // instead of an inverse (this fit is most of the TF build's arithmetic).
+  Eigen::Matrix<double, 7, 3> Z = Eigen::Matrix<double, 7, 3>::Zero();
+  Z.topRows<4>() = G.transpose();
+  Mat37 W;
+  Eigen::LLT<Mat7> llt(N);
+  const auto d = llt.matrixLLT().diagonal();
+  if (llt.info() == Eigen::Success && d.minCoeff() > 1e-6 * d.maxCoeff()) {  // pivots d^2 within 1e-12
+    W = llt.solve(Z).transpose();
   } else {
     // A flat or collinear 1-ring leaves the fit underdetermined: take the minimum-norm transform.
-    Ninv = Eigen::MatrixXd(N).completeOrthogonalDecomposition().pseudoInverse();
+    const Mat7 Ninv = Eigen::MatrixXd(N).completeOrthogonalDecomposition().pseudoInverse();
+    W = G * Ninv.topRows<4>();
   }
-  const Mat37 W = G * Ninv.topRows<4>();  // G (N^-1)[0:4, :]
   // Expand the scalar Laplacian row into 3x3 blocks: C_k = L_ik I - M_k.
   const std::size_t b2 = 9;
   coeffs.resize(b2 * m + m);  // scratch: the m Laplacian scalars move to the tail

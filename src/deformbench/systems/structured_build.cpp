@@ -15,7 +15,6 @@ template <int B>
 NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& unk) {
   const Adjacency& adj = op.adjacency();
   constexpr int b = B, b2 = B * B, r = 3 / B;
-  const int n = op.num_vertices();
   const int nu = unk.num_unknowns();
   NormalSystem sys;
   const InteractionPattern pat = interaction_pattern(adj, unk);
@@ -36,6 +35,11 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
     split[t] = k;
   }
   std::vector<std::vector<Eigen::Triplet<double, int>>> ctrip(T);  // coupling to hard vertices: a thin band
+  // Row blocks in the unknowns' order, then the hard vertices': consecutive rows then write neighbouring
+  // columns of K (the unknowns are in a nested-dissection order), where the vertex order of a subdivided mesh
+  // jumps across the whole matrix.
+  std::vector<int> row_order(unk.unknown_vertices);
+  row_order.insert(row_order.end(), unk.hard_vertices.begin(), unk.hard_vertices.end());
 
   // Plain threads, joined before returning: an OpenMP pool would keep spinning after the region and slow
   // the BLAS threads of the factorization and solves that follow.
@@ -48,7 +52,7 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
     std::vector<int> cols;
     std::vector<double> coeffs;
     double blk[9], tgt[3];
-    for (int i = 0; i < n; ++i) {
+    for (int i : row_order) {
       bool touches = mine(i);
       for (const int* q = adj.begin(i); q != adj.end(i) && !touches; ++q) touches = mine(*q);
       if (!touches) continue;
