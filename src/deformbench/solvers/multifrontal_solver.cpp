@@ -281,18 +281,32 @@ Plan schedule(const Symbolic& S, int threads, Cost cost) {
 //! CHOLMOD's supernodal symbolic analysis of the block graph (ordering `method`, postordered, relaxed
 //! supernodes), expanded to b x b blocks.
 Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
-  const BlockGraph g = block_graph(upper, b);
-  const int nb = g.nb;
-  // Upper triangle with the diagonal, the pattern CHOLMOD analyzes.
-  std::vector<int> Up(std::size_t(nb) + 1, 0), Ui;
-  Ui.reserve(g.Ai.size() / 2 + std::size_t(nb));
-  for (int J = 0; J < nb; ++J) {
-    for (int p = g.Ap[std::size_t(J)]; p < g.Ap[std::size_t(J) + 1] && g.Ai[std::size_t(p)] < J; ++p)
-      Ui.push_back(g.Ai[std::size_t(p)]);
-    Ui.push_back(J);
-    Up[std::size_t(J) + 1] = int(Ui.size());
+  // Upper triangle of the block graph with the diagonal, the pattern CHOLMOD analyzes; a scalar matrix
+  // (b = 1) is its own block graph and is viewed in place.
+  const int nb = int(upper.cols()) / b;
+  std::vector<int> Up, Ui;
+  if (b > 1) {
+    Up.assign(std::size_t(nb) + 1, 0);
+    Ui.reserve(std::size_t(upper.nonZeros()) / std::size_t(b * b) + std::size_t(nb));
+    std::vector<int> mark(std::size_t(nb), -1);
+    const int* Ap = upper.outerIndexPtr();
+    const int* Ai = upper.innerIndexPtr();
+    for (int J = 0; J < nb; ++J) {
+      const std::size_t start = Ui.size();
+      mark[std::size_t(J)] = J;  // the diagonal block, appended last
+      for (int j = J * b; j < (J + 1) * b; ++j)
+        for (int p = Ap[j]; p < Ap[j + 1]; ++p)
+          if (const int I = Ai[p] / b; I < J && mark[std::size_t(I)] != J) {
+            mark[std::size_t(I)] = J;
+            Ui.push_back(I);
+          }
+      std::sort(Ui.begin() + std::ptrdiff_t(start), Ui.end());
+      Ui.push_back(J);
+      Up[std::size_t(J) + 1] = int(Ui.size());
+    }
   }
-  cholmod_sparse G = cholmod_upper_view(std::size_t(nb), Up.data(), Ui.data(), nullptr);
+  cholmod_sparse G = b > 1 ? cholmod_upper_view(std::size_t(nb), Up.data(), Ui.data(), nullptr)
+                           : cholmod_upper_view(std::size_t(nb), upper.outerIndexPtr(), upper.innerIndexPtr(), nullptr);
 
   cholmod_common cc;
   cholmod_start(&cc);
