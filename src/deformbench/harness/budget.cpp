@@ -165,11 +165,14 @@ Prediction CellPredictor::predict(const CellSpec& spec) {
     return p;
   }
   // Mirror the orderings the deformer ends up with (methods/laplacian_deformer.cpp, solvers/cholmod_solver.cpp):
-  // the structured build orders the vertex graph itself (default_vertex_ordering); the TF solver runs AMD on the
-  // 3x3 block graph, i.e. on the vertex graph; LAP leaves the choice to the backend.
+  // the structured build orders the vertex graph itself (default_vertex_ordering); on the 3x3 block graph of TF,
+  // i.e. on the vertex graph, CHOLMOD's default starts from AMD and the multifrontal backend runs METIS; LAP
+  // leaves the choice to the backend.
   std::string ordering = spec.ordering;
   if (spec.ordering == "default")
-    ordering = build == Build::Structured ? default_vertex_ordering(b) : b > 1 ? "amd" : ordering;
+    ordering = build == Build::Structured ? default_vertex_ordering(b)
+               : b > 1                    ? (spec.backend == "multifrontal" ? "metis" : "amd")
+                                          : ordering;
   const VertexFactor vf = vertex_factor(spec.backend, ordering);
   const double nuv = unk_.num_unknowns();
   // Expand vertex counts to b x b blocks: off-diagonal blocks are full, diagonal blocks lower-triangular.
