@@ -259,6 +259,32 @@ TEST_P(Conformance, SolveChangedMatchesSolve) {
   EXPECT_LT(rel(x1, x1ref), tol);
 }
 
+// factorize_consuming: the same factor as factorize, and the matrix is left empty, also after a failure.
+TEST_P(Conformance, FactorizeConsumingMatchesFactorize) {
+  std::mt19937 rng(16);
+  const SpMat full = kron3(normal_equations(mesh_laplacian(9, 8, true, rng), 3, rng));
+  db::SolverOptions o;
+  o.block_size = 3;
+  o.tolerance = 1e-12;
+  const DenseMat B = random_rhs(full.rows(), 2, rng);
+  auto a = db::make_solver(GetParam(), o), c = db::make_solver(GetParam(), o);
+  a->factorize(upper_of(full));
+  SpMat consumed = upper_of(full);
+  c->factorize_consuming(consumed);
+  EXPECT_EQ(consumed.nonZeros(), 0);
+  EXPECT_EQ(consumed.rows(), 0);
+  DenseMat Xa, Xc;
+  a->solve(B, Xa);
+  c->solve(B, Xc);
+  EXPECT_LT(rel(Xc, Xa), iterative() ? 1e-6 : 1e-12);
+  if (info().requires_spd) {
+    SpMat bad = upper_of(full);
+    bad.coeffRef(7, 7) = -1.0;
+    EXPECT_THROW(db::make_solver(GetParam(), o)->factorize_consuming(bad), db::SolverError);
+    EXPECT_EQ(bad.nonZeros(), 0);
+  }
+}
+
 TEST_P(Conformance, MisuseIsReported) {
   std::mt19937 rng(6);
   const SpMat upper = upper_of(normal_equations(mesh_laplacian(6, 6, true, rng), 3, rng));
@@ -383,6 +409,37 @@ TEST(Multifrontal, ThreadCountsAndBackendsAgree) {
       EXPECT_LT(rel(X[0], Xref), 1e-10);
       EXPECT_LT(rel(DenseMat(full * X[0]), B), 1e-10);
     }
+  }
+}
+
+// Large enough (over 16 MB of values) that the multifrontal backend hands the consumed matrix's pages back
+// subtree by subtree: the factor must not notice (same solution as from the untouched matrix).
+TEST(Multifrontal, ConsumingReleasesWithoutChangingTheFactor) {
+  std::mt19937 rng(17);
+  const SpMat full = kron3(normal_equations(mesh_laplacian(170, 150, true, rng), 8, rng));
+  ASSERT_GT(std::size_t(upper_of(full).nonZeros()) * sizeof(double), std::size_t(16) << 20);
+  const DenseMat B = random_rhs(full.rows(), 1, rng);
+  db::SolverOptions o;
+  o.block_size = 3;
+  const SpMat upper = upper_of(full);
+  DenseMat Xa;
+  {
+    ThreadsEnv env(1);
+    auto a = db::make_solver("multifrontal", o);
+    a->factorize(upper);
+    a->solve(B, Xa);
+  }
+  for (int threads : {1, 2}) {
+    ThreadsEnv env(threads);
+    auto c = db::make_solver("multifrontal", o);
+    SpMat consumed = upper;
+    c->factorize_consuming(consumed);
+    EXPECT_EQ(consumed.nonZeros(), 0);
+    DenseMat Xc;
+    c->solve(B, Xc);
+    // The reference ran on one thread; two threads sum in another order (this torus system is ill-conditioned).
+    EXPECT_LT(rel(Xc, Xa), threads == 1 ? 1e-13 : 1e-10) << threads << " thread(s)";
+    EXPECT_LT(rel(DenseMat(full * Xc), B), 1e-9);
   }
 }
 

@@ -78,7 +78,7 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
     solver_->analyze(sys_.K);
     times_.analyze = ordering_seconds + t.seconds();
     t.reset();
-    solver_->factorize(sys_.K);
+    solver_->factorize_consuming(sys_.K);  // frames need only C and g0; the factor replaces K
     times_.factorize = t.seconds();
     rep.factor = solver_->stats();
     if (!vertex_ordering.empty()) rep.factor.ordering_used = vertex_ordering + "-vertex-graph";

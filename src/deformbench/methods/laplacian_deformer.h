@@ -17,7 +17,8 @@ class LaplacianDeformer : public Deformer {
   LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind, const DeformOptions& options);
   Points deform(const Mat4& handle_transform) override;
 
-  //! The assembled system (for cross-checks between builds).
+  //! The assembled system (for cross-checks between builds). With a sparse build its K is empty: the solver
+  //! consumed it while factoring (LinearSolver::factorize_consuming).
   const NormalSystem& system() const { return sys_; }
 
  private:

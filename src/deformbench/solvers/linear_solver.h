@@ -42,6 +42,13 @@ class LinearSolver {
   virtual void analyze(const SpMat& upper) = 0;
   //! Numeric phase. \throw SolverError with the reason (e.g. "not positive definite at column k").
   virtual void factorize(const SpMat& upper) = 0;
+  //! factorize(upper) for a caller that has no further use for the matrix: `upper` is left empty, also when
+  //! this throws. A backend may hand the matrix's memory back while it factors, which lowers the peak (the
+  //! multifrontal one returns the columns of every finished subtree); the default factors, then clears.
+  virtual void factorize_consuming(SpMat& upper) {
+    const ClearOnExit clear{upper};
+    factorize(upper);
+  }
   //! X = A^{-1} B for any number of columns. \throw SolverError on a non-finite result or no convergence.
   virtual void solve(const DenseMat& B, DenseMat& X) = 0;
   virtual FactorStats stats() const = 0;
@@ -56,6 +63,13 @@ class LinearSolver {
     (void)rows;
   }
   virtual void solve_changed(const DenseMat& B, DenseMat& X) { solve(B, X); }
+
+ protected:
+  //! Empties the matrix when it goes out of scope (factorize_consuming's promise, exceptions included).
+  struct ClearOnExit {
+    SpMat& m;
+    ~ClearOnExit() { m = SpMat(); }
+  };
 };
 
 //! Backend by name; see solver_names(). \throw Error for an unknown name (the message lists the valid ones).

@@ -26,6 +26,7 @@
 
 #include <dlfcn.h>
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <cholmod.h>
 #include <fmt/format.h>
@@ -506,9 +507,20 @@ class MultifrontalSolver final : public LinearSolver {
     stats_.factor_bytes = factor_bytes();
   }
 
-  void factorize(const SpMat& upper_in) override {
+  void factorize(const SpMat& upper_in) override { factorize_impl(upper_in, nullptr); }
+
+  void factorize_consuming(SpMat& upper) override {
+    const ClearOnExit clear{upper};
+    factorize_impl(upper, &upper);
+  }
+
+ private:
+  //! `consumed`: the caller's matrix (the same object as upper_in), whose memory may be handed back as the
+  //! factorization no longer needs it; null to leave the matrix alone.
+  void factorize_impl(const SpMat& upper_in, SpMat* consumed) {
     SpMat storage;
     const SpMat& given = prepare_factorize(*this, guard_, upper_in, storage);
+    const DenseVec diag = diagonal_of(given);  // for the pivot check, before any of the matrix is released
     factored_ = false;
     iperm_.assign(S_.perm.size(), 0);
     for (std::size_t k = 0; k < S_.perm.size(); ++k) iperm_[std::size_t(S_.perm[k])] = int(k);
@@ -524,8 +536,11 @@ class MultifrontalSolver final : public LinearSolver {
         }
       permuted.resize(given.rows(), given.cols());
       permuted.setFromTriplets(t.begin(), t.end());
+      if (consumed) *consumed = SpMat();  // the permuted copy holds all the factorization reads
     }
     const SpMat& A = S_.perm.empty() ? given : permuted;
+    // Pages of A whose columns are consumed may be returned: ours (a copy), or the caller's when consumed.
+    const bool may_release = &A != &upper_in || consumed != nullptr;
     base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
     values_ = Mapping(S_.xptr.back(), "the factor");
     updates_.clear();
@@ -541,6 +556,8 @@ class MultifrontalSolver final : public LinearSolver {
             ok = false;
             return;
           }
+        // A's columns of this subtree are read only by the subtree's own fronts: hand their pages back.
+        if (may_release) release_columns(A, S_.col0[std::size_t(S_.first[std::size_t(root)])], S_.col0[std::size_t(root) + 1]);
         // Hand the subtree's update matrix to its (top) parent now rather than when the top phase reaches it:
         // otherwise every subtree root's update is resident at once when the top phase starts (53 MB of the
         // 104k TF system's peak). Threads finish their subtrees at different times, so this rarely waits.
@@ -564,10 +581,27 @@ class MultifrontalSolver final : public LinearSolver {
                                     "unknown {})",
                                     k, S_.n, orig));
     }
-    check_pivots(pivots(), S_.perm.empty() ? nullptr : S_.perm.data(), given, name());
+    check_pivots(pivots(), S_.perm.empty() ? nullptr : S_.perm.data(), diag, name());
     factored_ = true;
     stats_.factor_bytes = factor_bytes();
   }
+
+  //! Returns the whole pages of A's values and row indices of columns [lo, hi) to the OS; they read as zero
+  //! afterwards. Skipped for matrices too small for it to matter.
+  static void release_columns(const SpMat& A, int lo, int hi) {
+    if (std::size_t(A.nonZeros()) * sizeof(double) < (std::size_t(16) << 20)) return;
+    const int* Ap = A.outerIndexPtr();
+    auto release = [](const void* begin, const void* end) {
+      const std::uintptr_t page = std::uintptr_t(::sysconf(_SC_PAGESIZE));
+      const std::uintptr_t a = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) & ~(page - 1);
+      const std::uintptr_t b = reinterpret_cast<std::uintptr_t>(end) & ~(page - 1);
+      if (b > a) ::madvise(reinterpret_cast<void*>(a), b - a, MADV_DONTNEED);
+    };
+    release(A.valuePtr() + Ap[lo], A.valuePtr() + Ap[hi]);
+    release(A.innerIndexPtr() + Ap[lo], A.innerIndexPtr() + Ap[hi]);
+  }
+
+ public:
 
   void solve(const DenseMat& B, DenseMat& X) override {
     if (!factored_) throw SolverError(fmt::format("{}: solve() before a successful factorize()", name()));

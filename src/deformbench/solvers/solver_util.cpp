@@ -108,12 +108,20 @@ void PatternGuard::check(const SpMat& upper, const std::string& who) const {
                                   who, n, n_, nnz, nnz_));
 }
 
-void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who) {
-  const Index n = Index(upper.cols());
-  DenseVec diag = DenseVec::Zero(n);
-  for (Index j = 0; j < n; ++j)
+DenseVec diagonal_of(const SpMat& upper) {
+  DenseVec diag = DenseVec::Zero(upper.cols());
+  for (Index j = 0; j < upper.outerSize(); ++j)
     for (SpMat::InnerIterator it(upper, j); it; ++it)
       if (it.row() == j) diag(j) += it.value();
+  return diag;
+}
+
+void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who) {
+  check_pivots(pivots, perm, diagonal_of(upper), who);
+}
+
+void check_pivots(const std::vector<double>& pivots, const int* perm, const DenseVec& diag, const std::string& who) {
+  const Index n = diag.size();
   const double bound = kSingularPivotFactor * double(n) * std::numeric_limits<double>::epsilon();
   for (Index k = 0; k < n; ++k) {
     const double d = pivots[std::size_t(k)];

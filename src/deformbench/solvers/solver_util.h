@@ -69,6 +69,9 @@ double cholesky_flops(const int* col_ptr, Index n);
 //! It is a heuristic: a severely ill-conditioned but regular system could be flagged, and a singular
 //! one whose noise pivot lands above the bound passes (its solution is then finite but meaningless).
 void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who);
+//! The same against the matrix's diagonal taken beforehand (diagonal_of), for a matrix released meanwhile.
+void check_pivots(const std::vector<double>& pivots, const int* perm, const DenseVec& diag, const std::string& who);
+DenseVec diagonal_of(const SpMat& upper);
 constexpr double kSingularPivotFactor = 10.0;
 
 //! Compressed block graph of a pattern: node I stands for unknowns b*I .. b*I+b-1 (x,y,z of a vertex).

@@ -56,7 +56,8 @@ struct NormalSystem {
   std::vector<std::pair<std::string, std::size_t>> held_bytes;
   double build_seconds = 0;
 
-  std::size_t n() const { return build == Build::Dense ? K_dense.rows() : K.rows(); }
+  //! Unknowns (scalar): g0's rows, which outlive K when a solver consumed it.
+  std::size_t n() const { return static_cast<std::size_t>(g0.rows()); }
   //! Sum of held_bytes.
   std::size_t total_held_bytes() const;
 };
