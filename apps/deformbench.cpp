@@ -19,6 +19,7 @@
 #include "core/provenance.h"
 #include "core/resources.h"
 #include "edit/edit_io.h"
+#include "harness/stats.h"
 #include "edit/transform.h"
 #include "mesh/mesh_io.h"
 #include "methods/deformer.h"
@@ -79,15 +80,17 @@ int cmd_deform(const db::Args& a) {
   if (a.has("--transform")) ec.edit.transform = db::parse_transform(a.get("--transform", ""));
   auto deformer = db::make_deformer(ec.mesh, ec.edit, o);
 
-  std::vector<double> frame_times;
+  std::vector<double> frame_times, rhs_times, solve_times, write_times;
   db::Points result;
   for (int f = 1; f <= frames; ++f) {
     result = deformer->deform(db::interpolate_transform(ec.edit.transform, static_cast<double>(f) / frames));
-    frame_times.push_back(deformer->times().frame());
+    const auto& ft = deformer->times();
+    frame_times.push_back(ft.frame());
+    rhs_times.push_back(ft.rhs);
+    solve_times.push_back(ft.solve);
+    write_times.push_back(ft.write);
   }
-  std::vector<double> sorted = frame_times;
-  std::sort(sorted.begin(), sorted.end());
-  const double median_frame = sorted[sorted.size() / 2];
+  const double median_frame = db::harness::median(frame_times);
 
   db::Mesh outm = ec.mesh;
   outm.V = result;
@@ -106,8 +109,9 @@ int cmd_deform(const db::Args& a) {
                s.factor.nnz_factor, s.factor.flops / 1e9);
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
-  fmt::print("per frame (median of {}): {:.5f} s (rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames, median_frame,
-             t.rhs, t.solve, t.write);
+  fmt::print("per frame (median of {}): {:.5f} s (medians: rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames,
+             median_frame, db::harness::median(rhs_times), db::harness::median(solve_times),
+             db::harness::median(write_times));
   double flops = 0;
   for (const auto& s : deformer->systems()) flops += s.factor.flops;
   fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",
