@@ -504,30 +504,61 @@ void write_markdown(const Config& cfg, const MachineRates& rates, const std::vec
                      c.ordering.empty() ? "-" : c.ordering, std::isnan(c.nnz_factor) ? "-" : fmt::format("{:.0f}", c.nnz_factor));
   }
 
-  // Targets at the 104k tier.
-  o << "\n## Targets at the 104k tier (planck = armadillo_loop1)\n\n| target | measured | met |\n|---|---|---|\n";
-  auto target = [&](const std::string& what, const Record* r, double v, double limit, bool at_most, const char* unit) {
+  // Targets at the 104k tier, each with where its measure goes (from the same cells), to explain any gap.
+  o << "\n## Targets at the 104k tier (planck = armadillo_loop1)\n\n| target | measured | met | where it goes "
+       "(same cells) |\n|---|---|---|---|\n";
+  auto target = [&](const std::string& what, const Record* r, double v, double limit, bool at_most, const char* unit,
+                    const std::string& why) {
     if (!r || !r->res.ok() || std::isnan(v)) {
-      o << fmt::format("| {} | {} | - |\n", what, r ? r->res.status : "missing");
+      o << fmt::format("| {} | {} | - | |\n", what, r ? r->res.status : "missing");
       return;
     }
     const bool met = at_most ? v <= limit : v >= limit;
-    o << fmt::format("| {} | {:.3g} {} | {} |\n", what, v, unit, met ? "yes" : "**no**");
+    o << fmt::format("| {} | {:.3g} {} | {} | {} |\n", what, v, unit, met ? "yes" : "**no**", why);
   };
   const Record *tfs = find(recs, "planck", "tf", "structured"), *tfn = find(recs, "planck", "tf", "naive"),
                *lps = find(recs, "planck", "lap", "structured");
-  target("TF structured init <= 2.0 s", tfs, tfs ? tfs->res.init_s : NAN, 2.0, true, "s");
-  target("TF structured frame <= 100 ms", tfs, tfs ? tfs->res.frame_s * 1e3 : NAN, 100, true, "ms");
-  target("TF structured peak RSS <= 1.0 GB (10^9 B)", tfs, tfs ? tfs->res.peak_rss_bytes / 1e9 : NAN, 1.0, true, "GB");
-  target("LAP structured init <= 0.5 s", lps, lps ? lps->res.init_s : NAN, 0.5, true, "s");
-  target("LAP structured frame <= 25 ms", lps, lps ? lps->res.frame_s * 1e3 : NAN, 25, true, "ms");
-  const bool both = tfs && tfn && tfs->res.ok() && tfn->res.ok();
+  auto ok = [](const Record* r) { return r && r->res.ok(); };
+  auto init_why = [](const CellResult& c) {
+    return fmt::format("build {:.2f} + analyze {:.2f} (ordering {}) + factorize {:.2f} s ({:.1f} GFlop at {:.1f} "
+                       "GFlop/s)",
+                       c.build_s, c.analyze_s, c.ordering, c.factorize_s, c.factor_flops / 1e9,
+                       c.factorize_s > 0 ? c.factor_flops / 1e9 / c.factorize_s : 0.0);
+  };
+  auto frame_why = [](const CellResult& c) {
+    return fmt::format("rhs {:.1f} + solve {:.1f} + write {:.1f} ms (medians); the solve streams the {:.0f} MiB "
+                       "factor", c.rhs_s * 1e3, c.solve_s * 1e3, c.write_s * 1e3, c.factor_bytes / kMiB);
+  };
+  auto rss_why = [](const CellResult& c) {
+    return fmt::format("factor {:.0f} MiB; the build's matrices {:.0f} MiB, handed back column range by column range "
+                       "as the factorization consumes them; the process before the deformer {:.0f} MiB",
+                       c.factor_bytes / kMiB, c.held_total_bytes / kMiB, c.baseline_rss_bytes / kMiB);
+  };
+  target("TF structured init <= 2.0 s", tfs, ok(tfs) ? tfs->res.init_s : NAN, 2.0, true, "s",
+         ok(tfs) ? init_why(tfs->res) : "");
+  target("TF structured frame <= 100 ms", tfs, ok(tfs) ? tfs->res.frame_s * 1e3 : NAN, 100, true, "ms",
+         ok(tfs) ? frame_why(tfs->res) : "");
+  target("TF structured peak RSS <= 1.0 GB (10^9 B)", tfs, ok(tfs) ? tfs->res.peak_rss_bytes / 1e9 : NAN, 1.0, true,
+         "GB", ok(tfs) ? rss_why(tfs->res) : "");
+  target("LAP structured init <= 0.5 s", lps, ok(lps) ? lps->res.init_s : NAN, 0.5, true, "s",
+         ok(lps) ? init_why(lps->res) : "");
+  target("LAP structured frame <= 25 ms", lps, ok(lps) ? lps->res.frame_s * 1e3 : NAN, 25, true, "ms",
+         ok(lps) ? frame_why(lps->res) : "");
+  const bool both = ok(tfs) && ok(tfn);
   target("TF held matrices naive/structured >= 3x", both ? tfs : nullptr,
-         both ? tfn->res.held_total_bytes / tfs->res.held_total_bytes : NAN, 3, false, "x");
+         both ? tfn->res.held_total_bytes / tfs->res.held_total_bytes : NAN, 3, false, "x",
+         both ? fmt::format("naive {:.0f} vs structured {:.0f} MiB", tfn->res.held_total_bytes / kMiB,
+                            tfs->res.held_total_bytes / kMiB)
+              : "");
   target("TF build naive/structured >= 5x", both ? tfs : nullptr, both ? tfn->res.build_s / tfs->res.build_s : NAN, 5,
-         false, "x");
+         false, "x", both ? fmt::format("naive {:.2f} vs structured {:.2f} s", tfn->res.build_s, tfs->res.build_s) : "");
   target("TF peak RSS naive/structured >= 1.5x", both ? tfs : nullptr,
-         both ? tfn->res.peak_rss_bytes / tfs->res.peak_rss_bytes : NAN, 1.5, false, "x");
+         both ? tfn->res.peak_rss_bytes / tfs->res.peak_rss_bytes : NAN, 1.5, false, "x",
+         both ? fmt::format("naive {:.0f} vs structured {:.0f} MiB; the factor, {:.0f} MiB in both, is {:.0f}% of the "
+                            "structured peak",
+                            tfn->res.peak_rss_bytes / kMiB, tfs->res.peak_rss_bytes / kMiB, tfs->res.factor_bytes / kMiB,
+                            100 * tfs->res.factor_bytes / tfs->res.peak_rss_bytes)
+              : "");
 
   if (!fits.empty()) {
     o << "\n## Scaling of the structured build (results/scaling.csv, scaling_fits.csv)\n\n"
