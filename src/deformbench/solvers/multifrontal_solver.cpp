@@ -98,7 +98,9 @@ struct Symbolic {
 };
 
 //! Offset of column j of a packed lower triangle of order w (columns of lengths w, w - 1, ...).
-inline std::size_t packed_column(int j, int w) { return std::size_t(j) * std::size_t(w) - std::size_t(j) * std::size_t(j - 1) / 2; }
+inline std::size_t packed_column(int j, int w) {
+  return std::size_t(j) * std::size_t(w) - std::size_t(j) * std::size_t(j - 1) / 2;
+}
 
 //! A supernode's factor: the lower trapezoid of its m rows x n columns (n <= m, the diagonal block on top) in
 //! column panels of kWidth columns. Panel p (columns c0 = p kWidth .. c0 + w) stores its w x w diagonal block
@@ -109,7 +111,9 @@ struct FactorBlock {
   double* base;
   int m, n;
 
-  static std::size_t size(int m, int n) { return std::size_t(m) * std::size_t(n) - std::size_t(n) * std::size_t(n - 1) / 2; }
+  static std::size_t size(int m, int n) {
+    return std::size_t(m) * std::size_t(n) - std::size_t(n) * std::size_t(n - 1) / 2;
+  }
   int panels() const { return (n + kWidth - 1) / kWidth; }
   int c0(int p) const { return p * kWidth; }
   int width(int p) const { return std::min(kWidth, n - p * kWidth); }
@@ -124,9 +128,9 @@ struct FactorBlock {
 
 //! Doubles in an anonymous mapping of their own. Why not the heap: freed heap blocks stay in the process
 //! (glibc keeps them for reuse), so the large update matrices near the root, freed during the factorization,
-//! stayed resident next to the whole factor; a mapping goes back to the OS when released. Advised for transparent huge pages where the
-//! kernel offers them ("madvise" mode): first-touch faults on ~1 GB of 4 KB pages cost a tenth of a second,
-//! and the solves stream through the factor every frame.
+//! stayed resident next to the whole factor; a mapping goes back to the OS when released. Advised for
+//! transparent huge pages where the kernel offers them ("madvise" mode): first-touch faults on ~1 GB of 4 KB
+//! pages cost a tenth of a second, and the solves stream through the factor every frame.
 class Mapping {
  public:
   Mapping() = default;
@@ -557,7 +561,8 @@ class MultifrontalSolver final : public LinearSolver {
             return;
           }
         // A's columns of this subtree are read only by the subtree's own fronts: hand their pages back.
-        if (may_release) release_columns(A, S_.col0[std::size_t(S_.first[std::size_t(root)])], S_.col0[std::size_t(root) + 1]);
+        if (may_release)
+          release_columns(A, S_.col0[std::size_t(S_.first[std::size_t(root)])], S_.col0[std::size_t(root) + 1]);
         // Hand the subtree's update matrix to its (top) parent now rather than when the top phase reaches it:
         // otherwise every subtree root's update is resident at once when the top phase starts (53 MB of the
         // 104k TF system's peak). Threads finish their subtrees at different times, so this rarely waits.
@@ -764,8 +769,8 @@ class MultifrontalSolver final : public LinearSolver {
   };
   static FrontColumn front_column(const FactorBlock& L, int j) {
     const int p = j / FactorBlock::kWidth, c0 = L.c0(p), w = L.width(p);
-    return {L.tri(p) + packed_column(j - c0, w) - std::size_t(j), L.rect(p) + std::size_t(j - c0) * std::size_t(L.height(p)),
-            c0 + w};
+    return {L.tri(p) + packed_column(j - c0, w) - std::size_t(j),
+            L.rect(p) + std::size_t(j - c0) * std::size_t(L.height(p)), c0 + w};
   }
 
   //! Extend-add of child c's update matrix into supernode p's factor block and update matrix (allocated here
@@ -808,7 +813,8 @@ class MultifrontalSolver final : public LinearSolver {
       if (updates_[std::size_t(S_.child[std::size_t(q)])]) assemble_child(S_.child[std::size_t(q)], s, ws);
     const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
     for (int k = 0; k < m; ++k) ws.map[std::size_t(R[k])] = k;
-    UpdateBlock U = nr > 0 ? (updates_[std::size_t(s)] ? std::move(updates_[std::size_t(s)]) : UpdateBlock(nr)) : UpdateBlock();
+    UpdateBlock U;  // the update matrix, possibly begun by children assembled early
+    if (nr > 0) U = updates_[std::size_t(s)] ? std::move(updates_[std::size_t(s)]) : UpdateBlock(nr);
     // Matrix entries A(i, j), j in this supernode, i >= j: the upper triangle holds them as A(j, i) in
     // column i, and every such i is a row of the front.
     const int* Ap = A.outerIndexPtr();
@@ -832,7 +838,7 @@ class MultifrontalSolver final : public LinearSolver {
       const int c0 = L.c0(q), w = L.width(q), h = L.height(q);
       double* T = L.tri(q);
       for (int j = 0; j < w; ++j)
-        std::copy(T + packed_column(j, w), T + packed_column(j + 1, w), D + std::size_t(j) * std::size_t(w) + std::size_t(j));
+        std::copy(T + packed_column(j, w), T + packed_column(j + 1, w), D + std::size_t(j) * std::size_t(w + 1));
       for (int p = 0; p < q; ++p) {
         const double* Rp = L.rect(p) + (c0 - L.c0(p) - K);  // panel p's rows from c0 down
         const int ldp = L.height(p);
@@ -848,7 +854,8 @@ class MultifrontalSolver final : public LinearSolver {
       }
       if (h > 0) dtrsm_("R", "L", "T", "N", &h, &w, &one, D, &w, L.rect(q), &h, 1, 1, 1, 1);
       for (int j = 0; j < w; ++j)
-        std::copy(D + std::size_t(j) * std::size_t(w) + std::size_t(j), D + std::size_t(j + 1) * std::size_t(w), T + packed_column(j, w));
+        std::copy(D + std::size_t(j) * std::size_t(w + 1), D + std::size_t(j + 1) * std::size_t(w),
+                  T + packed_column(j, w));
     }
     // Update matrix: U -= B B^T, B the rows below the supernode's columns, panel by panel of both.
     if (nr > 0) {
@@ -859,7 +866,8 @@ class MultifrontalSolver final : public LinearSolver {
           const int u0 = u * UpdateBlock::kWidth, wu = U.width(u), ldu = nr - u0, below = ldu - wu;
           dsyrk_("L", "N", &wu, &wp, &minus_one, B + u0, &ldp, &one, U.panel(u), &ldu, 1, 1);
           if (below > 0)
-            dgemm_("N", "T", &below, &wu, &wp, &minus_one, B + u0 + wu, &ldp, B + u0, &ldp, &one, U.panel(u) + wu, &ldu, 1, 1);
+            dgemm_("N", "T", &below, &wu, &wp, &minus_one, B + u0 + wu, &ldp, B + u0, &ldp, &one, U.panel(u) + wu,
+                   &ldu, 1, 1);
         }
       }
       updates_[std::size_t(s)] = std::move(U);
