@@ -554,15 +554,16 @@ class MultifrontalSolver final : public LinearSolver {
     std::mutex top_mutex;
     parallel_subtrees([&](std::size_t t) {
       Workspace ws(S_.n);
+      ColumnRelease release(A, may_release);
       for (int root : factor_plan_.subtrees[t]) {
-        for (int s = S_.first[std::size_t(root)]; s <= root; ++s)
+        release.start(S_.col0[std::size_t(S_.first[std::size_t(root)])]);
+        for (int s = S_.first[std::size_t(root)]; s <= root; ++s) {
           if (!ok.load(std::memory_order_relaxed) || !factor_supernode(A, s, ws)) {
             ok = false;
             return;
           }
-        // A's columns of this subtree are read only by the subtree's own fronts: hand their pages back.
-        if (may_release)
-          release_columns(A, S_.col0[std::size_t(S_.first[std::size_t(root)])], S_.col0[std::size_t(root) + 1]);
+          release.dead_before(S_.col0[std::size_t(s) + 1], s == root);
+        }
         // Hand the subtree's update matrix to its (top) parent now rather than when the top phase reaches it:
         // otherwise every subtree root's update is resident at once when the top phase starts (53 MB of the
         // 104k TF system's peak). Threads finish their subtrees at different times, so this rarely waits.
@@ -574,8 +575,12 @@ class MultifrontalSolver final : public LinearSolver {
     });
     if (ok) {
       Workspace ws(S_.n);
-      for (int s : factor_plan_.top)
+      ColumnRelease release(A, may_release);
+      for (int s : factor_plan_.top) {
+        release.start(S_.col0[std::size_t(s)]);
         if (!factor_supernode(A, s, ws)) break;
+        release.dead_before(S_.col0[std::size_t(s) + 1], true);
+      }
     }
     updates_.clear();
     if (failed_column_ >= 0) {
@@ -591,20 +596,48 @@ class MultifrontalSolver final : public LinearSolver {
     stats_.factor_bytes = factor_bytes();
   }
 
-  //! Returns the whole pages of A's values and row indices of columns [lo, hi) to the OS; they read as zero
-  //! afterwards. Skipped for matrices too small for it to matter.
-  static void release_columns(const SpMat& A, int lo, int hi) {
-    if (std::size_t(A.nonZeros()) * sizeof(double) < (std::size_t(16) << 20)) return;
-    const int* Ap = A.outerIndexPtr();
-    auto release = [](const void* begin, const void* end) {
-      const std::uintptr_t page = std::uintptr_t(::sysconf(_SC_PAGESIZE));
-      const std::uintptr_t a = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) & ~(page - 1);
-      const std::uintptr_t b = reinterpret_cast<std::uintptr_t>(end) & ~(page - 1);
-      if (b > a) ::madvise(reinterpret_cast<void*>(a), b - a, MADV_DONTNEED);
-    };
-    release(A.valuePtr() + Ap[lo], A.valuePtr() + Ap[hi]);
-    release(A.innerIndexPtr() + Ap[lo], A.innerIndexPtr() + Ap[hi]);
-  }
+  //! Hands A's pages back to the OS as its columns die, in one thread's run of consecutive supernodes. Column i
+  //! is read only by its own supernode and that supernode's descendants, all numbered below it, so after
+  //! supernode s every column of the run up to s's last one is dead. Whole pages only (a page at either end of
+  //! the run may hold another run's live columns), in steps of at least a megabyte; dead pages read as zero.
+  class ColumnRelease {
+   public:
+    ColumnRelease(const SpMat& A, bool enabled)
+        : A_(A), on_(enabled && std::size_t(A.nonZeros()) * sizeof(double) >= (std::size_t(16) << 20)) {}
+    //! A run starts at column `col`.
+    void start(int col) {
+      if (!on_) return;
+      for (int a = 0; a < 2; ++a) done_[a] = page_up(at(a, col));
+    }
+    //! Columns before `col` are dead; `all`: release what is whole-page dead now, however little.
+    void dead_before(int col, bool all = false) {
+      if (!on_) return;
+      for (int a = 0; a < 2; ++a) {
+        const std::uintptr_t end = page_down(at(a, col));
+        if (end > done_[a] && (all || end - done_[a] >= (std::uintptr_t(1) << 20))) {
+          ::madvise(reinterpret_cast<void*>(done_[a]), end - done_[a], MADV_DONTNEED);
+          done_[a] = end;
+        }
+      }
+    }
+
+   private:
+    std::uintptr_t at(int a, int col) const {  // a = 0: values, 1: row indices
+      const std::size_t k = std::size_t(A_.outerIndexPtr()[col]);
+      return a == 0 ? reinterpret_cast<std::uintptr_t>(A_.valuePtr() + k)
+                    : reinterpret_cast<std::uintptr_t>(A_.innerIndexPtr() + k);
+    }
+    static std::uintptr_t page() {
+      static const std::uintptr_t p = std::uintptr_t(::sysconf(_SC_PAGESIZE));
+      return p;
+    }
+    static std::uintptr_t page_up(std::uintptr_t x) { return (x + page() - 1) & ~(page() - 1); }
+    static std::uintptr_t page_down(std::uintptr_t x) { return x & ~(page() - 1); }
+
+    const SpMat& A_;
+    bool on_;
+    std::uintptr_t done_[2] = {0, 0};
+  };
 
  public:
 
