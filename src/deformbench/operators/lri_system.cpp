@@ -98,7 +98,7 @@ EdgeSystem build_edge_system(const Adjacency& adj, const Unknowns& unk, int bloc
 
   if (build == Build::Structured) {
     const InteractionPattern pat = interaction_pattern(adj, unk, 1);
-    sys.K = expand_upper(pat, b);
+    expand_upper(pat, b).swap(sys.K);  // not an assignment: Eigen 3.4 copies a returned SparseMatrix
     double* Kv = sys.K.valuePtr();
     const int* Kp = sys.K.outerIndexPtr();
     // Adds a b x b block X (row block ju, column block ku, ju <= ku) into the upper triangle.

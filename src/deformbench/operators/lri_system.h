@@ -35,6 +35,20 @@ namespace db {
 using EdgeBlocks = std::function<void(int i, int j, int slot, double* P, double* Q)>;
 
 struct EdgeSystem {
+  // Moves swap the sparse matrices (Eigen 3.4's SparseMatrix has no move operations; see NormalSystem).
+  EdgeSystem() = default;
+  EdgeSystem(const EdgeSystem&) = default;
+  EdgeSystem& operator=(const EdgeSystem&) = default;
+  EdgeSystem(EdgeSystem&& o) noexcept { *this = std::move(o); }
+  EdgeSystem& operator=(EdgeSystem&& o) noexcept {
+    build = o.build;
+    block = o.block;
+    K.swap(o.K);
+    C.swap(o.C);
+    held_bytes = std::move(o.held_bytes);
+    return *this;
+  }
+
   Build build = Build::Structured;
   int block = 1;
   SpMat K;  //!< upper triangle of A_u^T A_u + W, (b #unknowns)^2

@@ -125,12 +125,12 @@ class EigenSparseLU final : public EigenSparseBase {
 
  protected:
   void do_analyze(const SpMat& upper) override {
-    full_ = full_from_upper(upper);
+    full_from_upper(upper).swap(full_);
     solver_.analyzePattern(full_);  // SparseLU sets info() only in factorize()
   }
 
   void do_factorize(const SpMat& upper) override {
-    full_ = full_from_upper(upper);
+    full_from_upper(upper).swap(full_);
     solver_.factorize(full_);
     if (solver_.info() != Eigen::Success)
       throw SolverError(fmt::format("{}: factorization failed: {}", name(), solver_.lastErrorMessage()));

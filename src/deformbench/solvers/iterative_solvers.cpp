@@ -38,7 +38,7 @@ class CgSolver final : public LinearSolver {
     SpMat storage;
     const SpMat& upper = compressed(upper_in, storage);
     factored_ = false;
-    full_ = full_from_upper(upper);
+    full_from_upper(upper).swap(full_);
     cg_.analyzePattern(full_);
     guard_.remember(upper);
     stats_ = FactorStats{};
@@ -51,7 +51,7 @@ class CgSolver final : public LinearSolver {
     SpMat storage;
     const SpMat& upper = prepare_factorize(*this, guard_, upper_in, storage);
     factored_ = false;
-    full_ = full_from_upper(upper);
+    full_from_upper(upper).swap(full_);
     cg_.factorize(full_);  // (re)binds full_ and computes the preconditioner
     const std::size_t n = stats_.n;
     if constexpr (kIchol) {

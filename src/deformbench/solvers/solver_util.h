@@ -31,6 +31,8 @@ void check_dense_budget(Index n, const std::string& who);
 const SpMat& compressed(const SpMat& m, SpMat& storage);
 
 //! Full symmetric matrix from the upper triangle (entries below the diagonal are ignored).
+//! Take the result with `full_from_upper(u).swap(dst)`: assigning a returned SparseMatrix copies it (Eigen 3.4
+//! has no move assignment for sparse matrices).
 SpMat full_from_upper(const SpMat& upper);
 //! Dense full symmetric matrix from the upper triangle (call check_dense_budget first).
 DenseMat dense_from_upper(const SpMat& upper);

@@ -76,7 +76,7 @@ class UmfpackSolver final : public LinearSolver {
     SpMat storage;
     const SpMat& upper = compressed(upper_in, storage);
     release();
-    full_ = full_from_upper(upper);
+    full_from_upper(upper).swap(full_);
     const int n = int(full_.rows());
     const int status = umfpack_di_symbolic(n, n, full_.outerIndexPtr(), full_.innerIndexPtr(), full_.valuePtr(),
                                            &symbolic_, control_, info_);
@@ -100,7 +100,7 @@ class UmfpackSolver final : public LinearSolver {
       guard_.check(upper, name());
     check_finite_values(upper, name());
     if (numeric_) umfpack_di_free_numeric(&numeric_);
-    full_ = full_from_upper(upper);  // same pattern as at analyze (guarded); UMFPACK's solve refines against it
+    full_from_upper(upper).swap(full_);  // same pattern as at analyze (guarded); UMFPACK's solve refines against it
     const int status = umfpack_di_numeric(full_.outerIndexPtr(), full_.innerIndexPtr(), full_.valuePtr(), symbolic_,
                                           &numeric_, control_, info_);
     if (status != UMFPACK_OK) {

@@ -151,6 +151,22 @@ std::size_t sparse_bytes(const SpMat& m) {
          static_cast<std::size_t>(m.outerSize() + 1) * sizeof(int);
 }
 
+NormalSystem::NormalSystem(NormalSystem&& o) noexcept { *this = std::move(o); }
+
+NormalSystem& NormalSystem::operator=(NormalSystem&& o) noexcept {
+  build = o.build;
+  block = o.block;
+  rhs_cols = o.rhs_cols;
+  K.swap(o.K);
+  C.swap(o.C);
+  K_dense = std::move(o.K_dense);
+  C_dense = std::move(o.C_dense);
+  g0 = std::move(o.g0);
+  held_bytes = std::move(o.held_bytes);
+  build_seconds = o.build_seconds;
+  return *this;
+}
+
 std::size_t NormalSystem::total_held_bytes() const {
   std::size_t s = 0;
   for (auto& kv : held_bytes) s += kv.second;
@@ -234,12 +250,15 @@ NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, 
                                     to_string(build), to_string(op.kind()), predicted / 1e6, byte_budget / 1e6));
   }
   Timer t;
-  NormalSystem sys;
-  switch (build) {
-    case Build::Dense: sys = detail::build_dense(op, unk); break;
-    case Build::Naive: sys = detail::build_naive(op, unk); break;
-    case Build::Structured: sys = detail::build_structured(op, unk); break;
-  }
+  // Initialized from the builders' return values directly (see NormalSystem's move operations).
+  NormalSystem sys = [&] {
+    switch (build) {
+      case Build::Dense: return detail::build_dense(op, unk);
+      case Build::Naive: return detail::build_naive(op, unk);
+      case Build::Structured: break;
+    }
+    return detail::build_structured(op, unk);
+  }();
   sys.build = build;
   sys.block = op.block();
   sys.rhs_cols = op.rhs_cols();

@@ -18,7 +18,7 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
   const int nu = unk.num_unknowns();
   NormalSystem sys;
   const InteractionPattern pat = interaction_pattern(adj, unk);
-  sys.K = expand_upper(pat, b);
+  expand_upper(pat, b).swap(sys.K);  // not an assignment: Eigen 3.4 copies a returned SparseMatrix
   double* Kv = sys.K.valuePtr();
   const int* Kp = sys.K.outerIndexPtr();
   sys.g0 = DenseMat::Zero(static_cast<Eigen::Index>(b) * nu, r);
