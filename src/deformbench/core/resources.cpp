@@ -6,10 +6,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
-#include <thread>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace db {
 namespace {
@@ -40,6 +43,24 @@ int worker_threads() {
     if (t >= 1) return t;
   }
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+void run_on_threads(int threads, const std::function<void(int)>& fn) {
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto guarded = [&](int t) {
+    try {
+      fn(t);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(guarded, t);
+  if (threads >= 1) guarded(0);
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
 }
 
 void advise_huge_pages(void* p, std::size_t bytes) {

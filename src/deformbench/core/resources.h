@@ -1,6 +1,7 @@
 #pragma once
 //! Process resource readings (Linux /proc).
 #include <cstddef>
+#include <functional>
 
 namespace db {
 
@@ -14,6 +15,11 @@ std::size_t physical_memory_bytes();
 //! Threads for the project's own parallel loops (structured assembly): DEFORMBENCH_THREADS when set,
 //! else the hardware threads.
 int worker_threads();
+
+//! Runs fn(0) .. fn(threads - 1) on plain threads (fn(0) on the caller's) and joins them; the first exception
+//! any of them throws is rethrown after all have finished. Plain threads rather than an OpenMP pool, which
+//! would keep spinning after the region and slow the BLAS threads that follow.
+void run_on_threads(int threads, const std::function<void(int)>& fn);
 
 //! Asks the kernel to back the whole 2 MB pages inside [p, p + bytes) with transparent huge pages before they
 //! are first touched (no-op where unsupported). Why: first-touch faults on 4 KB pages of a 100 MB matrix cost

@@ -44,7 +44,8 @@ class LinearSolver {
   virtual void factorize(const SpMat& upper) = 0;
   //! factorize(upper) for a caller that has no further use for the matrix: `upper` is left empty, also when
   //! this throws. A backend may hand the matrix's memory back while it factors, which lowers the peak (the
-  //! multifrontal one returns the columns of every finished subtree); the default factors, then clears.
+  //! multifrontal one returns each column once the supernodes that read it are done); the default factors, then
+  //! clears.
   virtual void factorize_consuming(SpMat& upper) {
     const ClearOnExit clear{upper};
     factorize(upper);

@@ -17,11 +17,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <exception>
 #include <memory>
 #include <mutex>
 #include <numeric>
-#include <thread>
 #include <vector>
 
 #include <dlfcn.h>
@@ -283,6 +281,11 @@ Plan schedule(const Symbolic& S, int threads, Cost cost) {
   return P;
 }
 
+//! The "default" ordering: METIS for block systems, AMD for scalar ones, the structured builds' vertex orderings
+//! (systems/vertex_ordering.h): on the 2-ring graphs of TF systems METIS saves a third of the flops for a
+//! fraction of a second. CHOLMOD's own rule, applied to the smaller block graph, would keep AMD.
+const char* default_ordering(int b) { return b > 1 ? "metis" : "amd"; }
+
 //! CHOLMOD's supernodal symbolic analysis of the block graph (ordering `method`, postordered, relaxed
 //! supernodes), expanded to b x b blocks.
 Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
@@ -321,11 +324,8 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
   cc.postorder = true;
   // CHOLMOD's amalgamation thresholds count columns; a block column is b scalar columns.
   for (int k = 0; k < 3; ++k) cc.nrelax[k] = std::max<std::size_t>(1, (cc.nrelax[k] + std::size_t(b) - 1) / std::size_t(b));
-  // "default": METIS for block systems, AMD for scalar ones, the structured builds' vertex orderings
-  // (systems/vertex_ordering.h): on the 2-ring graphs of TF systems METIS saves a third of the flops for a
-  // fraction of a second. CHOLMOD's own rule, applied to the smaller block graph, would keep AMD.
   cc.nmethods = 1;
-  cc.method[0].ordering = cholmod_ordering_code(method == "default" ? (b > 1 ? "metis" : "amd") : method);
+  cc.method[0].ordering = cholmod_ordering_code(method == "default" ? default_ordering(b) : method);
   cholmod_factor* L = cholmod_analyze(&G, &cc);
   if (!L || cc.status < CHOLMOD_OK || !L->is_super) {
     if (L) cholmod_free_factor(&L, &cc);
@@ -506,7 +506,7 @@ class MultifrontalSolver final : public LinearSolver {
     stats_.nnz_matrix = std::size_t(upper.nonZeros());
     stats_.nnz_factor = S_.nnz;
     stats_.flops = S_.flops;
-    stats_.ordering_used = (options_.ordering == "default" ? std::string(b > 1 ? "metis" : "amd") : options_.ordering) +
+    stats_.ordering_used = (options_.ordering == "default" ? std::string(default_ordering(b)) : options_.ordering) +
                            (b > 1 ? fmt::format("-block{}", b) : "");
     stats_.factor_bytes = factor_bytes();
   }
@@ -771,27 +771,11 @@ class MultifrontalSolver final : public LinearSolver {
     }
     const int saved = blas_threads().get();
     blas_threads().set(1);
-    std::vector<std::thread> pool;
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    for (std::size_t t = 1; t < T; ++t)
-      pool.emplace_back([&, t] {
-        try {
-          fn(t);
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(error_mutex);
-          if (!error) error = std::current_exception();
-        }
-      });
-    try {
-      fn(0);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-    }
-    for (auto& th : pool) th.join();
-    blas_threads().set(saved);
-    if (error) std::rethrow_exception(error);
+    struct Restore {
+      int n;
+      ~Restore() { blas_threads().set(n); }
+    } restore{saved};
+    run_on_threads(int(T), [&](int t) { fn(std::size_t(t)); });
   }
 
   //! Front column j of supernode s's FactorBlock L: entries of rows j .. split - 1 are tri[row], those of

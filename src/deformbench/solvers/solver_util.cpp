@@ -89,19 +89,23 @@ std::uint64_t fingerprint(const int* a, std::size_t count) {
   for (std::uint64_t v : h) x = (x ^ v) * kPrime ^ (x >> 29);
   return x;
 }
+
+std::uint64_t pattern_hash(const SpMat& upper) {
+  return fingerprint(upper.outerIndexPtr(), std::size_t(upper.cols()) + 1) ^
+         (fingerprint(upper.innerIndexPtr(), std::size_t(upper.nonZeros())) << 1);
+}
 }  // namespace
 
 void PatternGuard::remember(const SpMat& upper) {
   n_ = std::size_t(upper.cols());
   nnz_ = std::size_t(upper.nonZeros());
-  hash_ = fingerprint(upper.outerIndexPtr(), n_ + 1) ^ (fingerprint(upper.innerIndexPtr(), nnz_) << 1);
+  hash_ = pattern_hash(upper);
   set_ = true;
 }
 
 void PatternGuard::check(const SpMat& upper, const std::string& who) const {
   const std::size_t n = std::size_t(upper.cols()), nnz = std::size_t(upper.nonZeros());
-  const bool same = set_ && n == n_ && nnz == nnz_ &&
-                    (fingerprint(upper.outerIndexPtr(), n + 1) ^ (fingerprint(upper.innerIndexPtr(), nnz) << 1)) == hash_;
+  const bool same = set_ && n == n_ && nnz == nnz_ && pattern_hash(upper) == hash_;
   if (!same)
     throw SolverError(fmt::format("{}: factorize() got a different sparsity pattern than analyze() "
                                   "(n {} vs {}, nnz {} vs {}); call analyze() again",

@@ -1,7 +1,6 @@
 #include "systems/normal_system.h"
 
 #include <algorithm>
-#include <thread>
 
 #include <fmt/format.h>
 
@@ -60,7 +59,8 @@ InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk
   const int T = std::max(1, std::min(worker_threads(), nu / 8192 + 1));
   std::vector<std::vector<int>> rows(T), counts(T);
   auto work = [&](int t) {
-    const int lo = static_cast<int>(static_cast<long long>(nu) * t / T), hi = static_cast<int>(static_cast<long long>(nu) * (t + 1) / T);
+    const int lo = static_cast<int>(static_cast<long long>(nu) * t / T);
+    const int hi = static_cast<int>(static_cast<long long>(nu) * (t + 1) / T);
     std::vector<int>& out = rows[t];
     std::vector<int>& cnt = counts[t];
     out.reserve(static_cast<std::size_t>(hi - lo) * 12);
@@ -85,10 +85,7 @@ InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk
       cnt.push_back(static_cast<int>(out.size() - start));
     }
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < T; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& th : pool) th.join();
+  run_on_threads(T, work);
   InteractionPattern p;
   p.colptr.assign(nu + 1, 0);
   std::size_t total = 0;
@@ -125,7 +122,10 @@ SpMat expand_upper(const InteractionPattern& p, int b) {
   advise_huge_pages(val, std::size_t(nnz) * sizeof(double));
   // Row indices and zero values written by column ranges on the worker threads: ~100 MB at 104k vertices (TF),
   // most of it first-touch page faults that parallelize.
-  auto fill = [&](int k0, int k1) {
+  const int T = std::max(1, std::min(worker_threads(), nu / 4096 + 1));
+  run_on_threads(T, [&](int t) {
+    const int k0 = static_cast<int>(static_cast<long long>(nu) * t / T);
+    const int k1 = static_cast<int>(static_cast<long long>(nu) * (t + 1) / T);
     for (int k = k0; k < k1; ++k)
       for (int c2 = 0; c2 < b; ++c2) {
         int pos = colptr[b * k + c2];
@@ -136,13 +136,7 @@ SpMat expand_upper(const InteractionPattern& p, int b) {
           for (int c1 = 0; c1 < upto; ++c1) ri[pos++] = b * j + c1;
         }
       }
-  };
-  const int T = std::max(1, std::min(worker_threads(), nu / 4096 + 1));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < T; ++t) pool.emplace_back(fill, static_cast<int>(static_cast<long long>(nu) * t / T),
-                                                static_cast<int>(static_cast<long long>(nu) * (t + 1) / T));
-  fill(0, static_cast<int>(static_cast<long long>(nu) / T));
-  for (auto& th : pool) th.join();
+  });
   return K;
 }
 

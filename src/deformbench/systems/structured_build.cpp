@@ -2,7 +2,6 @@
 // interact when they share a 1-ring, i.e. are at most two edges apart) and filled row block by row block,
 // so A itself is never stored. TF uses the same vertex pattern expanded to 3x3 blocks.
 #include <algorithm>
-#include <thread>
 
 #include "core/resources.h"
 #include "systems/build_detail.h"
@@ -41,8 +40,6 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
   std::vector<int> row_order(unk.unknown_vertices);
   row_order.insert(row_order.end(), unk.hard_vertices.begin(), unk.hard_vertices.end());
 
-  // Plain threads, joined before returning: an OpenMP pool would keep spinning after the region and slow
-  // the BLAS threads of the factorization and solves that follow.
   auto work = [&](int t) {
     const int lo = split[t], hi = split[t + 1];
     auto mine = [&](int v) {
@@ -96,10 +93,7 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
       }
     }
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < T; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& th : pool) th.join();
+  run_on_threads(T, work);
   const double w2 = unk.soft_weight * unk.soft_weight;
   for (int v : unk.soft_vertices) {
     const int ku = unk.unknown_of[v];
