@@ -1,7 +1,9 @@
 // Invariants of the LAP and TF deformations and of the three system builds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "core/error.h"
@@ -11,7 +13,9 @@
 #include "methods/deformer.h"
 #include "methods/normalization.h"
 #include "operators/energy_operator.h"
+#include "solvers/linear_solver.h"
 #include "systems/normal_system.h"
+#include "systems/vertex_ordering.h"
 
 namespace db {
 namespace {
@@ -129,6 +133,41 @@ TEST(Systems, StructuredEqualsExplicitNormalMatrix) {
       EXPECT_LT(s.total_held_bytes(), nv.total_held_bytes()) << what;
     }
   }
+}
+
+// The METIS vertex ordering of large graphs is dissected here and ordered partly in a child process
+// (systems/vertex_ordering.cpp): it must be a permutation, the same whatever the thread count, and as good as
+// METIS run whole.
+TEST(Systems, MetisVertexOrderingIsThreadIndependentAndKeepsTheFill) {
+  const Mesh m = make_cylinder(150, 160, 1.0, 8.0);  // 24000 vertices: above the dissection threshold
+  const Adjacency adj = vertex_adjacency(m);
+  std::vector<Constraint> kinds(static_cast<std::size_t>(m.V.rows()), Constraint::Free);
+  for (int v = 0; v < 160; ++v) kinds[static_cast<std::size_t>(v)] = Constraint::Hard;
+  const Unknowns original = make_unknowns(kinds, 1.0);
+  auto factor_entries = [&](const Unknowns& unk, const std::string& ordering) {
+    SolverOptions o;
+    o.ordering = ordering;
+    auto solver = make_solver("cholmod_supernodal", o);
+    solver->analyze(expand_upper(interaction_pattern(adj, unk), 1));
+    return solver->stats().nnz_factor;
+  };
+  std::vector<Unknowns> ordered;
+  for (const char* threads : {"1", "2"}) {
+    setenv("DEFORMBENCH_THREADS", threads, 1);
+    ordered.push_back(original);
+    order_unknowns(adj, ordered.back(), "metis");
+    unsetenv("DEFORMBENCH_THREADS");
+  }
+  EXPECT_EQ(ordered[0].unknown_vertices, ordered[1].unknown_vertices);
+  const Unknowns& unk = ordered[1];
+  std::vector<int> sorted = unk.unknown_vertices;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted, original.unknown_vertices);
+  for (int u = 0; u < unk.num_unknowns(); ++u) EXPECT_EQ(unk.unknown_of[unk.unknown_vertices[u]], u);
+  const double whole = static_cast<double>(factor_entries(original, "metis"));
+  const double dissected = static_cast<double>(factor_entries(unk, "natural"));
+  EXPECT_LT(dissected, 1.1 * whole) << "whole METIS " << whole << ", dissected " << dissected;
+  EXPECT_LT(dissected, static_cast<double>(factor_entries(original, "amd")));
 }
 
 TEST(Systems, BuildsGiveTheSameDeformation) {
