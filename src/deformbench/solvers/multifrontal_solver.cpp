@@ -167,20 +167,23 @@ class UpdateBlock {
  public:
   static constexpr int kWidth = 128;
   UpdateBlock() = default;
-  explicit UpdateBlock(int r) : r_(r) {
-    std::size_t total = 0;
-    for (int u = 0; u < panels(); ++u) total += std::size_t(r - u * kWidth) * std::size_t(width(u));
-    if (total * sizeof(double) >= kMapBytes) {
+  //! `zeroed`: whether the entries must start at zero (a heap block is otherwise left uninitialized, for a
+  //! first product with beta = 0 to write).
+  UpdateBlock(int r, bool zeroed) : r_(r) {
+    const std::size_t total = entries(r);
+    if (mapped(r)) {
       mapped_ = Mapping(total, "an update matrix");  // zero-filled by the kernel
       data_ = mapped_.get();
     } else {
       heap_.reset(new double[std::max<std::size_t>(total, 1)]);
       data_ = heap_.get();
-      std::fill(data_, data_ + total, 0.0);
+      if (zeroed) std::fill(data_, data_ + total, 0.0);
     }
   }
   int panels() const { return (r_ + kWidth - 1) / kWidth; }
   int width(int u) const { return std::min(kWidth, r_ - u * kWidth); }
+  //! Whether an update matrix of order r gets a mapping of its own (and is zero-filled by the kernel).
+  static bool mapped(int r) { return entries(r) * sizeof(double) >= kMapBytes; }
   //! Panel u; its leading dimension is r - u kWidth.
   double* panel(int u) const {
     // Panels before u are kWidth wide and r, r - kWidth, ... tall.
@@ -199,6 +202,10 @@ class UpdateBlock {
   // Smaller blocks come from the heap: mapping them too kept ~30 MB less resident but its page faults cost
   // ~10% of the 104k TF factorization.
   static constexpr std::size_t kMapBytes = std::size_t(16) << 20;
+  static std::size_t entries(int r) {  // panels of kWidth columns, r, r - kWidth, ... rows
+    const std::size_t q = std::size_t(r / kWidth), K = kWidth, R = std::size_t(r);
+    return K * (q * R - K * q * (q - 1) / 2) + (R - q * K) * (R - q * K);
+  }
   int r_ = 0;
   double* data_ = nullptr;
   Mapping mapped_;
@@ -790,48 +797,64 @@ class MultifrontalSolver final : public LinearSolver {
             L.rect(p) + std::size_t(j - c0) * std::size_t(L.height(p)), c0 + w};
   }
 
-  //! Extend-add of child c's update matrix into supernode p's factor block and update matrix (allocated here
-  //! if p has none yet), then frees it. The caller makes sure no other thread works on p meanwhile.
-  void assemble_child(int c, int p, Workspace& ws) {
+  //! Which columns of a child's update matrix an extend-add moves: those landing in the parent's own columns
+  //! (its factor block), those landing in its update matrix, or both.
+  enum Part { kPivot = 1, kUpdate = 2, kBoth = 3 };
+
+  //! Extend-add of `part` of child c's update matrix into supernode p's factor block and update matrix (with
+  //! kUpdate, p's update matrix is allocated zeroed here if it has none yet); frees the child's matrix once
+  //! nothing of it is left to move. The caller makes sure no other thread works on p meanwhile.
+  void assemble_child(int c, int p, Workspace& ws, Part part = kBoth) {
     const int nc = S_.ncols(p), m = S_.nrows(p), nr = m - nc;
     const int* R = S_.rows.data() + S_.rptr[std::size_t(p)];
     for (int k = 0; k < m; ++k) ws.map[std::size_t(R[k])] = k;
     const FactorBlock L{values_.get() + S_.xptr[std::size_t(p)], m, nc};
-    UpdateBlock& U = updates_[std::size_t(p)];
-    if (nr > 0 && !U) U = UpdateBlock(nr);
     const int ncc = S_.ncols(c), nrc = S_.nrows(c) - ncc;
     const int* Rc = S_.rows.data() + S_.rptr[std::size_t(c)] + ncc;
     ws.rel.resize(std::size_t(nrc));
     for (int k = 0; k < nrc; ++k) ws.rel[std::size_t(k)] = ws.map[std::size_t(Rc[k])];
     const int* rel = ws.rel.data();
+    // Rows ascend, so the columns landing in p's own columns come first.
+    const int jsplit = int(std::lower_bound(rel, rel + nrc, nc) - rel);
     const UpdateBlock& Uc = updates_[std::size_t(c)];
-    for (int jj = 0; jj < nrc; ++jj) {  // rows ascending: each column splits once
-      const int lj = rel[jj];
-      const double* src = Uc.col(jj) - jj;  // src[ii] = entry (ii, jj)
-      int ii = jj;
-      if (lj < nc) {
-        const FrontColumn col = front_column(L, lj);
+    if (part & kPivot)
+      for (int jj = 0; jj < jsplit; ++jj) {
+        const double* src = Uc.col(jj) - jj;  // src[ii] = entry (ii, jj)
+        const FrontColumn col = front_column(L, rel[jj]);
+        int ii = jj;
         for (; ii < nrc && rel[ii] < col.split; ++ii) col.tri[rel[ii]] += src[ii];
         for (; ii < nrc; ++ii) col.rect[rel[ii] - col.split] += src[ii];
-      } else {
-        double* dst = U.col(lj - nc) - (lj - nc) - nc;  // dst[k] = entry (k - nc, lj - nc) of U
-        for (; ii < nrc; ++ii) dst[rel[ii]] += src[ii];
+      }
+    if ((part & kUpdate) && jsplit < nrc) {
+      UpdateBlock& U = updates_[std::size_t(p)];
+      if (!U) U = UpdateBlock(nr, true);
+      for (int jj = jsplit; jj < nrc; ++jj) {
+        const int lj = rel[jj] - nc;
+        const double* src = Uc.col(jj) - jj;
+        double* dst = U.col(lj) - lj - nc;  // dst[k] = entry (k - nc, lj) of U
+        for (int ii = jj; ii < nrc; ++ii) dst[rel[ii]] += src[ii];
       }
     }
-    updates_[std::size_t(c)] = UpdateBlock();
+    if ((part & kUpdate) || jsplit == nrc) updates_[std::size_t(c)] = UpdateBlock();
   }
 
   //! Assembles and factors the front of supernode s; false (and failed_column_ set) when a pivot is not positive.
   //! Its FactorBlock starts as the mapping's zero pages, and may already hold some children's updates.
+  //! When s's update matrix is a fresh heap block, the children's entries for it are added after s's own
+  //! product has written it (beta = 0), so it is never zero-filled: that fill took a fifth of the extend-add
+  //! time on the 104k TF system. Mapped update matrices come zeroed from the kernel anyway: they take the
+  //! children whole first, so that the largest children's matrices are not kept any longer.
   bool factor_supernode(const SpMat& A, int s, Workspace& ws) {
     const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s), nr = m - nc;
     const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], m, nc};
-    for (int q = S_.cptr[std::size_t(s)]; q < S_.cptr[std::size_t(s) + 1]; ++q)
-      if (updates_[std::size_t(S_.child[std::size_t(q)])]) assemble_child(S_.child[std::size_t(q)], s, ws);
+    const int* kids = S_.child.data() + S_.cptr[std::size_t(s)];
+    const int nkids = S_.cptr[std::size_t(s) + 1] - S_.cptr[std::size_t(s)];
+    // Not begun by children assembled early (top supernodes), and not mapped.
+    const bool fresh_heap = nr > 0 && !updates_[std::size_t(s)] && !UpdateBlock::mapped(nr);
+    for (int q = 0; q < nkids; ++q)
+      if (updates_[std::size_t(kids[q])]) assemble_child(kids[q], s, ws, fresh_heap ? kPivot : kBoth);
     const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
     for (int k = 0; k < m; ++k) ws.map[std::size_t(R[k])] = k;
-    UpdateBlock U;  // the update matrix, possibly begun by children assembled early
-    if (nr > 0) U = updates_[std::size_t(s)] ? std::move(updates_[std::size_t(s)]) : UpdateBlock(nr);
     // Matrix entries A(i, j), j in this supernode, i >= j: the upper triangle holds them as A(j, i) in
     // column i, and every such i is a row of the front.
     const int* Ap = A.outerIndexPtr();
@@ -874,20 +897,28 @@ class MultifrontalSolver final : public LinearSolver {
         std::copy(D + std::size_t(j) * std::size_t(w + 1), D + std::size_t(j + 1) * std::size_t(w),
                   T + packed_column(j, w));
     }
-    // Update matrix: U -= B B^T, B the rows below the supernode's columns, panel by panel of both.
+    // Update matrix: U -= B B^T, B the rows below the supernode's columns, panel by panel of both; a fresh
+    // heap U is written by the first panel's product (beta = 0), then takes the children's remaining entries.
     if (nr > 0) {
+      UpdateBlock U =
+          updates_[std::size_t(s)] ? std::move(updates_[std::size_t(s)]) : UpdateBlock(nr, !fresh_heap);
+      const double zero = 0.0;
       for (int p = 0; p < L.panels(); ++p) {
         const int wp = L.width(p), ldp = L.height(p);
         const double* B = L.rect(p) + (nc - L.c0(p) - wp);
+        const double* beta = fresh_heap && p == 0 ? &zero : &one;
         for (int u = 0; u < U.panels(); ++u) {
           const int u0 = u * UpdateBlock::kWidth, wu = U.width(u), ldu = nr - u0, below = ldu - wu;
-          dsyrk_("L", "N", &wu, &wp, &minus_one, B + u0, &ldp, &one, U.panel(u), &ldu, 1, 1);
+          dsyrk_("L", "N", &wu, &wp, &minus_one, B + u0, &ldp, beta, U.panel(u), &ldu, 1, 1);
           if (below > 0)
-            dgemm_("N", "T", &below, &wu, &wp, &minus_one, B + u0 + wu, &ldp, B + u0, &ldp, &one, U.panel(u) + wu,
+            dgemm_("N", "T", &below, &wu, &wp, &minus_one, B + u0 + wu, &ldp, B + u0, &ldp, beta, U.panel(u) + wu,
                    &ldu, 1, 1);
         }
       }
       updates_[std::size_t(s)] = std::move(U);
+      if (fresh_heap)
+        for (int q = 0; q < nkids; ++q)
+          if (updates_[std::size_t(kids[q])]) assemble_child(kids[q], s, ws, kUpdate);
     }
     return true;
   }
