@@ -135,8 +135,8 @@ TEST(Systems, StructuredEqualsExplicitNormalMatrix) {
   }
 }
 
-// The METIS vertex ordering of large graphs is dissected here and ordered partly in a child process
-// (systems/vertex_ordering.cpp): it must be a permutation, the same whatever the thread count, and as good as
+// METIS orderings of large graphs are dissected and ordered partly in a child process
+// (solvers/graph_ordering.cpp): it must be a permutation, the same whatever the thread count, and as good as
 // METIS run whole.
 TEST(Systems, MetisVertexOrderingIsThreadIndependentAndKeepsTheFill) {
   const Mesh m = make_cylinder(150, 160, 1.0, 8.0);  // 24000 vertices: above the dissection threshold

@@ -32,7 +32,7 @@
 #include "core/error.h"
 #include "core/resources.h"
 #include "solvers/backends.h"
-#include "solvers/cholmod_views.h"
+#include "solvers/graph_ordering.h"
 #include "solvers/solver_util.h"
 
 extern "C" {
@@ -320,24 +320,21 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
       Up[std::size_t(J) + 1] = int(Ui.size());
     }
   }
-  cholmod_sparse G = b > 1 ? cholmod_upper_view(std::size_t(nb), Up.data(), Ui.data(), nullptr)
-                           : cholmod_upper_view(std::size_t(nb), upper.outerIndexPtr(), upper.innerIndexPtr(), nullptr);
+  const GraphPattern G = b > 1 ? GraphPattern{nb, Up.data(), Ui.data()}
+                               : GraphPattern{nb, upper.outerIndexPtr(), upper.innerIndexPtr()};
 
   cholmod_common cc;
   cholmod_start(&cc);
   std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> finish(&cc, cholmod_finish);
   cc.print = 0;
   cc.supernodal = CHOLMOD_SUPERNODAL;
-  cc.postorder = true;
   // CHOLMOD's amalgamation thresholds count columns; a block column is b scalar columns.
   for (int k = 0; k < 3; ++k) cc.nrelax[k] = std::max<std::size_t>(1, (cc.nrelax[k] + std::size_t(b) - 1) / std::size_t(b));
-  cc.nmethods = 1;
-  cc.method[0].ordering = cholmod_ordering_code(method == "default" ? default_ordering(b) : method);
-  cholmod_factor* L = cholmod_analyze(&G, &cc);
-  if (!L || cc.status < CHOLMOD_OK || !L->is_super) {
-    if (L) cholmod_free_factor(&L, &cc);
-    throw SolverError(fmt::format("multifrontal: symbolic analysis of the {0}x{0} block graph failed (CHOLMOD status {1})",
-                                  nb, cc.status));
+  // The shared graph analysis: METIS on large graphs runs dissected on two processes (solvers/graph_ordering).
+  cholmod_factor* L = analyze_graph(G, method == "default" ? default_ordering(b) : method, cc);
+  if (!L->is_super) {
+    cholmod_free_factor(&L, &cc);
+    throw SolverError(fmt::format("multifrontal: the symbolic analysis of the {0}x{0} block graph is not supernodal", nb));
   }
   Symbolic S;
   S.n = nb * b;

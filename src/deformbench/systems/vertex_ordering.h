@@ -18,10 +18,9 @@ inline const char* default_vertex_ordering(int block_size) { return block_size >
 
 //! Renumbers the unknowns of `unk` in a fill-reducing, postordered order of their interaction graph
 //! (unknowns are adjacent when they share a 1-ring, i.e. the pattern of A^T A). method: "amd" | "metis" |
-//! "nesdis". METIS on 20000 unknowns or more splits the graph with a METIS separator first and orders the two
-//! sides at once, one in a forked child process (METIS's random numbers make threads nondeterministic); the
-//! permutation is the same with one worker thread. \throw SolverError when the ordering library fails,
-//! InputError on an unknown method.
+//! "nesdis" (solvers/graph_ordering: METIS on 20000 unknowns or more is dissected and runs on two processes,
+//! with the same result on one). \throw SolverError when the ordering library fails, InputError on an unknown
+//! method.
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method);
 
 }  // namespace db
