@@ -19,11 +19,10 @@
 namespace db {
 namespace {
 
-
 using CommonPtr = std::unique_ptr<cholmod_common, int (*)(cholmod_common*)>;
 
-//! A subgraph: its upper pattern (vertices renumbered 0..n-1 in ascending order) and
-//! the graph index of each vertex.
+//! A subgraph: its upper pattern (vertices renumbered 0..n-1 in ascending order) and the graph index of each
+//! vertex.
 struct SubGraph {
   std::vector<int> colptr, rows, vertices;
   std::size_t size() const { return vertices.size(); }
@@ -61,7 +60,7 @@ std::vector<int> metis_order(const SubGraph& g) {
   cholmod_sparse A = cholmod_upper_view(n, g.colptr.data(), g.rows.data(), nullptr);
   std::vector<int> perm(n);
   if (!cholmod_metis(&A, nullptr, 0, false, perm.data(), &cc))
-    throw SolverError(fmt::format("vertex ordering (metis) failed on a part of {} vertices, CHOLMOD status {}", n,
+    throw SolverError(fmt::format("METIS ordering failed on a part of {} vertices, CHOLMOD status {}", n,
                                   cc.status));
   for (int& p : perm) p = g.vertices[static_cast<std::size_t>(p)];
   return perm;
@@ -216,9 +215,9 @@ std::vector<int> dissected_metis_order(const GraphPattern& pat, cholmod_common& 
   std::vector<char> seen(static_cast<std::size_t>(n), 0);
   for (int v : perm)
     if (v < 0 || v >= n || seen[v]++)
-      throw SolverError("vertex ordering (metis): the dissected ordering is not a permutation");
+      throw SolverError("METIS ordering: the dissected ordering is not a permutation");
   if (static_cast<int>(perm.size()) != n)
-    throw SolverError("vertex ordering (metis): the dissected ordering is incomplete");
+    throw SolverError("METIS ordering: the dissected ordering is incomplete");
   return perm;
 }
 
