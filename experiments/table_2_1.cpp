@@ -132,9 +132,9 @@ struct Config {
   bool full = false;
   double memory_budget = 0, time_budget = 0, cell_timeout = 0;
   int frames = 20;
-  // Fresh children per cell, the table keeps the median of each measure: single runs of the 104k TF cell
-  // ranged 3.1-5.2 s of init on this shared 2-core box. Cells predicted to take longer than repeat_max_s
-  // (the --full scaling tiers) run once.
+  // Fresh children per cell, the table keeps the median of each measure: single runs of the 104k TF init
+  // ranged 3.1-5.2 s within a day on this shared 2-core box. Cells predicted to take longer than
+  // repeat_max_s (the --full scaling tiers) run once.
   int repeats = 3;
   double repeat_max_s = 40;
   std::vector<std::string> tiers, systems, builds;
