@@ -1,9 +1,7 @@
 #include "solvers/graph_ordering.h"
 
-#include <algorithm>
 #include <cerrno>
 #include <memory>
-#include <numeric>
 #include <optional>
 #include <vector>
 
@@ -28,20 +26,19 @@ struct SubGraph {
   std::size_t size() const { return vertices.size(); }
 };
 
-//! The subgraph of g induced by its vertices k with part[k] == which.
-SubGraph induced(const SubGraph& g, const std::vector<int>& part, int which) {
+//! The subgraph of g induced by its vertices v with part[v] == which.
+SubGraph induced(const GraphPattern& g, const std::vector<int>& part, int which) {
   SubGraph h;
-  std::vector<int> local(g.size(), -1);
-  for (std::size_t k = 0; k < g.size(); ++k)
-    if (part[k] == which) {
-      local[k] = static_cast<int>(h.vertices.size());
-      h.vertices.push_back(g.vertices[k]);
+  std::vector<int> local(static_cast<std::size_t>(g.n), -1);
+  for (int v = 0; v < g.n; ++v)
+    if (part[v] == which) {
+      local[v] = static_cast<int>(h.vertices.size());
+      h.vertices.push_back(v);
     }
   h.colptr.reserve(h.size() + 1);
   h.colptr.push_back(0);
-  for (std::size_t k = 0; k < g.size(); ++k) {
-    if (local[k] < 0) continue;
-    for (int q = g.colptr[k]; q < g.colptr[k + 1]; ++q)
+  for (int v : h.vertices) {
+    for (int q = g.colptr[v]; q < g.colptr[v + 1]; ++q)
       if (const int r = local[static_cast<std::size_t>(g.rows[q])]; r >= 0) h.rows.push_back(r);
     h.colptr.push_back(static_cast<int>(h.rows.size()));
   }
@@ -137,80 +134,33 @@ class ChildTask {
 //! when there are two worker threads), the separator comes last. METIS_NodeND takes the same first step itself,
 //! and the fill stays the same (armadillo Loop 1, 104k vertices: 74.52 against 74.53 GFlop for TF), while the
 //! TF analysis takes ~0.45 s less (1.15 against 1.61 s, medians of 7 interleaved CLI runs). The result does
-//! not depend on the thread count. Over five random renumberings of that graph the flops of METIS whole,
-//! this and a second level (four parts) varied by +-3% alike; on the bundled numbering the second level
-//! costs 4.7% more (77.3 GFlop) and a 1% larger factor, more than its better balance saves. Empty if the
-//! bisection fails (the caller then runs METIS whole).
+//! not depend on the thread count. A second level (four parts, better balanced) was measured too: over five
+//! random renumberings of that graph the flops of METIS whole, one level and two varied by +-3% alike, but on
+//! the bundled numbering two levels cost 4.7% more (77.3 GFlop) and a 1% larger factor, more than the balance
+//! saves. Empty if the bisection fails (the caller then runs METIS whole).
 std::vector<int> dissected_metis_order(const GraphPattern& pat, cholmod_common& cc) {
   const int n = pat.n;
-  constexpr int kLevels = 1;
-  // The plan: the final order as a list of pieces, each a part to be ordered (leaf >= 0) or a separator.
-  struct Piece {
-    int leaf = -1;
-    std::vector<int> separator;
-  };
-  std::vector<Piece> plan;
-  std::vector<SubGraph> leaves;
-  // False when g was to be split and could not be (it is then a leaf).
-  auto dissect = [&](auto& self, SubGraph g, int levels) -> bool {
-    std::vector<int> part(g.size());
-    cholmod_sparse A = cholmod_upper_view(g.size(), g.colptr.data(), g.rows.data(), nullptr);
-    if (levels == 0 || g.size() < 2 || cholmod_bisect(&A, nullptr, 0, true, part.data(), &cc) < 0) {
-      plan.push_back({static_cast<int>(leaves.size()), {}});
-      leaves.push_back(std::move(g));
-      return levels == 0;
-    }
-    for (int side = 0; side < 2; ++side) self(self, induced(g, part, side), levels - 1);
-    Piece sep;
-    for (std::size_t k = 0; k < g.size(); ++k)
-      if (part[k] == 2) sep.separator.push_back(g.vertices[k]);
-    plan.push_back(std::move(sep));
-    return true;
-  };
-  SubGraph whole{std::vector<int>(pat.colptr, pat.colptr + n + 1), std::vector<int>(pat.rows, pat.rows + pat.colptr[n]),
-                 std::vector<int>(static_cast<std::size_t>(n))};
-  std::iota(whole.vertices.begin(), whole.vertices.end(), 0);
-  if (!dissect(dissect, std::move(whole), kLevels)) return {};
+  std::vector<int> part(static_cast<std::size_t>(n));
+  cholmod_sparse A = cholmod_upper_view(std::size_t(n), pat.colptr, pat.rows, nullptr);
+  if (cholmod_bisect(&A, nullptr, 0, true, part.data(), &cc) < 0) return {};
+  const SubGraph side[2] = {induced(pat, part, 0), induced(pat, part, 1)};
+  const int small = side[1].size() < side[0].size() ? 1 : 0;
 
-  // Parts to two workers, largest first to the lighter one; worker 1 is the child process.
-  std::vector<int> by_size(leaves.size());
-  std::iota(by_size.begin(), by_size.end(), 0);
-  std::stable_sort(by_size.begin(), by_size.end(),
-                   [&](int a, int b) { return leaves[a].size() > leaves[b].size(); });
-  std::vector<int> mine, theirs;
-  std::size_t load[2] = {0, 0};
-  for (int l : by_size) {
-    const int w = load[1] < load[0] ? 1 : 0;
-    (w == 0 ? mine : theirs).push_back(l);
-    load[w] += leaves[l].size();
-  }
-  auto order_leaves = [&](const std::vector<int>& which) {
-    std::vector<int> out;
-    for (int l : which) {
-      const std::vector<int> o = metis_order(leaves[l]);
-      out.insert(out.end(), o.begin(), o.end());
-    }
-    return out;
-  };
-  std::vector<std::vector<int>> order(leaves.size());
-  std::optional<std::vector<int>> from_child;
+  std::vector<int> order[2];
   {
     std::optional<ChildTask> child;
-    if (worker_threads() > 1 && !theirs.empty()) child.emplace(load[1], [&] { return order_leaves(theirs); });
-    for (int l : mine) order[l] = metis_order(leaves[l]);
-    if (child) from_child = child->result();
+    if (worker_threads() > 1) child.emplace(side[small].size(), [&] { return metis_order(side[small]); });
+    order[1 - small] = metis_order(side[1 - small]);
+    if (child)
+      if (auto got = child->result()) order[small] = std::move(*got);
   }
-  if (!from_child) from_child = order_leaves(theirs);
-  for (std::size_t k = 0, at = 0; k < theirs.size(); at += leaves[theirs[k]].size(), ++k)
-    order[theirs[k]].assign(from_child->begin() + static_cast<std::ptrdiff_t>(at),
-                            from_child->begin() + static_cast<std::ptrdiff_t>(at + leaves[theirs[k]].size()));
+  if (order[small].size() != side[small].size()) order[small] = metis_order(side[small]);
 
   std::vector<int> perm;
   perm.reserve(static_cast<std::size_t>(n));
-  for (const Piece& p : plan) {
-    const std::vector<int>& v = p.leaf >= 0 ? order[p.leaf] : p.separator;
-    perm.insert(perm.end(), v.begin(), v.end());
-  }
+  for (const auto& o : order) perm.insert(perm.end(), o.begin(), o.end());
+  for (int v = 0; v < n; ++v)
+    if (part[v] == 2) perm.push_back(v);
   // A child's answer is checked like any input: together, a permutation of the whole graph.
   std::vector<char> seen(static_cast<std::size_t>(n), 0);
   for (int v : perm)
