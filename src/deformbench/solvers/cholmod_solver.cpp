@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "solvers/backends.h"
 #include "solvers/cholmod_views.h"
+#include "solvers/graph_ordering.h"
 #include "solvers/solver_util.h"
 
 namespace db {
@@ -72,17 +73,14 @@ std::vector<int> block_permutation(const BlockGraph& g, int b, const std::string
     const int status = amd_order(g.nb, g.Ap.data(), g.Ai.data(), P.data(), nullptr, info);
     if (status != AMD_OK && status != AMD_OK_BUT_JUMBLED)
       throw SolverError(fmt::format("amd_order on the {0}x{0} block graph failed (status {1})", g.nb, status));
+  } else if (method == "metis") {
+    P = metis_permutation({g.nb, g.Ap.data(), g.Ai.data()});  // the project's METIS (solvers/graph_ordering)
   } else {
     // Pattern-only symmetric view (stype = 1 reads the upper part of the full adjacency).
     cholmod_sparse G = cholmod_upper_view(nb, g.Ap.data(), g.Ai.data(), nullptr);
-    bool ok;
-    if (method == "metis") {
-      ok = cholmod_metis(&G, nullptr, 0, /*postorder=*/0, P.data(), &cc);
-    } else {
-      std::vector<int> cparent(nb), cmember(nb);
-      ok = cholmod_nested_dissection(&G, nullptr, 0, P.data(), cparent.data(), cmember.data(), &cc) >= 0;
-    }
-    if (!ok || cc.status < CHOLMOD_OK)
+    std::vector<int> cparent(nb), cmember(nb);
+    if (cholmod_nested_dissection(&G, nullptr, 0, P.data(), cparent.data(), cmember.data(), &cc) < 0 ||
+        cc.status < CHOLMOD_OK)
       throw SolverError(fmt::format("CHOLMOD {} on the {}x{} block graph failed: {}", method, g.nb, g.nb,
                                     status_name(cc.status)));
   }

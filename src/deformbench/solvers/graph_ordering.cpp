@@ -45,22 +45,25 @@ SubGraph induced(const GraphPattern& g, const std::vector<int>& part, int which)
   return h;
 }
 
-//! METIS nested dissection of a subgraph, as graph indices in elimination order. Unpostordered: the analysis
-//! of the whole graph postorders at the end.
-std::vector<int> metis_order(const SubGraph& g) {
-  const std::size_t n = g.vertices.size();
+//! METIS nested dissection of g, as indices in elimination order: vertices[k] for vertex k when given, else k.
+//! Unpostordered: the analysis of the whole graph postorders at the end.
+std::vector<int> metis_order(const GraphPattern& g, const std::vector<int>* vertices = nullptr) {
+  const std::size_t n = std::size_t(g.n);
   if (n == 0) return {};
   cholmod_common cc;
   cholmod_start(&cc);
   const CommonPtr guard(&cc, cholmod_finish);
   cc.print = 0;
-  cholmod_sparse A = cholmod_upper_view(n, g.colptr.data(), g.rows.data(), nullptr);
+  cholmod_sparse A = cholmod_upper_view(n, g.colptr, g.rows, nullptr);
   std::vector<int> perm(n);
   if (!cholmod_metis(&A, nullptr, 0, false, perm.data(), &cc))
-    throw SolverError(fmt::format("METIS ordering failed on a part of {} vertices, CHOLMOD status {}", n,
-                                  cc.status));
-  for (int& p : perm) p = g.vertices[static_cast<std::size_t>(p)];
+    throw SolverError(fmt::format("METIS ordering failed on {} vertices, CHOLMOD status {}", n, cc.status));
+  if (vertices)
+    for (int& p : perm) p = (*vertices)[static_cast<std::size_t>(p)];
   return perm;
+}
+std::vector<int> metis_order(const SubGraph& g) {
+  return metis_order({int(g.size()), g.colptr.data(), g.rows.data()}, &g.vertices);
 }
 
 //! A vector of `count` ints computed by a forked child process while this one goes on, sent back through a
@@ -173,9 +176,10 @@ std::vector<int> dissected_metis_order(const GraphPattern& pat, cholmod_common& 
 
 }  // namespace
 
+// Below this size METIS takes a few tens of milliseconds and the split would not pay for its bisection.
+constexpr int kDissectVertices = 20000;
+
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc) {
-  // Below this size METIS takes a few tens of milliseconds and the split would not pay for its bisection.
-  constexpr int kDissectVertices = 20000;
   const std::vector<int> given =
       method == "metis" && g.n >= kDissectVertices ? dissected_metis_order(g, cc) : std::vector<int>{};
   cc.nmethods = 1;
@@ -190,6 +194,17 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
                                   method, g.n, cc.status));
   }
   return L;
+}
+
+std::vector<int> metis_permutation(const GraphPattern& g) {
+  if (g.n >= kDissectVertices) {
+    cholmod_common cc;
+    cholmod_start(&cc);
+    const CommonPtr guard(&cc, cholmod_finish);
+    cc.print = 0;
+    if (std::vector<int> perm = dissected_metis_order(g, cc); !perm.empty()) return perm;
+  }
+  return metis_order(g);
 }
 
 }  // namespace db

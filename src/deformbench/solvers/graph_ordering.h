@@ -1,13 +1,16 @@
 #pragma once
 //! Fill-reducing ordering and symbolic analysis of a symmetric graph given by the upper triangle of its pattern,
-//! shared by the structured builds' vertex ordering (systems/vertex_ordering) and the multifrontal backend.
+//! shared by the structured builds' vertex ordering (systems/vertex_ordering) and the multifrontal and CHOLMOD
+//! backends' orderings of block graphs.
 #include <string>
+#include <vector>
 
 #include <cholmod.h>
 
 namespace db {
 
-//! Upper triangle (with the diagonal) of a symmetric n x n pattern, sorted CSC; not owned.
+//! A symmetric n x n pattern as sorted CSC, of which only the upper triangle is read (the upper triangle with
+//! the diagonal, or the full adjacency); not owned.
 struct GraphPattern {
   int n = 0;
   const int* colptr = nullptr;
@@ -21,5 +24,10 @@ struct GraphPattern {
 //! between runs); the result does not depend on the thread count. The caller frees the factor.
 //! \throw SolverError when CHOLMOD fails.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc);
+
+//! METIS's fill-reducing order of `g` (perm[new] = old), not postordered; on 20000 vertices or more dissected
+//! as in analyze_graph, so that every METIS ordering in the project is the same for the same graph.
+//! \throw SolverError when METIS fails.
+std::vector<int> metis_permutation(const GraphPattern& g);
 
 }  // namespace db
