@@ -41,6 +41,7 @@ const char* kUsage = R"(usage:
       --build structured|naive|dense   how the normal matrix is formed (default structured)
       --solver NAME              linear solver backend (default multifrontal; see `deformbench solvers`)
       --ordering amd|metis|nesdis|natural|default
+      --factor-dir DIR           out of core: keep the factor in a scratch file in DIR (multifrontal only)
       --no-normalize             build in raw coordinates (for diagnosis; TF may fail)
       --transform SPEC           override the edit's handle transform (translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | matrix:...)
       --frames N                 interpolate the transform over N frames, report the median frame time (default 1)
@@ -70,6 +71,7 @@ int cmd_deform(const db::Args& a) {
   o.build = db::parse_build(a.get("--build", "structured"));
   o.solver = a.get("--solver", "multifrontal");
   o.solver_options.ordering = a.get("--ordering", "default");
+  o.solver_options.factor_dir = a.get("--factor-dir", "");
   o.normalize = !a.has("--no-normalize");
   if (a.has("--memory-budget-mb"))
     o.memory_budget = static_cast<std::size_t>(a.number("--memory-budget-mb", 0) * 1e6);
@@ -104,9 +106,17 @@ int cmd_deform(const db::Args& a) {
   fmt::print("method {} | build {} | solver {} | constraints {}\n", o.method, db::to_string(o.build), o.solver,
              db::to_string(o.constraints));
   for (const auto& s : deformer->systems())
-    fmt::print("  system {}: n {} | nnz {} | ordering {} | matrix {:.2f} MB | factor {:.2f} MB (nnz(L) {}, {:.2f} GFlop)\n",
+    fmt::print("  system {}: n {} | nnz {} | ordering {} | matrix {:.2f} MB | factor {:.2f} MB{} (nnz(L) {}, {:.2f} GFlop) "
+               "| min pivot/diagonal {:.3g}\n",
                s.name, s.n, s.nnz, s.factor.ordering_used, s.matrix_bytes / 1e6, s.factor.factor_bytes / 1e6,
-               s.factor.nnz_factor, s.factor.flops / 1e9);
+               s.factor.factor_on_disk ? " on disk" : "", s.factor.nnz_factor, s.factor.flops / 1e9,
+               s.factor.min_pivot_ratio);
+  for (const auto& s : deformer->systems())
+    if (s.factor.min_pivot_ratio > 0 && s.factor.min_pivot_ratio < db::singular_pivot_bound(s.n))
+      fmt::print("  note: system {} is ill-conditioned: its smallest pivot is {:.2g} of its diagonal entry, under the "
+                 "{:.2g} (10 n eps) a singular matrix's rounding noise reaches; the constraints pin its null space, so "
+                 "it is solved, but expect fewer correct digits\n",
+                 s.name, s.factor.min_pivot_ratio, db::singular_pivot_bound(s.n));
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
   fmt::print("per frame (median of {}): {:.5f} s (medians: rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames,
@@ -134,6 +144,7 @@ int cmd_deform(const db::Args& a) {
              {"build", db::to_string(o.build)},
              {"backend", o.solver},
              {"ordering", sys.factor.ordering_used},
+             {"factor_storage", sys.factor.factor_on_disk ? "disk" : "memory"},
              {"n", std::to_string(sys.n)},
              {"nnz", std::to_string(sys.nnz)},
              {"nnz_factor", std::to_string(sys.factor.nnz_factor)},

@@ -41,6 +41,7 @@ def cells(rows, extra_key=()):
         key = (r["model"], r["system"], r["build"]) + tuple(r[k] for k in extra_key)
         c = out[key]
         c["status"] = r["status"]
+        c["storage"] = r.get("factor_storage", "memory")
         if r["vertices"]:
             c["vertices"] = float(r["vertices"])
         if r["value"] != "":
@@ -133,12 +134,17 @@ def plot_scaling(results, out):
     for ax, (measure, scale, label) in zip(axes, panels):
         for system, color in (("lap", "tab:green"), ("tf", "tab:purple")):
             for s in series:
-                pts = sorted((c["vertices"], c[measure] / scale) for k, c in data.items()
-                             if k[1] == system and k[3] == s and c["status"] == "ok" and measure in c)
-                if pts:
-                    xs, ys = zip(*pts)
-                    ax.plot(xs, ys, linestyle="none", marker=markers[s], color=color, alpha=0.75,
-                            label=f"{system.upper()} {s}")
+                # Out-of-core cells (factor on disk) drawn hollow: their frames read the factor back from the
+                # page cache, and the fits leave their frame time and peak RSS out.
+                for storage, face in (("memory", color), ("disk", "none")):
+                    pts = sorted((c["vertices"], c[measure] / scale) for k, c in data.items()
+                                 if k[1] == system and k[3] == s and c["status"] == "ok" and measure in c
+                                 and c["storage"] == storage)
+                    if pts:
+                        xs, ys = zip(*pts)
+                        ax.plot(xs, ys, linestyle="none", marker=markers[s], color=color, markerfacecolor=face,
+                                alpha=0.75,
+                                label=f"{system.upper()} {s}" + (" (factor on disk)" if storage == "disk" else ""))
             f = fit.get(("all", system, measure))
             if f and f["exponent"] not in ("", "nan"):
                 k, c = float(f["exponent"]), float(f["coefficient"])

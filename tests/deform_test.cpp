@@ -252,13 +252,41 @@ TEST(Deform, ComponentWithoutConstraintIsReportedSingular) {
   }
 }
 
-TEST(Deform, TfWithASingleHandleVertexAndNothingFixedIsRejectedNotNaN) {
-  // One point constraint leaves TF's linearized similarities free: the factorization must fail loudly.
+// TF is blind to the linearized similarities (s I + [h]x) v + t: constrained vertices that all lie on one line (a
+// single one, or the tube's seam) leave the tube free to rotate about it, so the system is singular; the
+// structural check says so before any factorization (whose pivot test no longer decides for the deformers).
+// Three pins off one line are enough, and LAP needs only one.
+TEST(Deform, TfPinnedOnOneLineIsRejectedAsSingular) {
   const Mesh m = tube();
-  Edit e;
-  e.roles.assign(m.num_vertices(), Role::Free);
-  e.roles[0] = Role::Handle;
-  EXPECT_THROW(make_deformer(m, e, opts("tf")), SolverError);
+  std::vector<int> seam;  // vertices on the line y = 0, x > 0 (parallel to the axis)
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (std::abs(m.V(v, 1)) < 1e-12 && m.V(v, 0) > 0) seam.push_back(v);
+  ASSERT_GE(seam.size(), 3u);
+  auto pinned = [&](const std::vector<int>& vs) {
+    Edit e;
+    e.roles.assign(m.num_vertices(), Role::Free);
+    for (int v : vs) e.roles[v] = Role::Handle;
+    return e;
+  };
+  int off_line = -1;  // a vertex of the first seam vertex's ring, a quarter turn away
+  for (int v = 0; v < m.num_vertices() && off_line < 0; ++v)
+    if (std::abs(m.V(v, 2) - m.V(seam[0], 2)) < 1e-12 && std::abs(m.V(v, 0)) < 1e-9) off_line = v;
+  ASSERT_GE(off_line, 0);
+  for (ConstraintMode mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
+    SCOPED_TRACE(to_string(mode));
+    for (const std::vector<int>& pins : {std::vector<int>{0}, seam}) {
+      try {
+        make_deformer(m, pinned(pins), opts("tf", mode));
+        FAIL() << "expected InputError for " << pins.size() << " pin(s) on one line";
+      } catch (const InputError& err) {
+        EXPECT_NE(std::string(err.what()).find("one line"), std::string::npos) << err.what();
+      }
+      EXPECT_TRUE(make_deformer(m, pinned(pins), opts("lap", mode))->deform(Mat4::Identity()).allFinite());
+    }
+    const Points out = make_deformer(m, pinned({seam[0], seam.back(), off_line}), opts("tf", mode))
+                           ->deform(Mat4::Identity());
+    EXPECT_LT(rel_rms(out, m.V), 1e-8);  // the identity edit keeps the mesh
+  }
 }
 
 // The BS08 survey cases, read from ../shared when present.

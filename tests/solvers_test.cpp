@@ -1,6 +1,7 @@
 // Conformance of every registered solver backend (TEST_P over solver_names()), plus backend specifics.
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <utility>
 #include <random>
 #include <string>
@@ -11,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "core/resources.h"
 #include "solvers/least_squares.h"
 #include "solvers/linear_solver.h"
 
@@ -440,6 +442,88 @@ TEST(Multifrontal, ConsumingReleasesWithoutChangingTheFactor) {
     // The reference ran on one thread; two threads sum in another order (this torus system is ill-conditioned).
     EXPECT_LT(rel(Xc, Xa), threads == 1 ? 1e-13 : 1e-10) << threads << " thread(s)";
     EXPECT_LT(rel(DenseMat(full * Xc), B), 1e-9);
+  }
+}
+
+// Out of core: the factor lives in a scratch file and only the supernode at work is resident. The same
+// factorization (one thread: bitwise), a factor that stays out of the resident set, and clear errors for a
+// backend that cannot and for a directory that does not exist.
+TEST(Multifrontal, OutOfCoreFactorMatchesInMemoryAndIsNotResident) {
+  std::mt19937 rng(18);
+  const SpMat full = kron3(normal_equations(mesh_laplacian(130, 120, true, rng), 8, rng));
+  const SpMat upper = upper_of(full);
+  const DenseMat B = random_rhs(full.rows(), 3, rng);
+  db::SolverOptions o;
+  o.block_size = 3;
+  db::SolverOptions d = o;
+  d.factor_dir = std::filesystem::temp_directory_path().string();
+  for (int threads : {1, 2}) {
+    ThreadsEnv env(threads);
+    DenseMat X[2];
+    std::size_t grew[2], factor_bytes = 0;
+    for (int k = 0; k < 2; ++k) {
+      auto s = db::make_solver("multifrontal", k == 0 ? o : d);
+      s->analyze(upper);
+      const std::size_t before = db::current_rss_bytes();
+      s->factorize(upper);
+      s->solve(B, X[k]);
+      grew[k] = db::current_rss_bytes() - std::min(before, db::current_rss_bytes());
+      EXPECT_EQ(s->stats().factor_on_disk, k == 1);
+      factor_bytes = s->stats().factor_bytes;
+    }
+    ASSERT_GT(factor_bytes, std::size_t(48) << 20) << factor_bytes;  // large enough to tell resident from not
+    if (threads == 1)
+      EXPECT_TRUE(X[1] == X[0]);
+    else
+      EXPECT_LT(rel(X[1], X[0]), 1e-10);  // the top phase adds subtree roots in completion order
+    EXPECT_LT(rel(DenseMat(full * X[1]), B), 1e-9);
+    // Out of core what stays is heap the threads' allocators keep (update matrices), tens of MB here.
+    EXPECT_GT(grew[0], factor_bytes * 9 / 10) << "in memory the factor is resident; " << threads << " thread(s)";
+    EXPECT_LT(grew[1], factor_bytes / 2) << "out of core it is not; " << threads << " thread(s)";
+  }
+  EXPECT_THROW(db::make_solver("cholmod_supernodal", d), db::Error);
+  db::SolverOptions missing = o;
+  missing.factor_dir = (std::filesystem::temp_directory_path() / "deformbench-no-such-dir").string();
+  auto s = db::make_solver("multifrontal", missing);
+  try {
+    s->factorize(upper);
+    FAIL() << "expected an error for a missing directory";
+  } catch (const db::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("deformbench-no-such-dir"), std::string::npos) << e.what();
+  }
+}
+
+// A regular matrix whose smallest pivot is under the singular-input bound 10 n eps: a 2 x 2 block
+// [1, 1 - e; 1 - e, 1] (pivot 2e - e^2 = 2e-13 of its diagonal) in a 1000-unknown identity (bound 2.2e-12).
+// The pivot test rejects it by default; turned off, the factorization goes through, reports the pivot, and
+// solves (x = 1 / (2 - e) on both unknowns for b = (1, 1)).
+TEST(PivotTest, RegularButBelowTheBoundIsRejectedOnlyWhenAsked) {
+  const int n = 1000;
+  const double e = 1e-13;
+  Triplets t;
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, 1.0);
+  t.emplace_back(0, 1, 1.0 - e);
+  SpMat upper(n, n);
+  upper.setFromTriplets(t.begin(), t.end());
+  ASSERT_LT(2 * e, db::singular_pivot_bound(n));
+  DenseMat B = DenseMat::Ones(n, 1);
+  for (const std::string backend : {"multifrontal", "cholmod_supernodal"}) {
+    SCOPED_TRACE(backend);
+    db::SolverOptions o;
+    o.ordering = "natural";
+    auto strict = db::make_solver(backend, o);
+    strict->analyze(upper);
+    EXPECT_THROW(strict->factorize(upper), db::SolverError);
+    o.pivot_singularity_test = false;
+    auto relaxed = db::make_solver(backend, o);
+    relaxed->analyze(upper);
+    relaxed->factorize(upper);
+    EXPECT_NEAR(relaxed->stats().min_pivot_ratio, 2 * e, 2e-3 * 2 * e);
+    DenseMat X;
+    relaxed->solve(B, X);
+    EXPECT_NEAR(X(0, 0), 1 / (2 - e), 1e-9);
+    EXPECT_NEAR(X(1, 0), 1 / (2 - e), 1e-9);
+    EXPECT_EQ(X(2, 0), 1.0);
   }
 }
 

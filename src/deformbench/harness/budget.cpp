@@ -136,6 +136,7 @@ CellPredictor::VertexFactor CellPredictor::vertex_factor(const std::string& back
   f.backend = used;
   f.nnz = static_cast<double>(st.nnz_factor);
   f.flops = st.flops > 0 ? st.flops : 0;
+  f.workspace_bytes = static_cast<double>(st.workspace_bytes);
   f.basis = fmt::format("{} analyze of the {}-vertex 2-ring graph ({} ordering, {} nonzeros in the upper triangle)",
                         used, nu, st.ordering_used, P.nonZeros());
   vertex_nnz_upper_ = static_cast<double>(P.nonZeros());
@@ -179,7 +180,11 @@ Prediction CellPredictor::predict(const CellSpec& spec) {
   p.factor_nnz = b * b * (vf.nnz - nuv) + b * (b + 1) / 2 * nuv;
   p.factor_flops = b * b * b * vf.flops;
   p.factor_bytes = (vf.backend == "multifrontal" ? kMultifrontalSlack : kSupernodalSlack) * 8 * p.factor_nnz + 4 * 6 * nu;
-  p.total_bytes = p.build_bytes + p.factor_bytes + base;
+  // Update matrices grow with the square of the front order: b^2 times the vertex graph's.
+  p.workspace_bytes = b * b * vf.workspace_bytes;
+  // Out of core the factor's values are not resident (a supernode at a time); its row indices are.
+  const double resident_factor = spec.factor_dir.empty() ? p.factor_bytes : 4 * 6 * nu + 8 * nu;
+  p.total_bytes = p.build_bytes + resident_factor + p.workspace_bytes + base;
   const double nnz_k = b * b * (vertex_nnz_upper_ - nuv) + b * (b + 1) / 2 * nuv;
   double stencil = 0;  // sum over row blocks of (#columns)^2: the A^T A product's multiply-adds / b^3
   for (int i = 0; i < mesh_.num_vertices(); ++i) stencil += std::pow(adj_.degree(i) + 1.0, 2);

@@ -37,6 +37,7 @@ class CellPredictor {
   struct VertexFactor {
     std::string backend;  // the backend whose analysis counted it
     double nnz = 0, flops = 0;
+    double workspace_bytes = 0;  // the backend's working storage besides the factor (FactorStats)
     std::string basis;
   };
   VertexFactor vertex_factor(const std::string& backend, const std::string& ordering);

@@ -39,6 +39,7 @@ const std::vector<Field>& fields() {
       {"nnz", "count", &CellResult::nnz, false},
       {"nnz_factor", "count", &CellResult::nnz_factor, false},
       {"factor_flops", "flop", &CellResult::factor_flops, false},
+      {"min_pivot_ratio", "ratio", &CellResult::min_pivot_ratio, false},
       {"build_s", "s", &CellResult::build_s, true},
       {"analyze_s", "s", &CellResult::analyze_s, true},
       {"factorize_s", "s", &CellResult::factorize_s, true},
@@ -85,7 +86,7 @@ CellResult::CellResult() {
 std::string CellSpec::key() const { return fmt::format("{}/{}/{}/{}", model, system, build, backend_label()); }
 
 std::vector<std::string> CellSpec::to_args() const {
-  return {"--cell",
+  std::vector<std::string> args = {"--cell",
           "--model", model,
           "--mesh", mesh_path,
           "--system", system,
@@ -98,6 +99,8 @@ std::vector<std::string> CellSpec::to_args() const {
           "--drag", fmt::format("{}", edit.drag_fraction),
           "--memory-budget-bytes", std::to_string(memory_budget_bytes),
           "--address-space-limit", std::to_string(address_space_limit)};
+  if (!factor_dir.empty()) args.insert(args.end(), {"--factor-dir", factor_dir});
+  return args;
 }
 
 CellSpec CellSpec::from_args(const Args& a) {
@@ -110,6 +113,7 @@ CellSpec CellSpec::from_args(const Args& a) {
   s.build = a.get("--build", s.build);
   s.backend = a.get("--backend", s.backend);
   s.ordering = a.get("--ordering", s.ordering);
+  s.factor_dir = a.get("--factor-dir", s.factor_dir);
   s.frames = static_cast<int>(a.number("--frames", s.frames));
   s.edit.handle_count = static_cast<int>(a.number("--handle", s.edit.handle_count));
   s.edit.anchor_count = static_cast<int>(a.number("--anchors", s.edit.anchor_count));
@@ -130,6 +134,7 @@ std::vector<Measure> measures(const CellResult& r) {
   const Prediction& p = r.predicted;
   m.push_back({"predicted_build_bytes", p.build_bytes, "bytes"});
   m.push_back({"predicted_factor_bytes", p.factor_bytes, "bytes"});
+  m.push_back({"predicted_workspace_bytes", p.workspace_bytes, "bytes"});
   m.push_back({"predicted_bytes", p.total_bytes, "bytes"});
   m.push_back({"predicted_factor_nnz", p.factor_nnz, "count"});
   m.push_back({"predicted_factor_flops", p.factor_flops, "flop"});
@@ -175,6 +180,7 @@ CellResult measure_cell(const CellSpec& spec) {
   o.build = parse_build(spec.build);
   o.solver = spec.backend;
   o.solver_options.ordering = spec.ordering;
+  o.solver_options.factor_dir = spec.factor_dir;
   o.memory_budget = spec.memory_budget_bytes;
   auto d = make_deformer(mesh, edit, o);
 
@@ -194,6 +200,7 @@ CellResult measure_cell(const CellSpec& spec) {
   r.nnz = static_cast<double>(s.nnz);
   r.nnz_factor = static_cast<double>(s.factor.nnz_factor);
   r.factor_flops = s.factor.flops;
+  r.min_pivot_ratio = s.factor.min_pivot_ratio;
   r.ordering = s.factor.ordering_used;
   r.build_s = t.build;
   r.analyze_s = t.analyze;

@@ -21,6 +21,8 @@ struct CellSpec {
   std::string build = "structured";     //!< "dense" | "naive" | "structured"
   std::string backend = "multifrontal";  //!< solver registry name (dense build: Eigen's LLT, see backend_label)
   std::string ordering = "default";
+  //! Out of core: the factor goes to a scratch file in this directory (SolverOptions::factor_dir); "" = memory.
+  std::string factor_dir;
   int frames = 20;
   ThesisEditOptions edit;
   std::size_t memory_budget_bytes = 0;  //!< handed to DeformOptions::memory_budget (the systems layer's own check)
@@ -34,12 +36,15 @@ struct CellSpec {
   std::string backend_label() const { return build == "dense" ? "eigen_llt" : backend; }
   //! "hand/tf/structured/multifrontal"
   std::string key() const;
+  //! "disk" when the factor is kept out of core, else "memory".
+  std::string factor_storage() const { return factor_dir.empty() ? "memory" : "disk"; }
 };
 
 //! What a bounded, budget-checked cell was predicted to need before it was allowed to run.
 struct Prediction {
   double build_bytes = 0;   //!< predict_build_bytes (dense: includes the LLT's copy of K)
   double factor_bytes = 0;  //!< dense: n^2 * 8; sparse: from a symbolic analysis of the vertex graph
+  double workspace_bytes = 0;  //!< the factorization's working storage besides the factor (update matrices)
   double total_bytes = 0;   //!< what the memory budget is checked against
   double factor_nnz = 0, factor_flops = 0, build_flops = 0;
   double seconds = 0;       //!< what the time budget is checked against (build + analyze + factor + frames)
@@ -52,7 +57,7 @@ struct CellResult {
   std::string message;        //!< why, for anything but ok
   std::string ordering;       //!< fill-reducing ordering the backend used
   // Measured by the child.
-  double vertices, n, nnz, nnz_factor, factor_flops;
+  double vertices, n, nnz, nnz_factor, factor_flops, min_pivot_ratio;
   double build_s, analyze_s, factorize_s, init_s;
   double frames, frame_s, rhs_s, solve_s, write_s, fps;  // medians over frames; fps = 1 / frame_s
   double matrix_bytes, factor_bytes, held_total_bytes;

@@ -39,9 +39,27 @@ std::vector<Constraint> classify(const Edit& edit, ConstraintMode mode) {
   return kind;
 }
 
-void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind) {
+namespace {
+
+//! Whether some three of the points are not on one line (to a relative 1e-6 of their extent).
+bool spans_a_plane(const Points& V, const std::vector<int>& pts) {
+  if (pts.size() < 3) return false;
+  const Vec3 p0 = V.row(pts[0]).transpose();
+  Vec3 d = Vec3::Zero();
+  for (int v : pts)
+    if ((V.row(v).transpose() - p0).squaredNorm() > d.squaredNorm()) d = V.row(v).transpose() - p0;
+  if (d.squaredNorm() == 0) return false;
+  for (int v : pts)
+    if ((V.row(v).transpose() - p0).cross(d).norm() > 1e-6 * d.squaredNorm()) return true;
+  return false;
+}
+
+}  // namespace
+
+void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind,
+                                    const Points* positions) {
   const int n = adj.num_vertices();
-  std::vector<int> comp(n, -1), stack;
+  std::vector<int> comp(n, -1), stack, pins;
   for (int s = 0; s < n; ++s) {
     if (comp[s] >= 0 || kind[s] == Constraint::Hard) continue;
     // Flood the unknowns reachable from s; the component is anchored when it holds a soft vertex or
@@ -50,14 +68,19 @@ void check_every_component_anchored(const Adjacency& adj, const std::vector<Cons
     int size = 0;
     stack.assign(1, s);
     comp[s] = s;
+    pins.clear();
     while (!stack.empty()) {
       const int v = stack.back();
       stack.pop_back();
       ++size;
-      if (kind[v] == Constraint::Soft) anchored = true;
+      if (kind[v] == Constraint::Soft) {
+        anchored = true;
+        pins.push_back(v);
+      }
       for (const int* p = adj.begin(v); p != adj.end(v); ++p) {
         if (kind[*p] == Constraint::Hard) {
           anchored = true;
+          pins.push_back(*p);
         } else if (comp[*p] < 0) {
           comp[*p] = s;
           stack.push_back(*p);
@@ -68,6 +91,12 @@ void check_every_component_anchored(const Adjacency& adj, const std::vector<Cons
       throw InputError(fmt::format(
           "singular system: {} free vertices (component containing vertex {}) touch no fixed vertex, handle or "
           "soft anchor",
+          size, s));
+    if (positions && !spans_a_plane(*positions, pins))
+      throw InputError(fmt::format(
+          "singular system: {} free vertices (component containing vertex {}) are held by constrained vertices "
+          "that all lie on one line; TF needs three not on one line, or the component can rotate about that line "
+          "at no cost",
           size, s));
   }
 }

@@ -78,8 +78,12 @@ std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, cons
 //! Per vertex: how it enters the system under the given mode.
 std::vector<Constraint> classify(const Edit& edit, ConstraintMode mode);
 
-//! Throws InputError when some connected set of unknown vertices touches no constrained vertex (the system
-//! would be singular there). `constrained[v]` is true for hard and soft vertices.
-void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind);
+//! Throws InputError when the constraints leave some connected set of unknown vertices free to move at no cost
+//! (the system would be singular there). Each set must hold or border a constrained (soft or hard) vertex: LAP's
+//! energy is blind to translations. With `positions` (TF), among them three not on one line: TF's energy is
+//! blind to the linearized similarities (s I + [h]x) v + t, which leave two points, or any points on one line,
+//! in place while rotating about that line.
+void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind,
+                                    const Points* positions = nullptr);
 
 }  // namespace db

@@ -204,7 +204,8 @@ class CholmodSolver final : public LinearSolver {
       throw SolverError(fmt::format("{}: cholmod_factorize failed: {}", name(), status_name(cc_.status)));
     // LDL^T succeeds on indefinite matrices, and a singular PSD matrix may factor with rounding-noise
     // pivots; both would give garbage solutions, so inspect the pivots.
-    check_pivots(pivots(), static_cast<const int*>(L_->Perm), upper, "CHOLMOD");
+    stats_.min_pivot_ratio = check_pivots(pivots(), static_cast<const int*>(L_->Perm), upper, "CHOLMOD",
+                                          options_.pivot_singularity_test);
     stats_.factor_bytes = factor_bytes();
     factored_ = true;
   }

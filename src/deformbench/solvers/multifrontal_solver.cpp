@@ -16,13 +16,17 @@
 //!    few top fronts after them with the multithreaded BLAS; the solves are split the same way.
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <numeric>
+#include <string>
 #include <vector>
 
 #include <dlfcn.h>
+#include <fcntl.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -124,11 +128,23 @@ struct FactorBlock {
   double* rect(int p) const { return tri(p) + std::size_t(width(p)) * std::size_t(width(p) + 1) / 2; }
 };
 
-//! Doubles in an anonymous mapping of their own. Why not the heap: freed heap blocks stay in the process
+std::uintptr_t page_size() {
+  static const std::uintptr_t p = std::uintptr_t(::sysconf(_SC_PAGESIZE));
+  return p;
+}
+std::uintptr_t page_up(std::uintptr_t x) { return (x + page_size() - 1) & ~(page_size() - 1); }
+std::uintptr_t page_down(std::uintptr_t x) { return x & ~(page_size() - 1); }
+
+//! Doubles in a mapping of their own, zero-filled. Why not the heap: freed heap blocks stay in the process
 //! (glibc keeps them for reuse), so the large update matrices near the root, freed during the factorization,
-//! stayed resident next to the whole factor; a mapping goes back to the OS when released. Advised for
-//! transparent huge pages where the kernel offers them ("madvise" mode): first-touch faults on ~1 GB of 4 KB
-//! pages cost a tenth of a second, and the solves stream through the factor every frame.
+//! stayed resident next to the whole factor; a mapping goes back to the OS when released.
+//!  - Anonymous (the default): advised for transparent huge pages where the kernel offers them ("madvise"
+//!    mode): first-touch faults on ~1 GB of 4 KB pages cost a tenth of a second, and the solves stream through
+//!    the factor every frame.
+//!  - On a file (out of core): an unlinked scratch file, its blocks reserved up front so that a full disk is a
+//!    clear error here and not a SIGBUS on some later write. Its pages belong to the page cache: release() drops
+//!    them from this process's resident set and the kernel writes them back and may evict them; they come back
+//!    from the file when touched again.
 class Mapping {
  public:
   Mapping() = default;
@@ -140,10 +156,40 @@ class Mapping {
 #endif
     data_ = static_cast<double*>(p);
   }
-  Mapping(Mapping&& o) noexcept : data_(o.data_), bytes_(o.bytes_) { o.data_ = nullptr; }
+  //! `count` doubles in a scratch file in directory `dir`. \throw Error when it cannot be created (no such
+  //! directory), BudgetError when its space cannot be reserved (disk full).
+  static Mapping on_file(std::size_t count, const char* what, const std::string& dir) {
+    Mapping m;
+    m.bytes_ = std::max<std::size_t>(count, 1) * sizeof(double);
+    int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+    if (fd < 0) {  // a file system without O_TMPFILE: a named file, unlinked at once
+      std::string name = dir + "/deformbench-factor-XXXXXX";
+      fd = ::mkostemp(name.data(), O_CLOEXEC);
+      if (fd >= 0) ::unlink(name.c_str());
+    }
+    if (fd < 0)
+      throw Error(fmt::format("multifrontal: cannot create a scratch file for {} in '{}': {}", what, dir,
+                              std::strerror(errno)));
+    if (const int err = ::posix_fallocate(fd, 0, off_t(m.bytes_)); err != 0) {
+      ::close(fd);
+      throw BudgetError(fmt::format("multifrontal: cannot reserve {} MB in '{}' for {}: {}", m.bytes_ >> 20, dir, what,
+                                    std::strerror(err)));
+    }
+    void* p = ::mmap(nullptr, m.bytes_, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    const int map_errno = errno;
+    ::close(fd);  // the mapping keeps the file
+    if (p == MAP_FAILED)
+      throw BudgetError(fmt::format("multifrontal: cannot map {} MB of '{}' for {}: {}", m.bytes_ >> 20, dir, what,
+                                    std::strerror(map_errno)));
+    m.data_ = static_cast<double*>(p);
+    m.on_file_ = true;
+    return m;
+  }
+  Mapping(Mapping&& o) noexcept : data_(o.data_), bytes_(o.bytes_), on_file_(o.on_file_) { o.data_ = nullptr; }
   Mapping& operator=(Mapping&& o) noexcept {
     std::swap(data_, o.data_);
     std::swap(bytes_, o.bytes_);
+    std::swap(on_file_, o.on_file_);
     return *this;
   }
   Mapping(const Mapping&) = delete;
@@ -154,10 +200,19 @@ class Mapping {
   double* get() const { return data_; }
   explicit operator bool() const { return data_ != nullptr; }
   void reset() { *this = Mapping(); }
+  //! On a file: drops the pages holding [from, to) from the resident set, whole pages outward. The data stays:
+  //! a shared file page written by another thread meanwhile keeps that write (dropping only unmaps it).
+  void release(const double* from, const double* to) const {
+    if (!on_file_ || from >= to) return;
+    const std::uintptr_t a = page_down(reinterpret_cast<std::uintptr_t>(from)),
+                         e = page_up(reinterpret_cast<std::uintptr_t>(to));
+    ::madvise(reinterpret_cast<void*>(a), e - a, MADV_DONTNEED);
+  }
 
  private:
   double* data_ = nullptr;
   std::size_t bytes_ = 0;
+  bool on_file_ = false;
 };
 
 //! A supernode's update matrix (its r x r Schur complement, lower triangle) in column panels of kWidth
@@ -183,7 +238,8 @@ class UpdateBlock {
   int panels() const { return (r_ + kWidth - 1) / kWidth; }
   int width(int u) const { return std::min(kWidth, r_ - u * kWidth); }
   //! Whether an update matrix of order r gets a mapping of its own (and is zero-filled by the kernel).
-  static bool mapped(int r) { return entries(r) * sizeof(double) >= kMapBytes; }
+  static bool mapped(int r) { return bytes(r) >= kMapBytes; }
+  static std::size_t bytes(int r) { return entries(r) * sizeof(double); }
   //! Panel u; its leading dimension is r - u kWidth.
   double* panel(int u) const {
     // Panels before u are kWidth wide and r, r - kWidth, ... tall.
@@ -286,6 +342,45 @@ Plan schedule(const Symbolic& S, int threads, Cost cost) {
   for (int s : P.top)
     for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) P.top_columns.push_back(j);
   return P;
+}
+
+//! Bytes of update matrices alive at once in a factorization by `plan`, an upper bound: each thread's subtrees in
+//! order (a supernode's matrix is born while its children's still live; theirs die after it), the threads'
+//! peaks summed as if they coincided, plus the matrices of the top supernodes that receive a subtree root's
+//! (born during the subtree phase); or the top phase's own peak, when larger.
+double update_peak(const Symbolic& S, const Plan& plan) {
+  auto U = [&](int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); };
+  std::vector<char> is_top(std::size_t(S.nsuper()), 0);
+  for (int s : plan.top) is_top[std::size_t(s)] = 1;
+  double subtrees = 0;
+  for (const auto& roots : plan.subtrees) {
+    double live = 0, peak = 0;
+    for (int root : roots) {
+      for (int s = S.first[std::size_t(root)]; s <= root; ++s) {
+        live += U(s);
+        peak = std::max(peak, live);
+        for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q) live -= U(S.child[std::size_t(q)]);
+      }
+      live -= U(root);  // handed to its top parent
+    }
+    subtrees += peak;
+  }
+  double early = 0;  // top matrices begun by subtree roots
+  std::vector<char> begun(std::size_t(S.nsuper()), 0);
+  for (const auto& roots : plan.subtrees)
+    for (int root : roots)
+      if (const int p = S.parent[std::size_t(root)]; p >= 0 && !begun[std::size_t(p)]) {
+        begun[std::size_t(p)] = 1;
+        early += U(p);
+      }
+  double live = early, top = early;
+  for (int s : plan.top) {
+    if (!begun[std::size_t(s)]) live += U(s);
+    top = std::max(top, live);
+    for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q)
+      if (const int c = S.child[std::size_t(q)]; is_top[std::size_t(c)]) live -= U(c);  // roots' died at handover
+  }
+  return std::max(subtrees + early, top);
 }
 
 //! The "default" ordering: METIS for block systems, AMD for scalar ones, the structured builds' vertex orderings
@@ -513,6 +608,8 @@ class MultifrontalSolver final : public LinearSolver {
     stats_.ordering_used = (options_.ordering == "default" ? std::string(default_ordering(b)) : options_.ordering) +
                            (b > 1 ? fmt::format("-block{}", b) : "");
     stats_.factor_bytes = factor_bytes();
+    stats_.factor_on_disk = !options_.factor_dir.empty();
+    stats_.workspace_bytes = std::size_t(update_peak(S_, factor_plan_));
   }
 
   void factorize(const SpMat& upper_in) override { factorize_impl(upper_in, nullptr); }
@@ -550,7 +647,9 @@ class MultifrontalSolver final : public LinearSolver {
     // Pages of A whose columns are consumed may be returned: ours (a copy), or the caller's when consumed.
     const bool may_release = &A != &upper_in || consumed != nullptr;
     base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
-    values_ = Mapping(S_.xptr.back(), "the factor");
+    values_ = options_.factor_dir.empty() ? Mapping(S_.xptr.back(), "the factor")
+                                          : Mapping::on_file(S_.xptr.back(), "the factor", options_.factor_dir);
+    pivots_.assign(std::size_t(S_.n), 0.0);
     updates_.clear();
     updates_.resize(std::size_t(S_.nsuper()));
     failed_column_ = -1;
@@ -566,6 +665,7 @@ class MultifrontalSolver final : public LinearSolver {
             ok = false;
             return;
           }
+          release_block(s);
           release.dead_before(S_.col0[std::size_t(s) + 1], s == root);
         }
         // Hand the subtree's update matrix to its (top) parent now rather than when the top phase reaches it:
@@ -583,6 +683,7 @@ class MultifrontalSolver final : public LinearSolver {
       for (int s : factor_plan_.top) {
         release.start(S_.col0[std::size_t(s)]);
         if (!factor_supernode(A, s, ws)) break;
+        release_block(s);
         release.dead_before(S_.col0[std::size_t(s) + 1], true);
       }
     }
@@ -595,7 +696,8 @@ class MultifrontalSolver final : public LinearSolver {
                                     "unknown {})",
                                     k, S_.n, orig));
     }
-    check_pivots(pivots(), S_.perm.empty() ? nullptr : S_.perm.data(), diag, name());
+    stats_.min_pivot_ratio = check_pivots(pivots_, S_.perm.empty() ? nullptr : S_.perm.data(), diag, name(),
+                                          options_.pivot_singularity_test);
     factored_ = true;
     stats_.factor_bytes = factor_bytes();
   }
@@ -631,13 +733,6 @@ class MultifrontalSolver final : public LinearSolver {
       return a == 0 ? reinterpret_cast<std::uintptr_t>(A_.valuePtr() + k)
                     : reinterpret_cast<std::uintptr_t>(A_.innerIndexPtr() + k);
     }
-    static std::uintptr_t page() {
-      static const std::uintptr_t p = std::uintptr_t(::sysconf(_SC_PAGESIZE));
-      return p;
-    }
-    static std::uintptr_t page_up(std::uintptr_t x) { return (x + page() - 1) & ~(page() - 1); }
-    static std::uintptr_t page_down(std::uintptr_t x) { return x & ~(page() - 1); }
-
     const SpMat& A_;
     bool on_;
     std::uintptr_t done_[2] = {0, 0};
@@ -890,6 +985,10 @@ class MultifrontalSolver final : public LinearSolver {
         return false;
       }
       if (h > 0) dtrsm_("R", "L", "T", "N", &h, &w, &one, D, &w, L.rect(q), &h, 1, 1, 1, 1);
+      for (int j = 0; j < w; ++j) {
+        const double l = D[std::size_t(j) * std::size_t(w + 1)];
+        pivots_[std::size_t(f + c0 + j)] = l * l;
+      }
       for (int j = 0; j < w; ++j)
         std::copy(D + std::size_t(j) * std::size_t(w + 1), D + std::size_t(j + 1) * std::size_t(w),
                   T + packed_column(j, w));
@@ -933,6 +1032,7 @@ class MultifrontalSolver final : public LinearSolver {
     const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], m, nc};
     for (int p = 0; p < L.panels(); ++p)
       forward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+    release_block(s);
     for (int k = 0; k < nc; ++k)
       for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
     double* acc = t >= 0 ? acc_[std::size_t(t)].data() : nullptr;
@@ -958,21 +1058,14 @@ class MultifrontalSolver final : public LinearSolver {
     const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], m, nc};
     for (int p = L.panels() - 1; p >= 0; --p)
       backward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+    release_block(s);
     for (int k = 0; k < nc; ++k)
       for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
   }
 
-  std::vector<double> pivots() const {
-    std::vector<double> d(std::size_t(S_.n));
-    for (int s = 0; s < S_.nsuper(); ++s) {
-      const FactorBlock L{values_.get() + S_.xptr[std::size_t(s)], S_.nrows(s), S_.ncols(s)};
-      for (int p = 0; p < L.panels(); ++p)
-        for (int j = 0; j < L.width(p); ++j) {
-          const double l = L.tri(p)[packed_column(j, L.width(p))];
-          d[std::size_t(S_.col0[std::size_t(s)] + L.c0(p) + j)] = l * l;
-        }
-    }
-    return d;
+  //! Out of core: supernode s's FactorBlock leaves the resident set (done with it for now).
+  void release_block(int s) const {
+    values_.release(values_.get() + S_.xptr[std::size_t(s)], values_.get() + S_.xptr[std::size_t(s) + 1]);
   }
 
   std::size_t factor_bytes() const {
@@ -986,6 +1079,7 @@ class MultifrontalSolver final : public LinearSolver {
   Plan factor_plan_, solve_plan_;
   int threads_ = 1;
   Mapping values_;  //!< the FactorBlocks of all supernodes
+  std::vector<double> pivots_;  //!< L_jj^2 per column, kept as the factorization goes (no pass over the factor)
   std::vector<UpdateBlock> updates_;  //!< update matrix of each supernode until its parent takes it
   std::atomic<std::int64_t> failed_column_{-1};
   // Row-major: a row gathered or scattered in a solve is one cache line for all its right-hand sides.

@@ -1,5 +1,6 @@
 //! Name -> factory table of every backend.
 #include <functional>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -23,7 +24,7 @@ const std::vector<Entry>& table() {
   static const std::vector<Entry> entries = {
       {{"cholmod_supernodal", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(true, o); }},
-      {{"multifrontal", "sparse-cholesky", true, kCholmodOrderings},
+      {{"multifrontal", "sparse-cholesky", true, kCholmodOrderings, true},
        [](const SolverOptions& o) { return backends::make_multifrontal(o); }},
       {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
@@ -60,7 +61,11 @@ const Entry& find(const std::string& name) {
 }  // namespace
 
 std::unique_ptr<LinearSolver> make_solver(const std::string& name, const SolverOptions& options) {
-  return find(name).make(options);
+  const Entry& e = find(name);
+  if (!options.factor_dir.empty() && !e.info.out_of_core)
+    throw Error(fmt::format("{}: cannot keep its factor out of core (factor directory '{}'); multifrontal can", name,
+                            options.factor_dir));
+  return e.make(options);
 }
 
 std::vector<std::string> solver_names() {
@@ -70,5 +75,7 @@ std::vector<std::string> solver_names() {
 }
 
 SolverInfo solver_info(const std::string& name) { return find(name).info; }
+
+double singular_pivot_bound(std::size_t n) { return 10.0 * double(n) * std::numeric_limits<double>::epsilon(); }
 
 }  // namespace db

@@ -120,13 +120,16 @@ DenseVec diagonal_of(const SpMat& upper) {
   return diag;
 }
 
-void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who) {
-  check_pivots(pivots, perm, diagonal_of(upper), who);
+double check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who,
+                    bool singular_test) {
+  return check_pivots(pivots, perm, diagonal_of(upper), who, singular_test);
 }
 
-void check_pivots(const std::vector<double>& pivots, const int* perm, const DenseVec& diag, const std::string& who) {
+double check_pivots(const std::vector<double>& pivots, const int* perm, const DenseVec& diag, const std::string& who,
+                    bool singular_test) {
   const Index n = diag.size();
-  const double bound = kSingularPivotFactor * double(n) * std::numeric_limits<double>::epsilon();
+  const double bound = singular_test ? singular_pivot_bound(std::size_t(n)) : 0.0;
+  double smallest = std::numeric_limits<double>::infinity();
   for (Index k = 0; k < n; ++k) {
     const double d = pivots[std::size_t(k)];
     const double a = diag(perm ? perm[k] : k);
@@ -135,7 +138,9 @@ void check_pivots(const std::vector<double>& pivots, const int* perm, const Dens
     if (d / a < bound)
       throw SolverError(fmt::format("{}: matrix numerically singular (pivot {:.3g} at column {} of {} is {:.2g} "
                                     "of its diagonal entry)", who, d, k, n, d / a));
+    smallest = std::min(smallest, d / a);
   }
+  return smallest;
 }
 
 double cholesky_flops(const int* col_ptr, Index n) {

@@ -64,17 +64,19 @@ double cholesky_flops(const int* col_ptr, Index n);
 
 //! Pivot test after a Cholesky-type factorization. `pivots[k]` is the k-th pivot in factor order
 //! (L_kk^2 or D_kk), `perm[k]` the original index of that pivot (null: identity).
-//! \throw SolverError "not positive definite" on a pivot <= 0, and "numerically singular" when some
-//! pivot is rounding noise relative to its diagonal entry: d_k / A_kk < kSingularPivotFactor * n * eps.
-//! Why that bound: on singular PSD systems (bi-Laplacian without constraints) the last pivot measured
-//! ~n*eps*A_kk (n = 49 .. 160000), while constrained systems of the same size keep d_k/A_kk >~ 1e-4.
-//! It is a heuristic: a severely ill-conditioned but regular system could be flagged, and a singular
-//! one whose noise pivot lands above the bound passes (its solution is then finite but meaningless).
-void check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who);
+//! \throw SolverError "not positive definite" on a pivot <= 0, and, with `singular_test`, "numerically
+//! singular" when some pivot looks like rounding noise relative to its diagonal entry:
+//! d_k / A_kk < singular_pivot_bound(n) (see SolverOptions::pivot_singularity_test).
+//! It is a heuristic: a severely ill-conditioned but regular system can be flagged (the TF system at millions
+//! of unknowns is), and a singular one whose noise pivot lands above the bound passes (its solution is then
+//! finite but meaningless).
+//! \return the smallest d_k / A_kk (FactorStats::min_pivot_ratio).
+double check_pivots(const std::vector<double>& pivots, const int* perm, const SpMat& upper, const std::string& who,
+                    bool singular_test = true);
 //! The same against the matrix's diagonal taken beforehand (diagonal_of), for a matrix released meanwhile.
-void check_pivots(const std::vector<double>& pivots, const int* perm, const DenseVec& diag, const std::string& who);
+double check_pivots(const std::vector<double>& pivots, const int* perm, const DenseVec& diag, const std::string& who,
+                    bool singular_test = true);
 DenseVec diagonal_of(const SpMat& upper);
-constexpr double kSingularPivotFactor = 10.0;
 
 //! Compressed block graph of a pattern: node I stands for unknowns b*I .. b*I+b-1 (x,y,z of a vertex).
 //! Full symmetric adjacency without the diagonal, sorted, no duplicates.

@@ -110,7 +110,7 @@ class UmfpackSolver final : public LinearSolver {
     // UMFPACK_RCOND is min/max |diag(U)| of the (row-scaled) factor: at rounding level the matrix is
     // singular to working precision and the solution would be noise.
     const double rcond = info_[UMFPACK_RCOND];
-    if (!(rcond >= kSingularPivotFactor * double(full_.rows()) * std::numeric_limits<double>::epsilon())) {
+    if (!(rcond >= singular_pivot_bound(std::size_t(full_.rows())))) {
       umfpack_di_free_numeric(&numeric_);
       throw SolverError(fmt::format("umfpack: matrix numerically singular (pivot ratio {:.3g})", rcond));
     }
