@@ -170,6 +170,38 @@ TEST(Systems, MetisVertexOrderingIsThreadIndependentAndKeepsTheFill) {
   EXPECT_LT(dissected, static_cast<double>(factor_entries(original, "amd")));
 }
 
+// Building while the ordering runs, then renumbering (the LAP default with two threads), must give the
+// system that ordering first and building in that numbering gives: the same unknowns' order, the same K (upper,
+// rows ascending in every column), C and g0; for 3x3 blocks too, and with hard and soft constraints.
+TEST(Systems, BuildWhileOrderingEqualsOrderThenBuild) {
+  const Mesh m = make_cylinder(30, 24, 1.0, 4.0);
+  const Adjacency adj = vertex_adjacency(m);
+  const Edit e = tube_edit(m);
+  const Points Vn = Normalization::fit(m.V).apply(m.V);
+  for (EnergyKind kind : {EnergyKind::Lap, EnergyKind::Tf}) {
+    for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
+      const std::string what = to_string(kind) + "/" + to_string(mode);
+      const EnergyOperator op(Vn, m.F, adj, kind, {});
+      Unknowns first = make_unknowns(classify(e, mode), 2.0), meanwhile = first;
+      order_unknowns(adj, first, "amd");
+      const NormalSystem ref = build_normal_system(op, first, Build::Structured);
+      double ordering_seconds = -1;
+      const NormalSystem got = build_structured_while_ordering(op, meanwhile, "amd", 0, ordering_seconds);
+      EXPECT_GE(ordering_seconds, 0) << what;
+      EXPECT_EQ(meanwhile.unknown_vertices, first.unknown_vertices) << what;
+      EXPECT_EQ(meanwhile.unknown_of, first.unknown_of) << what;
+      ASSERT_EQ(got.K.nonZeros(), ref.K.nonZeros()) << what;
+      for (int j = 0; j < got.K.outerSize(); ++j)
+        for (int k = got.K.outerIndexPtr()[j]; k + 1 < got.K.outerIndexPtr()[j + 1]; ++k)
+          ASSERT_LT(got.K.innerIndexPtr()[k], got.K.innerIndexPtr()[k + 1]) << what << " column " << j;
+      EXPECT_LT((DenseMat(got.K) - DenseMat(ref.K)).norm(), 1e-12 * DenseMat(ref.K).norm()) << what;
+      EXPECT_LT((DenseMat(got.C) - DenseMat(ref.C)).norm(), 1e-12 * std::max(1.0, DenseMat(ref.C).norm())) << what;
+      EXPECT_LT((got.g0 - ref.g0).norm(), 1e-12 * std::max(1.0, ref.g0.norm())) << what;
+      EXPECT_EQ(got.block, ref.block);
+    }
+  }
+}
+
 TEST(Systems, BuildsGiveTheSameDeformation) {
   const Mesh m = make_cylinder(8, 10, 1.0, 3.0);
   const Edit e = tube_edit(m);

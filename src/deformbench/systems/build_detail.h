@@ -24,7 +24,9 @@ inline void block_AtB(const double* X, const double* Y, double* out) {
     }
 }
 
-NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk);
+//! `pattern`: interaction_pattern(adj, unk) when the caller has it already; `threads`: 0 = worker_threads().
+NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk, const InteractionPattern* pattern = nullptr,
+                              int threads = 0);
 NormalSystem build_naive(const EnergyOperator& op, const Unknowns& unk);
 NormalSystem build_dense(const EnergyOperator& op, const Unknowns& unk);
 

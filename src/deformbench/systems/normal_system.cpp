@@ -232,8 +232,7 @@ std::size_t predict_build_bytes(const EnergyOperator& op, const Unknowns& unk, B
   return 0;
 }
 
-NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, Build build,
-                                 std::size_t byte_budget) {
+void check_build(const EnergyOperator& op, const Unknowns& unk, Build build, std::size_t byte_budget) {
   if (static_cast<int>(unk.unknown_of.size()) != op.num_vertices())
     throw InputError("constraint classification does not match the mesh size");
   if (unk.num_unknowns() == 0) throw InputError("nothing to solve for: every vertex is hard-constrained");
@@ -243,6 +242,74 @@ NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, 
       throw BudgetError(fmt::format("{} build of the {} system needs about {:.1f} MB, over the budget of {:.1f} MB",
                                     to_string(build), to_string(op.kind()), predicted / 1e6, byte_budget / 1e6));
   }
+}
+
+void renumber_unknowns(NormalSystem& sys, const std::vector<int>& new_of_old) {
+  const int b = sys.block;
+  const int n = static_cast<int>(sys.K.cols());
+  if (static_cast<std::size_t>(n) != static_cast<std::size_t>(b) * new_of_old.size() || sys.g0.rows() != n ||
+      sys.C.rows() != n)
+    throw Error(fmt::format("renumber_unknowns: a system of {} rows in blocks of {} for {} unknowns", n, b,
+                            new_of_old.size()));
+  auto to = [&](int i) { return b * new_of_old[static_cast<std::size_t>(i / b)] + i % b; };
+  // P K P^T: entry (i, j), i <= j, of the upper triangle goes to (min, max) of (to(i), to(j)). Laid out by rows
+  // first (the transpose), then by columns from rows taken in ascending order, so every column comes out sorted.
+  // The old K goes once the rows hold it: two copies at a time, never three.
+  const std::size_t nnz = static_cast<std::size_t>(sys.K.nonZeros());
+  std::vector<int> rp(static_cast<std::size_t>(n) + 1, 0), ri(nnz);
+  std::vector<double> rx(nnz);
+  {
+    SpMat old;
+    old.swap(sys.K);
+    const int* Kp = old.outerIndexPtr();
+    const int* Ki = old.innerIndexPtr();
+    const double* Kx = old.valuePtr();
+    for (int j = 0; j < n; ++j)
+      for (int k = Kp[j]; k < Kp[j + 1]; ++k) ++rp[static_cast<std::size_t>(std::min(to(Ki[k]), to(j))) + 1];
+    for (int i = 0; i < n; ++i) rp[i + 1] += rp[i];
+    std::vector<int> next(rp.begin(), rp.end() - 1);
+    for (int j = 0; j < n; ++j)
+      for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
+        const int a = to(Ki[k]), c = to(j);
+        const int q = next[static_cast<std::size_t>(std::min(a, c))]++;
+        ri[static_cast<std::size_t>(q)] = std::max(a, c);
+        rx[static_cast<std::size_t>(q)] = Kx[k];
+      }
+  }
+  SpMat K(n, n);
+  K.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+  int* P = K.outerIndexPtr();
+  std::fill(P, P + n + 1, 0);
+  for (int c : ri) ++P[c + 1];
+  for (int j = 0; j < n; ++j) P[j + 1] += P[j];
+  std::vector<int> next(P, P + n);
+  for (int r = 0; r < n; ++r)
+    for (int q = rp[r]; q < rp[r + 1]; ++q) {
+      const int d = next[static_cast<std::size_t>(ri[static_cast<std::size_t>(q)])]++;
+      K.innerIndexPtr()[d] = r;
+      K.valuePtr()[d] = rx[static_cast<std::size_t>(q)];
+    }
+  sys.K.swap(K);
+  // C: rows move within each column, which is then sorted again (a column holds a few dozen entries).
+  std::vector<std::pair<int, double>> col;
+  for (int j = 0; j < sys.C.outerSize(); ++j) {
+    const int lo = sys.C.outerIndexPtr()[j], hi = sys.C.outerIndexPtr()[j + 1];
+    col.clear();
+    for (int k = lo; k < hi; ++k) col.emplace_back(to(sys.C.innerIndexPtr()[k]), sys.C.valuePtr()[k]);
+    std::sort(col.begin(), col.end());
+    for (int k = lo; k < hi; ++k) {
+      sys.C.innerIndexPtr()[k] = col[static_cast<std::size_t>(k - lo)].first;
+      sys.C.valuePtr()[k] = col[static_cast<std::size_t>(k - lo)].second;
+    }
+  }
+  DenseMat g(sys.g0.rows(), sys.g0.cols());
+  for (Eigen::Index i = 0; i < sys.g0.rows(); ++i) g.row(to(static_cast<int>(i))) = sys.g0.row(i);
+  sys.g0.swap(g);
+}
+
+NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, Build build,
+                                 std::size_t byte_budget) {
+  check_build(op, unk, build, byte_budget);
   Timer t;
   // Initialized from the builders' return values directly (see NormalSystem's move operations).
   NormalSystem sys = [&] {

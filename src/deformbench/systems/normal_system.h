@@ -91,6 +91,14 @@ SpMat expand_upper(const InteractionPattern& p, int b);
 NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, Build build,
                                  std::size_t byte_budget = 0);
 
+//! \throw InputError when `unk` does not fit the operator or leaves nothing to solve for, BudgetError when
+//! `byte_budget` > 0 and the build's predicted bytes exceed it (build_normal_system's checks).
+void check_build(const EnergyOperator& op, const Unknowns& unk, Build build, std::size_t byte_budget);
+
+//! Renumbers the unknowns of a sparse build: unknown u becomes new_of_old[u]. K stays the upper triangle with
+//! ascending rows in every column; the rows of C and g0 move along.
+void renumber_unknowns(NormalSystem& sys, const std::vector<int>& new_of_old);
+
 //! Predicted peak bytes of the matrices a build holds, from the adjacency alone (no allocation).
 std::size_t predict_build_bytes(const EnergyOperator& op, const Unknowns& unk, Build build);
 

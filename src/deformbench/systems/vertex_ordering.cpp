@@ -2,19 +2,26 @@
 
 #include <cholmod.h>
 
+#include <exception>
 #include <memory>
+#include <thread>
 
 #include "core/error.h"
+#include "core/timer.h"
 #include "solvers/graph_ordering.h"
+#include "systems/build_detail.h"
 
 namespace db {
 
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method) {
+  // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
+  order_unknowns(interaction_pattern(adj, unk), unk, method);
+}
+
+void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method) {
   if (method != "amd" && method != "metis" && method != "nesdis")
     throw InputError("unknown vertex ordering '" + method + "' (expected amd, metis or nesdis)");
   const int nu = unk.num_unknowns();
-  // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
-  const InteractionPattern pat = interaction_pattern(adj, unk);
 
   cholmod_common cc;
   cholmod_start(&cc);
@@ -29,6 +36,44 @@ void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& meth
     unk.unknown_of[unk.unknown_vertices[p]] = p;
   }
   cholmod_free_factor(&L, &cc);
+}
+
+NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,
+                                             std::size_t byte_budget, double& ordering_seconds) {
+  check_build(op, unk, Build::Structured, byte_budget);
+  Timer wall;
+  const InteractionPattern pat = interaction_pattern(op.adjacency(), unk);
+  Unknowns ordered = unk;
+  std::exception_ptr error;
+  std::thread orderer([&] {
+    try {
+      Timer t;
+      order_unknowns(pat, ordered, method);
+      ordering_seconds = t.seconds();
+    } catch (...) {
+      error = std::current_exception();
+    }
+  });
+  NormalSystem sys;
+  try {
+    sys = detail::build_structured(op, unk, &pat, 1);  // the other core orders
+  } catch (...) {
+    orderer.join();
+    throw;
+  }
+  orderer.join();
+  if (error) std::rethrow_exception(error);
+  sys.build = Build::Structured;
+  sys.block = op.block();
+  sys.rhs_cols = op.rhs_cols();
+  sys.held_bytes.emplace_back("K_upper_renumbering", sparse_bytes(sys.K));
+  std::vector<int> new_of_old(static_cast<std::size_t>(unk.num_unknowns()));
+  for (std::size_t u = 0; u < new_of_old.size(); ++u)
+    new_of_old[u] = ordered.unknown_of[static_cast<std::size_t>(unk.unknown_vertices[u])];
+  renumber_unknowns(sys, new_of_old);
+  unk = std::move(ordered);
+  sys.build_seconds = wall.seconds();
+  return sys;
 }
 
 }  // namespace db

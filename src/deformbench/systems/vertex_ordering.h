@@ -22,5 +22,17 @@ inline const char* default_vertex_ordering(int block_size) { return block_size >
 //! with the same result on one). \throw SolverError when the ordering library fails, InputError on an unknown
 //! method.
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method);
+//! The same from the interaction pattern of `unk`, computed by the caller (interaction_pattern(adj, unk)).
+void order_unknowns(const InteractionPattern& pattern, Unknowns& unk, const std::string& method);
+
+//! The structured build and its vertex ordering at once, for an ordering that runs on one core (AMD, the scalar
+//! LAP system's): the ordering on a second thread while this one builds in `unk`'s present numbering, both
+//! from one interaction pattern; then the system is renumbered into the ordering's (renumber_unknowns) and so
+//! is `unk`. Why: on the 104k LAP system the serial AMD and the build are each ~0.1-0.2 s, and the
+//! renumbering costs a third of either. K is held twice while it is renumbered ("K_upper_renumbering" in
+//! held_bytes).
+//! `ordering_seconds`: the ordering thread's own time. Checks as build_normal_system (check_build).
+NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,
+                                             std::size_t byte_budget, double& ordering_seconds);
 
 }  // namespace db
