@@ -45,10 +45,10 @@ struct FactorStats {
   std::size_t nnz_factor = 0;  //!< nonzeros of L (or L+U); 0 for iterative
   double flops = 0;            //!< factorization flops where the backend reports them, else 0
   std::size_t factor_bytes = 0;  //!< bytes held by the factor (values + indices)
-  bool factor_on_disk = false;
+  bool factor_on_disk = false;  //!< out of core: the factor's values live in a scratch file, not in memory
   //! Smallest pivot over its diagonal entry, d_k / A_kk (a conditioning indicator: the pivot test rejects
   //! values under singular_pivot_bound(n)); 0 where the backend does not check pivots.
-  double min_pivot_ratio = 0;   //!< out of core: the factor's values live in a scratch file, not in memory
+  double min_pivot_ratio = 0;
   //! Bytes the factorization holds at once besides the factor and the input (the multifrontal update matrices,
   //! an upper bound from the schedule); 0 where the backend does not say.
   std::size_t workspace_bytes = 0;
