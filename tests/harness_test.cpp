@@ -10,7 +10,9 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "core/args.h"
 #include "core/error.h"
 #include "edit/edit.h"
 #include "harness/budget.h"
@@ -170,6 +172,33 @@ TEST(ChildRunner, BuildsAgreeOnTheDeformation) {
   ASSERT_EQ(d.status, "ok") << d.message;
   ASSERT_EQ(s.status, "ok") << s.message;
   EXPECT_NEAR(d.mean_displacement, s.mean_displacement, 1e-8);
+}
+
+// Out of core (the factor in a scratch file): the child passes --factor-dir on, the deformation is the same,
+// and the prediction the budget is checked against leaves the factor's values out while still reporting them.
+TEST(ChildRunner, OutOfCoreCellAgreesAndIsPredictedWithoutTheFactor) {
+  CellSpec mem = spec_for("tf", "structured"), disk = mem;
+  disk.factor_dir = fs::temp_directory_path().string();
+  const CellResult a = run_cell_in_child(self_executable(), mem, 120);
+  const CellResult b = run_cell_in_child(self_executable(), disk, 120);
+  ASSERT_EQ(a.status, "ok") << a.message;
+  ASSERT_EQ(b.status, "ok") << b.message;
+  EXPECT_NEAR(a.mean_displacement, b.mean_displacement, 1e-12);
+  EXPECT_EQ(a.nnz_factor, b.nnz_factor);
+  EXPECT_GT(b.min_pivot_ratio, 0);
+  MachineRates rates;
+  CellPredictor pred(test_mesh(), ThesisEditOptions{}, rates);
+  const Prediction pm = pred.predict(mem), pd = pred.predict(disk);
+  EXPECT_EQ(pd.factor_bytes, pm.factor_bytes);
+  EXPECT_GT(pd.workspace_bytes, 0);
+  EXPECT_LT(pd.total_bytes, pm.total_bytes - 0.8 * pm.factor_bytes);
+  EXPECT_EQ(disk.factor_storage(), "disk");
+  std::vector<std::string> words = disk.to_args();
+  words.insert(words.begin(), "exe");
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  const Args parsed = parse_args(static_cast<int>(argv.size()), argv.data(), 1, {"--cell"});
+  EXPECT_EQ(CellSpec::from_args(parsed).factor_dir, disk.factor_dir);
 }
 
 TEST(ChildRunner, FailingChildGivesAnErrorResult) {
