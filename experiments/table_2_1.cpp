@@ -368,11 +368,12 @@ std::vector<FitRow> fit_series(const std::vector<Record>& recs) {
     for (const char* system : {"lap", "tf"})
       for (const char* m : kFitMeasures) {
         std::vector<double> x, y;
+        // Out of core the factor is not resident and the frames read it back from the page cache: that peak and
+        // that frame time are not the same quantities, so only in-memory cells enter their fits.
+        const bool in_memory_only = std::string(m) == "peak_rss_bytes" || std::string(m) == "frame_s";
         for (const auto& r : recs)
-          // Out of core the factor is not resident and the frames read it back from the page cache: that peak
-          // and that frame time are not the same quantities.
           if ((s == "all" || r.series == s) && r.spec.system == system && r.res.ok() &&
-              !(!r.spec.factor_dir.empty() && (std::string(m) == "peak_rss_bytes" || std::string(m) == "frame_s")) &&
+              !(in_memory_only && r.spec.factor_storage() == "disk") &&
               std::find(x.begin(), x.end(), r.vertices) == x.end()) {  // "all" would count shared cells twice
             x.push_back(r.vertices);
             y.push_back(value_of(r.res, m));
