@@ -143,6 +143,9 @@ TEST(Budget, MeasuredRatesArePositive) {
   EXPECT_GT(r.dense, 1e6);
   EXPECT_GT(r.sparse, 1e5);
   EXPECT_GT(r.stream, 1e6);
+  const double gemm = MachineRates::blas_gemm();
+  EXPECT_TRUE(std::isfinite(gemm));
+  EXPECT_GT(gemm, 1e8);
 }
 
 TEST(ChildRunner, ReturnsTheChildsMeasurements) {

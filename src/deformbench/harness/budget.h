@@ -22,6 +22,10 @@ struct MachineRates {
   double sparse = 1e8;  //!< Eigen sparse A^T A product: what the sparse builds run at (indexing-bound)
   double stream = 1e9;  //!< dense matrix-vector product out of cache: what triangular solves run at (memory-bound)
   static MachineRates measure();
+  //! The system BLAS's dgemm on 1024 x 1024 matrices with its own threads (best of three, ~0.2 s): the ceiling
+  //! of the sparse factorizations' dense kernels at the moment it runs. On a shared machine it moves by 2x
+  //! within a day, so drivers take it next to each cell to tell a slow machine from a slow code.
+  static double blas_gemm();
 };
 
 //! Predicts every cell of one mesh under the thesis edit. Holds the mesh's adjacency and operators, and caches
