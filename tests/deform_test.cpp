@@ -131,6 +131,14 @@ TEST(Systems, StructuredEqualsExplicitNormalMatrix) {
       EXPECT_LT((s.g0 - nv.g0).norm() / std::max(1.0, nv.g0.norm()), 1e-12) << what;
       // The structured build stores strictly less than the naive one.
       EXPECT_LT(s.total_held_bytes(), nv.total_held_bytes()) << what;
+      // The naive build keeps A^T, A_h and b for its frames (the thesis' first version): its per-frame
+      // right-hand side A^T (b - A_h x_h) is g0 - C x_h, for any handle positions.
+      ASSERT_EQ(nv.At.rows(), nv.g0.rows()) << what;
+      EXPECT_EQ(s.At.size(), 0) << what;
+      const DenseMat xh = DenseMat::Random(nv.C.cols(), nv.g0.cols());
+      const DenseMat per_frame = nv.At * DenseMat(nv.b - nv.Ah * xh);
+      const DenseMat from_g0 = nv.g0 - nv.C * xh;
+      EXPECT_LT((per_frame - from_g0).norm() / std::max(1.0, from_g0.norm()), 1e-12) << what;
     }
   }
 }
@@ -206,16 +214,18 @@ TEST(Systems, BuildsGiveTheSameDeformation) {
   const Mesh m = make_cylinder(8, 10, 1.0, 3.0);
   const Edit e = tube_edit(m);
   const Mat4 T = rotation_about_axis(Vec3(0, 1, 0), 40.0, Vec3(0, 0, 3));
-  for (const char* method : {"lap", "tf"}) {
-    Points ref;
-    for (Build b : {Build::Dense, Build::Naive, Build::Structured}) {
-      DeformOptions o = opts(method);
-      o.build = b;
-      const Points out = make_deformer(m, e, o)->deform(T);
-      if (b == Build::Dense) ref = out;
-      else EXPECT_LT((out - ref).norm() / ref.norm(), 1e-8) << method << " " << to_string(b);
+  for (const char* method : {"lap", "tf"})
+    for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
+      Points ref;
+      for (Build b : {Build::Dense, Build::Naive, Build::Structured}) {
+        DeformOptions o = opts(method);
+        o.build = b;
+        o.constraints = mode;
+        const Points out = make_deformer(m, e, o)->deform(T);
+        if (b == Build::Dense) ref = out;
+        else EXPECT_LT((out - ref).norm() / ref.norm(), 1e-8) << method << " " << to_string(b);
+      }
     }
-  }
 }
 
 TEST(Deform, EveryBackendGivesTheSameDeformation) {

@@ -128,10 +128,15 @@ void LaplacianDeformer::assemble_rhs(const Mat4& T) {
     const Vec3 p = target(unk_.hard_vertices[h]);
     for (int c = 0; c < 3; ++c) at(xh_, b, h, c) = p(c);
   }
-  rhs_ = sys_.g0;
-  if (unk_.num_hard() > 0) {
-    if (sys_.build == Build::Dense) rhs_.noalias() -= sys_.C_dense * xh_;
-    else rhs_.noalias() -= sys_.C * xh_;
+  if (sys_.build == Build::Naive) {  // the thesis' first version: A^T (b - A_h x_h), a product with A^T per frame
+    if (unk_.num_hard() > 0) rhs_.noalias() = sys_.At * DenseMat(sys_.b - sys_.Ah * xh_);
+    else rhs_.noalias() = sys_.At * sys_.b;
+  } else {
+    rhs_ = sys_.g0;
+    if (unk_.num_hard() > 0) {
+      if (sys_.build == Build::Dense) rhs_.noalias() -= sys_.C_dense * xh_;
+      else rhs_.noalias() -= sys_.C * xh_;
+    }
   }
   const double w2 = unk_.soft_weight * unk_.soft_weight;
   for (int v : unk_.soft_vertices) {

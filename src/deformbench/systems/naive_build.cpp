@@ -1,6 +1,7 @@
 // Naive sparse build (the thesis' first version, section 2.4.1): A assembled from triplets, A^T formed
 // explicitly, A^T A by a general sparse product. Kept as the reference the structured build is measured
-// against, so it deliberately holds every intermediate the straightforward code holds.
+// against, so it deliberately holds every intermediate the straightforward code holds, and keeps A^T for the
+// frames' right-hand sides as that version did.
 #include "systems/build_detail.h"
 
 namespace db::detail {
@@ -37,7 +38,7 @@ NormalSystem build_naive(const EnergyOperator& op, const Unknowns& unk) {
   const std::size_t triplet_bytes = (tu.capacity() + th.capacity()) * sizeof(Trip);
   tu = {};
   th = {};
-  const SpMat At = Au.transpose();
+  SpMat At = Au.transpose();
   SpMat AtA = At * Au;
   const double w2 = unk.soft_weight * unk.soft_weight;
   for (int v : unk.soft_vertices)
@@ -54,6 +55,10 @@ NormalSystem build_naive(const EnergyOperator& op, const Unknowns& unk) {
                     {"K_upper", sparse_bytes(sys.K)},
                     {"C", sparse_bytes(sys.C)},
                     {"b", static_cast<std::size_t>(target.size()) * sizeof(double)}};
+  // A^T, A_h and b stay for the frames, as in the thesis' first version; A_u and A^T A go.
+  sys.At.swap(At);
+  sys.Ah.swap(Ah);
+  sys.b = std::move(target);
   return sys;
 }
 

@@ -156,6 +156,9 @@ NormalSystem& NormalSystem::operator=(NormalSystem&& o) noexcept {
   K_dense = std::move(o.K_dense);
   C_dense = std::move(o.C_dense);
   g0 = std::move(o.g0);
+  At.swap(o.At);
+  Ah.swap(o.Ah);
+  b = std::move(o.b);
   held_bytes = std::move(o.held_bytes);
   build_seconds = o.build_seconds;
   return *this;

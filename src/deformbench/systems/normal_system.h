@@ -59,6 +59,12 @@ struct NormalSystem {
   DenseMat K_dense;  //!< dense build: full A_u^T A_u + W
   DenseMat C_dense;  //!< dense build
   DenseMat g0;       //!< A_u^T b, block*#unknowns x rhs_cols
+  //! Naive build only: what the thesis' first version kept for the frames (section 2.4.1: the factorization
+  //! and the back-substitution held A^T beside the factor), its right-hand side formed each frame as
+  //! A_u^T (b - A_h x_h) instead of from g0 and C. Empty for the other builds.
+  SpMat At;          //!< A_u^T, block*#unknowns x block*#vertices
+  SpMat Ah;          //!< A_h, block*#vertices x block*#hard
+  DenseMat b;        //!< the operator's targets, block*#vertices x rhs_cols
 
   //! Bytes of every matrix the build held at its peak (name -> bytes), e.g. {"A", ...}, {"At", ...}.
   std::vector<std::pair<std::string, std::size_t>> held_bytes;
