@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numeric>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/resources.h"
 #include "core/timer.h"
 #include "methods/deformer.h"
 #include "operators/energy_operator.h"
@@ -98,6 +101,26 @@ double MachineRates::blas_gemm() {
   auto gemm = [&] { dgemm_("N", "N", &m, &m, &m, &one, A.data(), &m, B.data(), &m, &zero, C.data(), &m, 1, 1); };
   gemm();  // the BLAS's thread pool and the pages of C, outside the timing
   return 2.0 * m * m * m / best_of(3, gemm);
+}
+
+double MachineRates::read_bandwidth() {
+  const std::size_t count = std::size_t(16) << 20;  // 128 MB, beyond the caches
+  std::vector<double> a(count, 1.0);
+  const int T = std::max(1, worker_threads());
+  std::vector<double> sums(static_cast<std::size_t>(T));
+  auto read = [&] {
+    run_on_threads(T, [&](int t) {
+      const std::size_t lo = count * std::size_t(t) / std::size_t(T), hi = count * std::size_t(t + 1) / std::size_t(T);
+      double s[4] = {};
+      for (std::size_t i = lo; i + 3 < hi; i += 4)
+        for (int k = 0; k < 4; ++k) s[k] += a[i + std::size_t(k)];
+      sums[std::size_t(t)] = (s[0] + s[1]) + (s[2] + s[3]);
+    });
+  };
+  read();
+  const double seconds = best_of(3, read);
+  if (std::accumulate(sums.begin(), sums.end(), 0.0) <= 0) throw Error("read_bandwidth: the sums were lost");
+  return double(count * sizeof(double)) / seconds;
 }
 
 CellPredictor::CellPredictor(const Mesh& mesh, const ThesisEditOptions& edit, const MachineRates& rates)

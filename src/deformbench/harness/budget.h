@@ -26,6 +26,9 @@ struct MachineRates {
   //! of the sparse factorizations' dense kernels at the moment it runs. On a shared machine it moves by 2x
   //! within a day, so drivers take it next to each cell to tell a slow machine from a slow code.
   static double blas_gemm();
+  //! Bytes per second read from memory by worker_threads() threads summing a 128 MB array (best of three): the
+  //! rate the triangular solves stream the factor at, at best.
+  static double read_bandwidth();
 };
 
 //! Predicts every cell of one mesh under the thesis edit. Holds the mesh's adjacency and operators, and caches

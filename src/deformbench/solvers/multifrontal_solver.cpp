@@ -500,16 +500,52 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
 // for the further right-hand sides. Compiled for the baseline ISA and for x86-64-v3 (AVX2, FMA), chosen when
 // the library loads.
 
-//! sum_{i in [0, n)} a_i b_i with eight independent partial sums: a single running sum is one dependent
-//! add per entry (the compiler may not reorder a floating-point sum itself); eight lanes map onto vectors.
-inline __attribute__((always_inline)) double dot8(const double* a, const double* b, int n) {
-  double p[8] = {};
+//! Four doubles as one vector (an AVX2 register, or two SSE2 ones in the baseline clone); loads need not be
+//! aligned, and may alias the doubles they read.
+typedef double Vec4d __attribute__((vector_size(32), aligned(8), may_alias));
+
+//! x_j -= sum_{i < h} Rr(i, j) x_{w + i} for the NB columns j0 .. j0 + NB - 1 of a panel's rectangle and R
+//! right-hand sides (columns of x, leading dimension ldx): each entry of x is loaded once for the NB columns
+//! and each entry of L once for the R right-hand sides, four partial sums per product (the compiler may not
+//! reorder a floating-point sum itself), NB x R of them in flight to hide the adds' latency. Against one dot
+//! product per column and right-hand side, which loaded both operands for every multiply-add, the 104k TF
+//! frame took 72 instead of 83 ms (medians of six paired rounds of 40 frames); LAP's frames stayed the same.
+
+template <int NB, int R>
+inline __attribute__((always_inline)) void rect_dots(const double* Rr, std::size_t sh, int j0, int w, int h,
+                                                     double* x, int ldx) {
+  Vec4d acc[NB][R];
+  for (int k = 0; k < NB; ++k)
+    for (int c = 0; c < R; ++c) acc[k][c] = Vec4d{0, 0, 0, 0};
+  const double* q[NB];
+  for (int k = 0; k < NB; ++k) q[k] = Rr + std::size_t(j0 + k) * sh;
+  const double* xs[R];
+  for (int c = 0; c < R; ++c) xs[c] = x + std::size_t(c) * std::size_t(ldx) + std::size_t(w);
   int i = 0;
-  for (; i + 7 < n; i += 8)
-    for (int k = 0; k < 8; ++k) p[k] += a[i + k] * b[i + k];
-  double sum = ((p[0] + p[4]) + (p[1] + p[5])) + ((p[2] + p[6]) + (p[3] + p[7]));
-  for (; i < n; ++i) sum += a[i] * b[i];
-  return sum;
+  for (; i + 4 <= h; i += 4) {
+    Vec4d xv[R];
+    for (int c = 0; c < R; ++c) xv[c] = *reinterpret_cast<const Vec4d*>(xs[c] + i);
+    for (int k = 0; k < NB; ++k) {
+      const Vec4d qv = *reinterpret_cast<const Vec4d*>(q[k] + i);
+      for (int c = 0; c < R; ++c) acc[k][c] += qv * xv[c];
+    }
+  }
+  for (int k = 0; k < NB; ++k)
+    for (int c = 0; c < R; ++c) {
+      double sum = (acc[k][c][0] + acc[k][c][2]) + (acc[k][c][1] + acc[k][c][3]);
+      for (int t = i; t < h; ++t) sum += q[k][t] * xs[c][t];
+      x[std::size_t(c) * std::size_t(ldx) + std::size_t(j0 + k)] -= sum;
+    }
+}
+
+//! The rectangle's part of backward_panel for R right-hand sides: NB columns at a time (NB x R accumulators and
+//! NB + R loads per step fit the sixteen vector registers), then the remaining columns one by one.
+template <int NB, int R>
+inline __attribute__((always_inline)) void rect_solve(const double* Rr, int w, int h, double* x, int ldx) {
+  const std::size_t sh = std::size_t(h);
+  int j = 0;
+  for (; j + NB <= w; j += NB) rect_dots<NB, R>(Rr, sh, j, w, h, x, ldx);
+  for (; j < w; ++j) rect_dots<1, R>(Rr, sh, j, w, h, x, ldx);
 }
 
 //! x_j /= L_jj, then x_i -= L_ij x_j below j: the rows under the panel start at zero and end as -L_rs y_s.
@@ -551,14 +587,15 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_panel(c
 //! the rows below are final), then the triangle bottom up.
 __attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_panel(const double* T, const double* Rr, int w,
                                                                                  int h, int r, double* x, int ldx) {
-  const std::size_t sh = std::size_t(h);
-  for (int j = 0; j < w; ++j) {
-    const double* q = Rr + std::size_t(j) * sh;
-    for (int c = 0; c < r; ++c) {
+  if (h > 0)
+    for (int c = 0; c < r;) {  // right-hand sides three at a time (LAP's x, y, z), then the rest
       double* xc = x + std::size_t(c) * std::size_t(ldx);
-      xc[j] -= dot8(q, xc + w, h);
+      switch (std::min(r - c, 3)) {
+        case 3: rect_solve<2, 3>(Rr, w, h, xc, ldx); c += 3; break;
+        case 2: rect_solve<2, 2>(Rr, w, h, xc, ldx); c += 2; break;
+        default: rect_solve<4, 1>(Rr, w, h, xc, ldx); c += 1; break;
+      }
     }
-  }
   for (int j = w - 1; j >= 0; --j) {
     const double* t = T + packed_column(j, w);
     for (int c = 0; c < r; ++c) {
