@@ -121,6 +121,13 @@ std::string resolve_mesh(const MeshSource& s, const fs::path& cache, std::string
 }
 
 // ------------------------------------------------------------------------------------------------ cells
+//! The machine's speed at one moment: the BLAS's dgemm rate (flop/s, MachineRates::blas_gemm) and the memory
+//! read rate (bytes/s, MachineRates::read_bandwidth). On a shared machine both move by up to 2x within a day.
+struct Speed {
+  double gemm = std::nan(""), read = std::nan("");
+  static Speed now() { return {MachineRates::blas_gemm(), MachineRates::read_bandwidth()}; }
+};
+
 struct Record {
   std::string model;  // tier or series label
   std::string series;  // "" for Table 2-1 cells
@@ -128,10 +135,11 @@ struct Record {
   double vertices = std::nan("");
   CellSpec spec;
   CellResult res;
-  // The BLAS's dgemm rate (flop/s) measured by this driver just before and just after the cell's runs: how fast
-  // the machine was then (MachineRates::blas_gemm). NaN when not measured (reused or not run).
-  double gemm_before = std::nan(""), gemm_after = std::nan("");
-  double gemm() const { return std::isnan(gemm_after) ? gemm_before : 0.5 * (gemm_before + gemm_after); }
+  // How fast the machine was just before and just after the cell's runs (NaN where not measured).
+  Speed before, after;
+  double gemm() const { return mean(before.gemm, after.gemm); }
+  double read() const { return mean(before.read, after.read); }
+  static double mean(double a, double b) { return std::isnan(b) ? a : 0.5 * (a + b); }
 };
 
 struct Config {
@@ -184,8 +192,8 @@ class Runner {
         if (auto it = done_.find(key); it != done_.end() && !path.empty()) {
           rec.res = it->second.res;  // the same mesh and cell measured for another table
           rec.spec.factor_dir = it->second.spec.factor_dir;  // and where its factor was kept
-          rec.gemm_before = it->second.gemm_before;
-          rec.gemm_after = it->second.gemm_after;
+          rec.before = it->second.before;
+          rec.after = it->second.after;
           out.push_back(rec);
           continue;
         }
@@ -194,10 +202,10 @@ class Runner {
           rec.res.message = load_error;
         } else {
           place_factor(rec.spec, *predictor);
-          rec.gemm_before = MachineRates::blas_gemm();
+          rec.before = Speed::now();
           rec.res = run_one(rec.spec, *predictor);
-          if (rec.res.ok()) rec.gemm_after = MachineRates::blas_gemm();
-          if (rec.res.status == "#over" || rec.res.status == "#slow") rec.gemm_before = std::nan("");  // not run
+          if (rec.res.ok()) rec.after = Speed::now();
+          if (rec.res.status == "#over" || rec.res.status == "#slow") rec.before = Speed{};  // never ran
         }
         log(rec);
         done_[key] = rec;
@@ -303,9 +311,11 @@ class Runner {
 // ------------------------------------------------------------------------------------------------ CSV
 void add_long_rows(CsvTable& csv, const Record& rec, bool with_series) {
   std::vector<Measure> all = measures(rec.res);
-  // The machine's speed around the cell (blas_gemm), for telling a slow machine from a slow code.
-  if (!std::isnan(rec.gemm_before)) all.push_back({"blas_dgemm_before", rec.gemm_before / 1e9, "GFlop/s"});
-  if (!std::isnan(rec.gemm_after)) all.push_back({"blas_dgemm_after", rec.gemm_after / 1e9, "GFlop/s"});
+  // The machine's speed around the cell, for telling a slow machine from a slow code.
+  for (const auto& [when, sp] : {std::pair{"before", rec.before}, std::pair{"after", rec.after}}) {
+    if (!std::isnan(sp.gemm)) all.push_back({fmt::format("blas_dgemm_{}", when), sp.gemm / 1e9, "GFlop/s"});
+    if (!std::isnan(sp.read)) all.push_back({fmt::format("memory_read_{}", when), sp.read / 1e9, "GB/s"});
+  }
   for (const Measure& m : all) {
     CsvTable::Row row;
     if (with_series) {
@@ -552,20 +562,21 @@ void write_markdown(const Config& cfg, const MachineRates& rates, const std::vec
 
   o << "\n## Phase times (s) and prediction\n\nfactorize GFlop/s: the factorization's flops over its time; BLAS "
        "dgemm: the rate of the BLAS's dgemm (1024^3, its own threads) measured by the driver just before and after the "
-       "cell, their mean: the ceiling of the factorization's dense kernels at that moment. On a shared machine it "
-       "moves by up to 2x within a day, and every time in this table moves with it.\n\n"
+       "cell, their mean: the ceiling of the factorization's dense kernels at that moment; memory read: the rate "
+       "the worker threads read a 128 MB array at, likewise (the solves stream the factor). On a shared machine "
+       "both move by up to 2x within a day, and the times in this table with them.\n\n"
        "| model | system | build | build s | analyze s | factorize s | init s | frame s (rhs / solve / write) | "
-       "predicted s | ordering | nnz(L) | factorize GFlop/s | BLAS dgemm GFlop/s |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "predicted s | ordering | nnz(L) | factorize GFlop/s | BLAS dgemm GFlop/s | memory read GB/s |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : recs) {
     const CellResult& c = r.res;
     auto s = [](double v) { return std::isnan(v) ? std::string("-") : fmt::format("{:.4g}", v); };
     const double rate = c.factorize_s > 0 ? c.factor_flops / c.factorize_s / 1e9 : NAN;
-    o << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} ({} / {} / {}) | {} | {} | {} | {} | {} |\n", r.model,
+    o << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} ({} / {} / {}) | {} | {} | {} | {} | {} | {} |\n", r.model,
                      r.spec.system, r.spec.build, s(c.build_s), s(c.analyze_s), s(c.factorize_s), s(c.init_s),
                      s(c.frame_s), s(c.rhs_s), s(c.solve_s), s(c.write_s), s(c.predicted.seconds),
                      c.ordering.empty() ? "-" : c.ordering, std::isnan(c.nnz_factor) ? "-" : fmt::format("{:.0f}", c.nnz_factor),
-                     c.ok() ? s(rate) : "-", s(r.gemm() / 1e9));
+                     c.ok() ? s(rate) : "-", s(r.gemm() / 1e9), s(r.read() / 1e9));
   }
 
   // Targets at the 104k tier, each with where its measure goes (from the same cells), to explain any gap.
@@ -604,10 +615,20 @@ void write_markdown(const Config& cfg, const MachineRates& rates, const std::vec
                          c.build_s + c.analyze_s + c.factor_flops / gemm);
     return why;
   };
-  auto frame_why = [](const CellResult& c) {
-    return fmt::format("rhs {:.1f} + solve {:.1f} + write {:.1f} ms (medians); the solve streams the {:.0f} MiB "
-                       "factor", c.rhs_s * 1e3, c.solve_s * 1e3, c.write_s * 1e3, c.factor_bytes / kMiB);
+  // Where a frame goes, and its floor: every frame's backward solve reads the whole factor once (the forward one
+  // redoes only the part the handle reaches), at best at the memory read rate measured around the cell.
+  auto frame_why = [](const Record& r) {
+    const CellResult& c = r.res;
+    std::string why = fmt::format("rhs {:.1f} + solve {:.1f} + write {:.1f} ms (medians); the solve streams the "
+                                  "{:.0f} MiB factor",
+                                  c.rhs_s * 1e3, c.solve_s * 1e3, c.write_s * 1e3, c.factor_bytes / kMiB);
+    if (const double read = r.read(); !std::isnan(read) && read > 0)
+      why += fmt::format(", which at the {:.1f} GB/s memory read rate measured around the cell takes {:.1f} ms a "
+                         "pass",
+                         read / 1e9, 1e3 * c.factor_bytes / read);
+    return why;
   };
+
   auto rss_why = [](const CellResult& c) {
     return fmt::format("factor {:.0f} MiB; the build's matrices {:.0f} MiB, handed back column range by column range "
                        "as the factorization consumes them; the process before the deformer {:.0f} MiB",
@@ -616,13 +637,13 @@ void write_markdown(const Config& cfg, const MachineRates& rates, const std::vec
   target("TF structured init <= 2.0 s", tfs, ok(tfs) ? tfs->res.init_s : NAN, 2.0, true, "s",
          ok(tfs) ? init_why(*tfs) : "");
   target("TF structured frame <= 100 ms", tfs, ok(tfs) ? tfs->res.frame_s * 1e3 : NAN, 100, true, "ms",
-         ok(tfs) ? frame_why(tfs->res) : "");
+         ok(tfs) ? frame_why(*tfs) : "");
   target("TF structured peak RSS <= 1.0 GB (10^9 B)", tfs, ok(tfs) ? tfs->res.peak_rss_bytes / 1e9 : NAN, 1.0, true,
          "GB", ok(tfs) ? rss_why(tfs->res) : "");
   target("LAP structured init <= 0.5 s", lps, ok(lps) ? lps->res.init_s : NAN, 0.5, true, "s",
          ok(lps) ? init_why(*lps) : "");
   target("LAP structured frame <= 25 ms", lps, ok(lps) ? lps->res.frame_s * 1e3 : NAN, 25, true, "ms",
-         ok(lps) ? frame_why(lps->res) : "");
+         ok(lps) ? frame_why(*lps) : "");
   const bool both = ok(tfs) && ok(tfn);
   target("TF held matrices naive/structured >= 3x", both ? tfs : nullptr,
          both ? tfn->res.held_total_bytes / tfs->res.held_total_bytes : NAN, 3, false, "x",

@@ -146,6 +146,9 @@ TEST(Budget, MeasuredRatesArePositive) {
   const double gemm = MachineRates::blas_gemm();
   EXPECT_TRUE(std::isfinite(gemm));
   EXPECT_GT(gemm, 1e8);
+  const double read = MachineRates::read_bandwidth();
+  EXPECT_TRUE(std::isfinite(read));
+  EXPECT_GT(read, 1e8);
 }
 
 TEST(ChildRunner, ReturnsTheChildsMeasurements) {
