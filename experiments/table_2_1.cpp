@@ -609,8 +609,9 @@ void write_markdown(const Config& cfg, const MachineRates& rates, const std::vec
                                   c.factorize_s > 0 ? c.factor_flops / 1e9 / c.factorize_s : 0.0);
     const double gemm = r.gemm();
     if (!std::isnan(gemm) && gemm > 0 && c.factorize_s > 0)
-      why += fmt::format("; BLAS dgemm ran at {:.1f} GFlop/s around the cell, so the factorization reached {:.0f}% of "
-                         "it and could not take under {:.2f} s: init >= {:.2f} s with this build and ordering",
+      why += fmt::format("; BLAS dgemm ran at {:.1f} GFlop/s around the cell: the factorization reached {:.0f}% of "
+                         "that, and at that rate throughout would still take {:.2f} s, so init >= {:.2f} s with this "
+                         "build and ordering",
                          gemm / 1e9, 100 * c.factor_flops / c.factorize_s / gemm, c.factor_flops / gemm,
                          c.build_s + c.analyze_s + c.factor_flops / gemm);
     return why;
