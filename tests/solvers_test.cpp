@@ -560,7 +560,7 @@ TEST(Multifrontal, WidePanelsMatchDense) {
     for (int i = leaves; i < j; ++i) M(i, j) = M(j, i) = 0.05 * u(rng);
   for (int i = 0; i < n; ++i) M(i, i) = 2.0 * n;
   const SpMat full = M.sparseView();
-  const DenseMat B = random_rhs(n, 5, rng);  // the solves take right-hand sides three at a time, then two
+  const DenseMat B = random_rhs(n, 5, rng);  // more than the row-vector kernel's four right-hand sides
   const DenseMat Xref = M.llt().solve(B);
   db::SolverOptions o;
   o.ordering = "natural";
@@ -571,6 +571,11 @@ TEST(Multifrontal, WidePanelsMatchDense) {
     DenseMat X;
     s->solve(B, X);
     EXPECT_LT(rel(X, Xref), 1e-12) << threads << " thread(s)";
+    for (int r : {1, 2, 3, 4}) {  // each right-hand-side count the backward kernels special-case
+      DenseMat Xr;
+      s->solve(B.leftCols(r), Xr);
+      EXPECT_LT(rel(Xr, Xref.leftCols(r)), 1e-12) << r << " right-hand side(s), " << threads << " thread(s)";
+    }
     // Stored entries: the lower triangle at most (relaxed amalgamation may merge the leaves), never the square.
     EXPECT_LE(s->stats().nnz_factor, std::size_t(n) * (n + 1) / 2);
     EXPECT_GE(s->stats().nnz_factor, std::size_t(n) * (n + 1) / 2 - std::size_t(leaves) * (leaves - 1) / 2);
