@@ -136,7 +136,7 @@ TEST(Systems, StructuredEqualsExplicitNormalMatrix) {
       ASSERT_EQ(nv.At.rows(), nv.g0.rows()) << what;
       EXPECT_EQ(s.At.size(), 0) << what;
       const DenseMat xh = DenseMat::Random(nv.C.cols(), nv.g0.cols());
-      const DenseMat per_frame = nv.At * DenseMat(nv.b - nv.Ah * xh);
+      const DenseMat per_frame = nv.At * DenseMat(nv.targets - nv.Ah * xh);
       const DenseMat from_g0 = nv.g0 - nv.C * xh;
       EXPECT_LT((per_frame - from_g0).norm() / std::max(1.0, from_g0.norm()), 1e-12) << what;
     }

@@ -129,8 +129,8 @@ void LaplacianDeformer::assemble_rhs(const Mat4& T) {
     for (int c = 0; c < 3; ++c) at(xh_, b, h, c) = p(c);
   }
   if (sys_.build == Build::Naive) {  // the thesis' first version: A^T (b - A_h x_h), a product with A^T per frame
-    if (unk_.num_hard() > 0) rhs_.noalias() = sys_.At * DenseMat(sys_.b - sys_.Ah * xh_);
-    else rhs_.noalias() = sys_.At * sys_.b;
+    if (unk_.num_hard() > 0) rhs_.noalias() = sys_.At * DenseMat(sys_.targets - sys_.Ah * xh_);
+    else rhs_.noalias() = sys_.At * sys_.targets;
   } else {
     rhs_ = sys_.g0;
     if (unk_.num_hard() > 0) {

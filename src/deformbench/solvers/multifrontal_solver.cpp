@@ -588,7 +588,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_panel(c
 __attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_panel(const double* T, const double* Rr, int w,
                                                                                  int h, int r, double* x, int ldx) {
   if (h > 0)
-    for (int c = 0; c < r;) {  // right-hand sides three at a time (LAP's x, y, z), then the rest
+    for (int c = 0; c < r;) {  // one (TF's); more than four (backward_rows4 takes two to four) three at a time
       double* xc = x + std::size_t(c) * std::size_t(ldx);
       switch (std::min(r - c, 3)) {
         case 3: rect_solve<2, 3>(Rr, w, h, xc, ldx); c += 3; break;

@@ -58,7 +58,7 @@ NormalSystem build_naive(const EnergyOperator& op, const Unknowns& unk) {
   // A^T, A_h and b stay for the frames, as in the thesis' first version; A_u and A^T A go.
   sys.At.swap(At);
   sys.Ah.swap(Ah);
-  sys.b = std::move(target);
+  sys.targets = std::move(target);
   return sys;
 }
 

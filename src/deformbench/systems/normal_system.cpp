@@ -158,7 +158,7 @@ NormalSystem& NormalSystem::operator=(NormalSystem&& o) noexcept {
   g0 = std::move(o.g0);
   At.swap(o.At);
   Ah.swap(o.Ah);
-  b = std::move(o.b);
+  targets = std::move(o.targets);
   held_bytes = std::move(o.held_bytes);
   build_seconds = o.build_seconds;
   return *this;

@@ -64,7 +64,7 @@ struct NormalSystem {
   //! A_u^T (b - A_h x_h) instead of from g0 and C. Empty for the other builds.
   SpMat At;          //!< A_u^T, block*#unknowns x block*#vertices
   SpMat Ah;          //!< A_h, block*#vertices x block*#hard
-  DenseMat b;        //!< the operator's targets, block*#vertices x rhs_cols
+  DenseMat targets;  //!< b, the operator's targets, block*#vertices x rhs_cols
 
   //! Bytes of every matrix the build held at its peak (name -> bytes), e.g. {"A", ...}, {"At", ...}.
   std::vector<std::pair<std::string, std::size_t>> held_bytes;
