@@ -23,7 +23,7 @@
 #include "methods/deformer.h"
 #include "methods/normalization.h"
 #include "operators/frames.h"
-#include "operators/lri_system.h"
+#include "systems/lri_system.h"
 
 namespace db {
 

@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "core/timer.h"
-#include "solvers/graph_ordering.h"
+#include "solvers/ordering/graph_ordering.h"
 #include "systems/build_detail.h"
 
 namespace db {

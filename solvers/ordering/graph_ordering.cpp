@@ -1,4 +1,4 @@
-#include "solvers/graph_ordering.h"
+#include "solvers/ordering/graph_ordering.h"
 
 #include <cerrno>
 #include <memory>
@@ -12,7 +12,7 @@
 
 #include "core/error.h"
 #include "core/resources.h"
-#include "solvers/cholmod_views.h"
+#include "solvers/ordering/cholmod_views.h"
 
 namespace db {
 namespace {

@@ -36,7 +36,7 @@
 #include "core/error.h"
 #include "core/resources.h"
 #include "solvers/backends.h"
-#include "solvers/graph_ordering.h"
+#include "solvers/ordering/graph_ordering.h"
 #include "solvers/solver_util.h"
 
 extern "C" {

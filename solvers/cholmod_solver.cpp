@@ -9,8 +9,8 @@
 
 #include "core/error.h"
 #include "solvers/backends.h"
-#include "solvers/cholmod_views.h"
-#include "solvers/graph_ordering.h"
+#include "solvers/ordering/cholmod_views.h"
+#include "solvers/ordering/graph_ordering.h"
 #include "solvers/solver_util.h"
 
 namespace db {

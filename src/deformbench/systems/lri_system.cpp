@@ -1,4 +1,4 @@
-#include "operators/lri_system.h"
+#include "systems/lri_system.h"
 
 #include <algorithm>
 #include <cmath>
