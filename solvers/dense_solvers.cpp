@@ -34,7 +34,7 @@ using namespace solver_util;
 //! Shared bookkeeping: budget check, pattern guard, dense expansion; subclasses factor and solve.
 class DenseSolver : public LinearSolver {
  public:
-  explicit DenseSolver(const SolverOptions& options) {
+  explicit DenseSolver(const SolverOptions& options) : singular_test_(options.pivot_singularity_test) {
     if (options.ordering != "default" && options.ordering != "natural")
       throw Error(fmt::format("dense backends take no fill-reducing ordering (got '{}'; valid: default, natural)",
                               options.ordering));
@@ -46,22 +46,29 @@ class DenseSolver : public LinearSolver {
     SpMat storage;
     const SpMat& upper = compressed(upper_in, storage);
     guard_.remember(upper);
-    factored_ = false;
-    const double n = double(upper.rows());
-    stats_ = FactorStats{};
-    stats_.n = std::size_t(upper.rows());
-    stats_.nnz_matrix = std::size_t(upper.nonZeros());
-    stats_.ordering_used = "none";
-    stats_.nnz_factor = lu() ? std::size_t(n * n) : std::size_t(n * (n + 1) / 2);
-    stats_.flops = lu() ? 2.0 * n * n * n / 3.0 : n * n * n / 3.0;
-    stats_.factor_bytes = std::size_t(n * n) * sizeof(double) + (lu() || pivoted() ? std::size_t(n) * sizeof(int) : 0);
+    set_stats(std::size_t(upper.rows()), std::size_t(upper.nonZeros()));
   }
 
   void factorize(const SpMat& upper_in) override {
     SpMat storage;
     const SpMat& upper = prepare_factorize(*this, guard_, upper_in, storage);
     factored_ = false;
-    factor(dense_from_upper(upper), upper);
+    factor(dense_from_upper(upper), diagonal_of(upper));
+    factored_ = true;
+  }
+
+  void factorize_dense(DenseMat& full) override {
+    DenseMat A = std::move(full);
+    full = DenseMat();
+    if (A.rows() != A.cols())
+      throw SolverError(fmt::format("{}: matrix is {} x {}, not square", name(), A.rows(), A.cols()));
+    check_dense_budget(Index(A.rows()), name());
+    if (!A.allFinite()) throw SolverError(fmt::format("{}: matrix holds a NaN or Inf", name()));
+    guard_ = PatternGuard{};
+    set_stats(std::size_t(A.rows()), std::size_t(A.rows() * (A.rows() + 1) / 2));
+    factored_ = false;
+    const DenseVec diag = A.diagonal();
+    factor(std::move(A), diag);
     factored_ = true;
   }
 
@@ -78,7 +85,8 @@ class DenseSolver : public LinearSolver {
  protected:
   virtual bool lu() const { return false; }
   virtual bool pivoted() const { return true; }
-  virtual void factor(DenseMat&& A, const SpMat& upper) = 0;
+  //! Factors A (full symmetric); `diag` is its diagonal, for the pivot test.
+  virtual void factor(DenseMat&& A, const DenseVec& diag) = 0;
   virtual void solve_in_place(DenseMat& X) = 0;
 
   //! LAPACK's 1-norm reciprocal condition estimate; below eps the matrix is singular to working
@@ -89,10 +97,23 @@ class DenseSolver : public LinearSolver {
   }
 
   FactorStats stats_;
+  const bool singular_test_;
 
  private:
   PatternGuard guard_;
   bool factored_ = false;
+
+  void set_stats(std::size_t n_unknowns, std::size_t nnz_matrix) {
+    factored_ = false;
+    const double n = double(n_unknowns);
+    stats_ = FactorStats{};
+    stats_.n = n_unknowns;
+    stats_.nnz_matrix = nnz_matrix;
+    stats_.ordering_used = "none";
+    stats_.nnz_factor = lu() ? std::size_t(n * n) : std::size_t(n * (n + 1) / 2);
+    stats_.flops = lu() ? 2.0 * n * n * n / 3.0 : n * n * n / 3.0;
+    stats_.factor_bytes = std::size_t(n * n) * sizeof(double) + (lu() || pivoted() ? std::size_t(n) * sizeof(int) : 0);
+  }
 };
 
 class DenseLLT final : public DenseSolver {
@@ -102,13 +123,13 @@ class DenseLLT final : public DenseSolver {
 
  protected:
   bool pivoted() const override { return false; }
-  void factor(DenseMat&& A, const SpMat& upper) override {
+  void factor(DenseMat&& A, const DenseVec& diag) override {
     llt_.compute(A);
     if (llt_.info() != Eigen::Success) throw SolverError("dense_llt: matrix not positive definite");
     const auto& L = llt_.matrixLLT();
     std::vector<double> pivots(static_cast<std::size_t>(L.rows()));
     for (Eigen::Index k = 0; k < L.rows(); ++k) pivots[std::size_t(k)] = L(k, k) * L(k, k);
-    check_pivots(pivots, nullptr, upper, name());
+    check_pivots(pivots, nullptr, diag, name(), singular_test_);
   }
   void solve_in_place(DenseMat& X) override { llt_.solveInPlace(X); }
 
@@ -122,7 +143,7 @@ class DenseLdltBunchKaufman final : public DenseSolver {
   std::string name() const override { return "dense_ldlt_bk"; }
 
  protected:
-  void factor(DenseMat&& A, const SpMat&) override {
+  void factor(DenseMat&& A, const DenseVec&) override {
     const int n = int(A.rows());
     const double anorm = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
     a_ = std::move(A);
@@ -161,7 +182,7 @@ class DenseLU final : public DenseSolver {
 
  protected:
   bool lu() const override { return true; }
-  void factor(DenseMat&& A, const SpMat&) override {
+  void factor(DenseMat&& A, const DenseVec&) override {
     const int n = int(A.rows());
     const double anorm = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
     a_ = std::move(A);

@@ -73,6 +73,10 @@ class LinearSolver {
     const ClearOnExit clear{upper};
     factorize(upper);
   }
+  //! Dense input: `full` is the whole symmetric matrix (both triangles), as the dense build forms it; it is
+  //! taken over (left empty). Replaces analyze + factorize. Backends of family "dense" implement it; the others
+  //! throw Error (they take sparse input only). \throw SolverError as factorize().
+  virtual void factorize_dense(DenseMat& full);
   //! X = A^{-1} B for any number of columns. \throw SolverError on a non-finite result or no convergence.
   virtual void solve(const DenseMat& B, DenseMat& X) = 0;
   virtual FactorStats stats() const = 0;

@@ -76,6 +76,13 @@ std::vector<std::string> solver_names() {
 
 SolverInfo solver_info(const std::string& name) { return find(name).info; }
 
+void LinearSolver::factorize_dense(DenseMat& full) {
+  full = DenseMat();
+  throw Error(fmt::format("{}: takes sparse input only; a dense matrix needs a dense backend (dense_llt, "
+                          "dense_ldlt_bk, dense_lu)",
+                          name()));
+}
+
 double singular_pivot_bound(std::size_t n) { return 10.0 * double(n) * std::numeric_limits<double>::epsilon(); }
 
 }  // namespace db

@@ -287,6 +287,34 @@ TEST_P(Conformance, FactorizeConsumingMatchesFactorize) {
   }
 }
 
+// factorize_dense (the dense build's input): dense backends solve as from the sparse upper triangle; the others
+// refuse it with an Error and leave the matrix empty.
+TEST_P(Conformance, DenseInputOnlyForDenseBackends) {
+  std::mt19937 rng(17);
+  const SpMat full = normal_equations(mesh_laplacian(7, 6, true, rng), 3, rng);
+  const DenseMat B = random_rhs(full.rows(), 3, rng);
+  auto sparse = db::make_solver(GetParam(), options("default", 1)), dense = db::make_solver(GetParam(), options("default", 1));
+  sparse->factorize(upper_of(full));
+  DenseMat A = DenseMat(full);
+  if (info().family != "dense") {
+    EXPECT_THROW(dense->factorize_dense(A), db::Error);
+    EXPECT_EQ(A.size(), 0);
+    return;
+  }
+  dense->factorize_dense(A);
+  EXPECT_EQ(A.size(), 0);
+  DenseMat Xs, Xd;
+  sparse->solve(B, Xs);
+  dense->solve(B, Xd);
+  EXPECT_LT(rel(Xd, Xs), 1e-12);
+  EXPECT_EQ(dense->stats().n, std::size_t(full.rows()));
+  if (info().requires_spd) {
+    DenseMat bad = DenseMat(full);
+    bad(4, 4) = -1.0;
+    EXPECT_THROW(dense->factorize_dense(bad), db::SolverError);
+  }
+}
+
 TEST_P(Conformance, MisuseIsReported) {
   std::mt19937 rng(6);
   const SpMat upper = upper_of(normal_equations(mesh_laplacian(6, 6, true, rng), 3, rng));

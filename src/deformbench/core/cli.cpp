@@ -1,0 +1,174 @@
+#include "core/cli.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <new>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace db::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool is_whole_number(const std::string& s) {
+  std::size_t i = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
+  if (i == s.size()) return false;
+  for (; i < s.size(); ++i)
+    if (s[i] < '0' || s[i] > '9') return false;
+  return true;
+}
+
+// Levenshtein distance, for "did you mean".
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+void collect_names(const CLI::App& app, std::vector<std::string>& names) {
+  for (const CLI::Option* o : app.get_options())
+    for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
+  for (const CLI::App* sub : app.get_subcommands({})) collect_names(*sub, names);
+}
+
+// "unknown option --frame (did you mean --frames?)" for every extra that looks like an option.
+std::string describe_extras(const CLI::App& app, const std::vector<std::string>& extras) {
+  std::vector<std::string> names;
+  collect_names(app, names);
+  std::vector<std::string> parts;
+  for (std::size_t i = 0; i < extras.size(); ++i) {
+    const std::string& x = extras[i];
+    if (x.rfind("-", 0) != 0) {
+      parts.push_back(fmt::format("unexpected argument '{}'", x));
+      continue;
+    }
+    const std::string key = x.substr(0, x.find('='));
+    std::string best;
+    std::size_t best_d = 3;  // suggest only close misspellings
+    for (const std::string& n : names) {
+      const std::size_t d = edit_distance(key, n);
+      if (d < best_d) best_d = d, best = n;
+    }
+    parts.push_back(best.empty() ? fmt::format("unknown option {}", key)
+                                 : fmt::format("unknown option {} (did you mean {}?)", key, best));
+    // The unknown option's value, if it had one, is no separate mistake.
+    if (x.find('=') == std::string::npos && i + 1 < extras.size() && extras[i + 1].rfind("-", 0) != 0) ++i;
+  }
+  return fmt::format("{}", fmt::join(parts, "; "));
+}
+
+const CLI::App& innermost(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands())
+    if (sub->parsed()) return innermost(*sub);
+  return app;
+}
+
+}  // namespace
+
+CLI::Validator Integer(long long min, long long max) {
+  return CLI::Validator(
+      [min, max](std::string& s) -> std::string {
+        if (!is_whole_number(s)) return fmt::format("{} is not a whole number", s);
+        errno = 0;
+        const long long v = std::strtoll(s.c_str(), nullptr, 10);
+        if (errno == ERANGE || v < min || v > max) return fmt::format("{} is outside [{}, {}]", s, min, max);
+        return {};
+      },
+      fmt::format("[{}, {}]", min, max));
+}
+
+CLI::Validator Real(double min, double max) {
+  return CLI::Validator(
+      [min, max](std::string& s) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(s.c_str(), &end);
+        if (s.empty() || end != s.c_str() + s.size() || s.find_first_of("xXpP") != std::string::npos)
+          return fmt::format("{} is not a number", s);
+        if (!std::isfinite(v) || errno == ERANGE) return fmt::format("{} is not a finite number", s);
+        if (v < min || v > max) return fmt::format("{} is outside [{:g}, {:g}]", s, min, max);
+        return {};
+      },
+      fmt::format("[{:g}, {:g}]", min, max));
+}
+
+CLI::Validator OneOf(const std::vector<std::string>& values) {
+  return CLI::Validator(
+      [values](std::string& s) -> std::string {
+        if (std::find(values.begin(), values.end(), s) != values.end()) return {};
+        return fmt::format("'{}' is not one of: {}", s, fmt::join(values, ", "));
+      },
+      fmt::format("{{{}}}", fmt::join(values, "|")));
+}
+
+int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+  const std::string tool = fs::path(argc > 0 ? argv[0] : app.get_name()).filename().string();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << innermost(app).help();
+    return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::ExtrasError&) {
+    std::cerr << tool << ": error: " << describe_extras(innermost(app), innermost(app).remaining()) << " (see "
+              << tool << " --help)\n";
+    return 1;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << tool << ": error: " << e.what() << " (see " << tool << " --help)\n";
+    return 1;
+  }
+  try {
+    return body();
+  } catch (const std::bad_alloc&) {
+    std::cerr << tool << ": error: out of memory\n";
+    return 4;
+  } catch (const std::exception& e) {
+    std::cerr << tool << ": error: " << e.what() << "\n";
+    return exit_code(e);
+  }
+}
+
+void check_output(const std::string& option, const std::string& path, const std::vector<std::string>& extensions,
+                  const std::vector<std::string>& inputs) {
+  if (path.empty()) throw UsageError(fmt::format("{}: empty path", option));
+  const fs::path p(path);
+  if (!extensions.empty()) {
+    std::string ext = p.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end())
+      throw UsageError(fmt::format("{} {}: unsupported extension '{}' (supported: {})", option, path, ext,
+                                   fmt::join(extensions, ", ")));
+  }
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw UsageError(fmt::format("{} {}: directory '{}' does not exist", option, path, dir.string()));
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw UsageError(fmt::format("{} {}: directory '{}' is not writable", option, path, dir.string()));
+  if (fs::is_directory(p, ec)) throw UsageError(fmt::format("{} {}: is a directory", option, path));
+  for (const std::string& in : inputs) {
+    const bool same = fs::exists(p, ec) && fs::exists(in, ec) ? fs::equivalent(p, in, ec)
+                                                              : fs::weakly_canonical(p, ec) == fs::weakly_canonical(in, ec);
+    if (same) throw UsageError(fmt::format("{} {}: is an input file; write the result elsewhere", option, path));
+  }
+}
+
+}  // namespace db::cli
