@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 int main(int argc, char** argv) {
   try {
     const db::Args a = db::parse_args(argc, argv, 1);
-    const fs::path data = a.get("--data", "data"), shared = a.get("--shared", "../shared/data/bs08");
+    const fs::path data = a.get("--data", "data"), shared = a.get("--shared", "data/bs08");
     const std::string out = a.get("--out", "results/deform_cases.csv");
     const std::string mesh_dir = a.get("--meshes", "");
     const int frames = static_cast<int>(a.number("--frames", 20));

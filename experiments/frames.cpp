@@ -12,7 +12,7 @@
 //    --twist-step degree edits, each re-using the previous result as its rest mesh; one single-shot 1-turn case
 //    shows what a single transform gives;
 //  - the CGAL dino's head turned 90 degrees (data/edits/dino_head.edit), no ideal;
-//  - the four Botsch-Sorkine 2008 edits (../shared/data/bs08), no ideal.
+//  - the four Botsch-Sorkine 2008 edits (data/bs08), no ideal.
 //
 //   exp_frames [--data DIR] [--shared DIR] [--out results/frames.csv] [--md results/frames.md]
 //              [--meshes DIR | --no-meshes] [--twist-step DEG] [--only SUBSTRING] [--seed N]
@@ -231,7 +231,7 @@ struct Summary {  // what the verdict needs, per case
 int main(int argc, char** argv) {
   try {
     const Args a = parse_args(argc, argv, 1, {"--no-meshes"});
-    const fs::path data = a.get("--data", "data"), shared = a.get("--shared", "../shared/data/bs08");
+    const fs::path data = a.get("--data", "data"), shared = a.get("--shared", "data/bs08");
     const std::string out = a.get("--out", "results/frames.csv");
     const std::string md = a.get("--md", (fs::path(out).parent_path() / "frames.md").string());
     const std::string mesh_dir = a.has("--no-meshes") ? "" : a.get("--meshes", "results/meshes/frames");

@@ -10,9 +10,9 @@
 # JOBS (build parallelism, default 2).
 #
 # Manifest columns: name,source,path,vertices,faces,sha256,tier. tier = default (always produced and checked),
-# full (produced by --full; checked when present), optional (read-only inputs outside the repo, checked when
-# present). Paths are relative to the repository root. All meshes are .off: the writer prints each double as the
-# shortest string that reads back exactly, so the generated files are deterministic and lossless.
+# full (produced by --full; checked when present), bundled (committed in the repository: always checked). Paths
+# are relative to the repository root. All meshes are .off: the writer prints each double as the shortest string
+# that reads back exactly, so the generated files are deterministic and lossless.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -48,7 +48,9 @@ entries() {
   echo "armadillo_loop2|meshtool subdivide armadillo.off 2 (OpenMesh Loop)|data/generated/armadillo_loop2.off|full"
   echo "armadillo_loop3|meshtool subdivide armadillo.off 3 (OpenMesh Loop)|data/generated/armadillo_loop3.off|full"
   for m in plane cylinder bar cactus; do
-    echo "bs08_$m|Botsch-Sorkine 2008 survey (shared, read-only)|../shared/data/bs08/$m.off|optional"
+    for ext in off sel def; do
+      echo "bs08_$m.$ext|Botsch-Sorkine 2008 survey edit, bundled (data/README.md)|data/bs08/$m.$ext|bundled"
+    done
   done
 }
 
@@ -152,7 +154,7 @@ if [[ $WRITE == 1 ]]; then
       echo "$old" >>"$tmp"
     else
       rm -f "$tmp"
-      die "$path is not present and has no recorded row; run with --full (and with ../shared/data/bs08 present)"
+      die "$path is not present and has no recorded row; run with --full"
     fi
   done < <(entries)
   mv "$tmp" "$MANIFEST"
@@ -170,7 +172,7 @@ while IFS= read -r line; do
   IFS=',' read -r name path ev ef esha tier <<<"$rest"
   if [[ ! -f $path ]]; then
     case "$tier" in
-      default) echo "data.sh: MISSING $path ($name, $source)" >&2; errors=$((errors + 1)) ;;
+      default|bundled) echo "data.sh: MISSING $path ($name, $source)" >&2; errors=$((errors + 1)) ;;
       full) [[ $FULL == 1 ]] && { echo "data.sh: MISSING $path ($name)" >&2; errors=$((errors + 1)); } ;;
     esac
     continue

@@ -8,7 +8,7 @@ FULL=${1:-}
 log() { printf '[experiments] %s\n' "$*" >&2; }
 
 log "deform cases (BS08 + bundled cactus, lap and tf)"
-"$BUILD/exp_deform_cases" --data "$ROOT/data" --shared "$ROOT/../shared/data/bs08" \
+"$BUILD/exp_deform_cases" --data "$ROOT/data" --shared "$ROOT/data/bs08" \
   --out "$ROOT/results/deform_cases.csv" --meshes "$ROOT/results/meshes"
 
 # Thesis Table 2-1 (issue 3): every cell in a fresh child process under a memory budget (default half the RAM)
@@ -45,5 +45,5 @@ log "solver choice, full grid (OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset>})"
 # LRI and the frames experiment (issue 5): bends, twists, the dino head turn and the BS08 edits for lap, tf and
 # lri x frame strategy x orthonormalization; deformed meshes under results/meshes/frames for the renders.
 log "frames (LRI frame strategies against lap and tf)"
-"$BUILD/exp_frames" --data "$ROOT/data" --shared "$ROOT/../shared/data/bs08" --out "$ROOT/results/frames.csv" \
+"$BUILD/exp_frames" --data "$ROOT/data" --shared "$ROOT/data/bs08" --out "$ROOT/results/frames.csv" \
   --meshes "$ROOT/results/meshes/frames"

@@ -331,8 +331,8 @@ TEST(Deform, TfPinnedOnOneLineIsRejectedAsSingular) {
   }
 }
 
-// The BS08 survey cases, read from ../shared when present.
-const std::filesystem::path kBs08 = std::filesystem::path(DEFORMBENCH_SOURCE_DIR) / ".." / "shared" / "data" / "bs08";
+// The BS08 survey cases (data/bs08).
+const std::filesystem::path kBs08 = std::filesystem::path(DEFORMBENCH_SOURCE_DIR) / "data" / "bs08";
 
 class Bs08 : public ::testing::TestWithParam<std::string> {};
 

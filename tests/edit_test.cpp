@@ -24,7 +24,7 @@ namespace {
 using namespace db;
 namespace fs = std::filesystem;
 
-const std::string kBs08 = DEFORMBENCH_SOURCE_DIR "/../shared/data/bs08";
+const std::string kBs08 = DEFORMBENCH_SOURCE_DIR "/data/bs08";
 const char* kBs08Cases[] = {"plane", "cylinder", "bar", "cactus"};
 
 template <class F>
