@@ -23,10 +23,6 @@
 // "amd" for Eigen's SparseLU (a symmetric ordering for a column-pivoting LU: 123 s and 2 GB on man tf, where
 // its default COLAMD takes 15 s).
 //
-// Extra backend "lapack_potrf" (local to this experiment): dense Cholesky by LAPACK dpotrf from the same BLAS as
-// dense_lu (dgetrf) and dense_ldlt_bk (dsytrf), so the dense Cholesky / LU / Bunch-Kaufman comparison is not a
-// comparison of Eigen's kernels with OpenBLAS' (dense_llt is Eigen's LLT).
-//
 //   exp_solvers --data DIR --results DIR [--full] [--tiers hand,man,...] [--systems lap,tf]
 //               [--backends a,b,...] [--orderings a,b,...] [--dense-max-n N] [--poor-ordering-max-n N]
 //               [--iterative-max-n N] [--threads N (default 1; 0 = as the environment says)]
@@ -76,12 +72,6 @@
 #include "systems/normal_system.h"
 #include "systems/vertex_ordering.h"
 
-extern "C" {
-void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uplo_len);
-void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, double* b,
-             const int* ldb, int* info, std::size_t uplo_len);
-}
-
 namespace fs = std::filesystem;
 using namespace db;
 using namespace db::harness;
@@ -95,75 +85,6 @@ const char* const kVertexOrdering = "vertex-metis";
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
   return std::find(v.begin(), v.end(), s) != v.end();
-}
-
-// ------------------------------------------------------------------------------------------------ lapack_potrf
-// Dense Cholesky from LAPACK (dpotrf / dpotrs), the same library and blocking as dense_lu and dense_ldlt_bk.
-class LapackPotrf final : public LinearSolver {
- public:
-  explicit LapackPotrf(const SolverOptions& o) {
-    if (o.ordering != "default" && o.ordering != "natural")
-      throw Error("lapack_potrf takes no fill-reducing ordering (valid: default, natural)");
-  }
-  std::string name() const override { return "lapack_potrf"; }
-  void analyze(const SpMat& upper) override {
-    solver_util::check_square(upper, name());
-    solver_util::check_dense_budget(Index(upper.rows()), name());
-    const double n = double(upper.rows());
-    stats_ = FactorStats{};
-    stats_.n = std::size_t(upper.rows());
-    stats_.nnz_matrix = std::size_t(upper.nonZeros());
-    stats_.nnz_factor = std::size_t(n * (n + 1) / 2);
-    stats_.flops = n * n * n / 3.0;
-    stats_.factor_bytes = std::size_t(n * n) * sizeof(double);
-    stats_.ordering_used = "none";
-  }
-  void factorize(const SpMat& upper) override {
-    if (stats_.n != std::size_t(upper.rows())) analyze(upper);
-    solver_util::check_finite_values(upper, name());
-    factored_ = false;
-    a_ = solver_util::dense_from_upper(upper);
-    const int n = int(a_.rows());
-    int info = 0;
-    dpotrf_("L", &n, a_.data(), &n, &info, 1);
-    if (info < 0) throw SolverError(fmt::format("lapack_potrf: dpotrf argument {} invalid", -info));
-    if (info > 0) throw SolverError(fmt::format("lapack_potrf: not positive definite at column {}", info - 1));
-    factored_ = true;
-  }
-  void solve(const DenseMat& B, DenseMat& X) override {
-    if (!factored_) throw SolverError("lapack_potrf: solve() before a successful factorize()");
-    solver_util::check_rhs(B, Index(stats_.n), name());
-    X = B;
-    const int n = int(a_.rows()), nrhs = int(X.cols());
-    int info = 0;
-    dpotrs_("L", &n, &nrhs, a_.data(), &n, X.data(), &n, &info, 1);
-    if (info != 0) throw SolverError(fmt::format("lapack_potrf: dpotrs failed (info {})", info));
-    solver_util::check_finite_result(X, name());
-  }
-  FactorStats stats() const override { return stats_; }
-
- private:
-  DenseMat a_;
-  FactorStats stats_;
-  bool factored_ = false;
-};
-
-SolverInfo backend_info(const std::string& name) {
-  if (name == "lapack_potrf") return {"lapack_potrf", "dense", true, {"default"}};
-  return solver_info(name);
-}
-
-std::unique_ptr<LinearSolver> make_backend(const std::string& name, const SolverOptions& o) {
-  if (name == "lapack_potrf") return std::make_unique<LapackPotrf>(o);
-  return make_solver(name, o);
-}
-
-std::vector<std::string> all_backends() {
-  std::vector<std::string> b = solver_names();
-  // lapack_potrf next to the other dense backends.
-  auto it = std::find(b.begin(), b.end(), "dense_llt");
-  b.insert(it == b.end() ? b.end() : it + 1, "lapack_potrf");
-  return b;
 }
 
 // ------------------------------------------------------------------------------------------------ cells
@@ -356,7 +277,7 @@ CellResult measure_cell(const CellSpec& s) {
   r.v["matrix_bytes"] = double(sparse_bytes(sys.K));
   r.v["baseline_rss_bytes"] = double(current_rss_bytes());
 
-  auto solver = make_backend(s.backend, so);
+  auto solver = make_solver(s.backend, so);
   Timer ta;
   solver->analyze(sys.K);
   r.v["analyze_s"] = order_s + ta.seconds();
@@ -381,7 +302,7 @@ CellResult measure_cell(const CellSpec& s) {
   r.v["factor_flops"] = st.flops > 0 ? st.flops : kNaN;
   r.v["gflops"] = st.flops > 0 && fmin > 0 ? st.flops / fmin / 1e9 : kNaN;  // at the fastest repetition
   r.v["factor_bytes"] = double(st.factor_bytes);
-  if (backend_info(s.backend).family != "iterative") r.v.erase("iterations");
+  if (solver_info(s.backend).family != "iterative") r.v.erase("iterations");
   r.v["residual"] = rel_residual(sys.K, x, rhs);
   r.v["residual_synthetic"] = rel_residual(sys.K, xs, bsyn);
   r.v["error_exact"] = (xs - xref).norm() / xref.norm();
@@ -541,7 +462,7 @@ std::vector<Record> run_grid(const Config& cfg) {
       fs::remove(ref);
       bool have_ref = false;
       for (const auto& backend : cfg.backends) {
-        const SolverInfo info = backend_info(backend);
+        const SolverInfo info = solver_info(backend);
         std::string default_used;  // what "default" resolved to for this backend (from its cell)
         for (const auto& ordering : orderings_for(cfg, info)) {
           Record rec{tier.label, system, backend, info.family, ordering, nv, nv * block, {}};
@@ -1114,11 +1035,11 @@ int driver_main(int argc, char** argv) {
   cfg.tiers = split_list(a.get("--tiers", ""));
   cfg.systems = split_list(a.get("--systems", "lap,tf"));
   cfg.backends = split_list(a.get("--backends", ""));
-  if (cfg.backends.empty()) cfg.backends = all_backends();
+  if (cfg.backends.empty()) cfg.backends = solver_names();
   // The reference (CHOLMOD supernodal, default ordering) runs first so every other cell can compare with it.
   if (auto it = std::find(cfg.backends.begin(), cfg.backends.end(), kReferenceBackend); it != cfg.backends.end())
     std::rotate(cfg.backends.begin(), it, it + 1);
-  for (const auto& b : cfg.backends) backend_info(b);  // throws for an unknown name
+  for (const auto& b : cfg.backends) solver_info(b);  // throws for an unknown name
   for (const auto& s : cfg.systems) parse_energy(s);
   cfg.orderings = split_list(a.get("--orderings", ""));
   cfg.blas_compare = split_list(a.get("--blas-compare", ""));

@@ -13,7 +13,8 @@ std::unique_ptr<LinearSolver> make_cholmod(bool supernodal, const SolverOptions&
 //! Multifrontal supernodal LL^T, symbolic phase on the block graph, subtrees on worker threads.
 std::unique_ptr<LinearSolver> make_multifrontal(const SolverOptions& options);
 
-//! Dense on the expanded matrix: kind "llt" (Eigen), "ldlt_bk" (LAPACK dsytrf), "lu" (LAPACK dgetrf).
+//! Dense on the expanded matrix: kind "llt" (Eigen), "potrf" (LAPACK dpotrf), "ldlt_bk" (LAPACK dsytrf), "lu"
+//! (LAPACK dgetrf).
 std::unique_ptr<LinearSolver> make_dense(const std::string& kind, const SolverOptions& options);
 
 //! Eigen SimplicialLLT (`ldlt` false) / SimplicialLDLT on the upper triangle.

@@ -1,5 +1,7 @@
 //! Dense backends on the expanded full matrix (reference / small-system baselines):
-//! "dense_llt" (Eigen LLT), "dense_ldlt_bk" (LAPACK dsytrf Bunch-Kaufman), "dense_lu" (LAPACK dgetrf).
+//! "dense_llt" (Eigen LLT), "lapack_potrf" (LAPACK dpotrf), "dense_ldlt_bk" (LAPACK dsytrf Bunch-Kaufman),
+//! "dense_lu" (LAPACK dgetrf). lapack_potrf is the Cholesky of the same library and blocking as the other two, so
+//! the dense Cholesky / LU / Bunch-Kaufman comparison is not one of Eigen's kernels against OpenBLAS'.
 #include <limits>
 #include <vector>
 
@@ -13,6 +15,9 @@
 // Fortran LAPACK (OpenBLAS ships it; LAPACKE does not come with it). The trailing size_t arguments
 // are gfortran's hidden CHARACTER lengths: passing them keeps the calls well-defined.
 extern "C" {
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uplo_len);
+void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, double* b,
+             const int* ldb, int* info, std::size_t uplo_len);
 void dsytrf_(const char* uplo, const int* n, double* a, const int* lda, int* ipiv, double* work, const int* lwork,
              int* info, std::size_t uplo_len);
 void dsytrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, const int* ipiv,
@@ -137,6 +142,35 @@ class DenseLLT final : public DenseSolver {
   Eigen::LLT<DenseMat> llt_;
 };
 
+class LapackPotrf final : public DenseSolver {
+ public:
+  using DenseSolver::DenseSolver;
+  std::string name() const override { return "lapack_potrf"; }
+
+ protected:
+  bool pivoted() const override { return false; }
+  void factor(DenseMat&& A, const DenseVec& diag) override {
+    const int n = int(A.rows());
+    a_ = std::move(A);
+    int info = 0;
+    dpotrf_("L", &n, a_.data(), &n, &info, 1);
+    if (info < 0) throw SolverError(fmt::format("lapack_potrf: dpotrf argument {} invalid", -info));
+    if (info > 0) throw SolverError(fmt::format("lapack_potrf: not positive definite at column {}", info - 1));
+    std::vector<double> pivots(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) pivots[std::size_t(k)] = a_(k, k) * a_(k, k);
+    check_pivots(pivots, nullptr, diag, name(), singular_test_);
+  }
+  void solve_in_place(DenseMat& X) override {
+    const int n = int(a_.rows()), nrhs = int(X.cols());
+    int info = 0;
+    dpotrs_("L", &n, &nrhs, a_.data(), &n, X.data(), &n, &info, 1);
+    if (info != 0) throw SolverError(fmt::format("lapack_potrf: dpotrs failed (info {})", info));
+  }
+
+ private:
+  DenseMat a_;
+};
+
 class DenseLdltBunchKaufman final : public DenseSolver {
  public:
   using DenseSolver::DenseSolver;
@@ -213,6 +247,7 @@ class DenseLU final : public DenseSolver {
 
 std::unique_ptr<LinearSolver> backends::make_dense(const std::string& kind, const SolverOptions& options) {
   if (kind == "llt") return std::make_unique<DenseLLT>(options);
+  if (kind == "potrf") return std::make_unique<LapackPotrf>(options);
   if (kind == "ldlt_bk") return std::make_unique<DenseLdltBunchKaufman>(options);
   if (kind == "lu") return std::make_unique<DenseLU>(options);
   throw Error(fmt::format("unknown dense backend kind '{}'", kind));

@@ -30,6 +30,8 @@ const std::vector<Entry>& table() {
        [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
       {{"dense_llt", "dense", true, kDenseOrderings},
        [](const SolverOptions& o) { return backends::make_dense("llt", o); }},
+      {{"lapack_potrf", "dense", true, kDenseOrderings},
+       [](const SolverOptions& o) { return backends::make_dense("potrf", o); }},
       // Bunch-Kaufman factors indefinite matrices too; it only refuses singular ones.
       {{"dense_ldlt_bk", "dense", false, kDenseOrderings},
        [](const SolverOptions& o) { return backends::make_dense("ldlt_bk", o); }},
