@@ -1,19 +1,18 @@
-// deformbench: command-line front end.
-//   deformbench deform <edit> --method lap|tf --out result.ply [options]
-//   deformbench solvers            list the linear solver backends
-//   deformbench provenance         print what result rows record about this machine and build
+// deformbench: command-line front end (`deformbench --help`; README "One deformation from the command line").
+//   deformbench deform <edit> --out FILE [options]   one edit, its phase times and bytes
+//   deformbench solvers                              the linear-solver backends, with what each accepts
+//   deformbench provenance                           what result rows record about this machine and build
+// Options are checked before any work: a value out of range, an option the chosen method or backend does not use,
+// or an output that could not be written is a usage error (exit 1) before a mesh is read.
 #include <algorithm>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <iostream>
-#include <map>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "core/args.h"
+#include "core/atomic_file.h"
+#include "core/cli.h"
 #include "core/csv.h"
 #include "core/error.h"
 #include "core/provenance.h"
@@ -24,167 +23,325 @@
 #include "mesh/mesh_io.h"
 #include "methods/deformer.h"
 #include "methods/drag.h"
+#include "operators/frames.h"
 
 namespace {
 
-const char* kUsage = R"(usage:
-  deformbench deform <edit> --out FILE [options]
-      <edit>: a BS08 stem (STEM.off + STEM.sel + STEM.def) or a .edit file
-      --method lap|tf|lri        method (default lap)
-      --weights uniform|cotan    Laplacian weights (default uniform)
-      --constraints hard|soft    eliminate handle/fixed vertices or weight them (default hard)
-      --soft-weight W            weight of soft constraint rows (default 1)
-      --tf-no-translation        TF without the translation fit (thesis eq. 2-12)
-      --lri-frames first|random|height_angle|curvature   LRI local frame strategy (default first)
-      --lri-orthonormalize gram_schmidt|polar            LRI frame orthonormalization (default gram_schmidt)
-      --lri-seed N               seed of the random frame strategy
-      --build structured|naive|dense   how the normal matrix is formed (default structured)
-      --solver NAME              linear solver backend (default multifrontal; see `deformbench solvers`)
-      --ordering amd|metis|nesdis|natural|default
-      --factor-dir DIR           out of core: keep the factor in a scratch file in DIR (multifrontal only)
-      --no-normalize             build in raw coordinates (for diagnosis; TF may fail)
-      --transform SPEC           override the edit's handle transform (translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | matrix:...)
-      --frames N                 interpolate the transform over N frames, report the median frame time (default 1)
-      --memory-budget-mb MB      refuse builds predicted above this
-      --csv FILE                 append-free: write one tidy CSV row (atomically) with the measurements
-  deformbench solvers
-  deformbench provenance
-exit codes: 0 ok, 1 usage or other error, 2 bad input, 3 solver failure, 4 over budget)";
+using namespace db;
 
-int cmd_deform(const db::Args& a) {
-  if (a.positional.size() != 1) throw db::Error("deform takes exactly one <edit>");
-  if (!a.has("--out")) throw db::Error("deform needs --out FILE");
-  const std::string out = a.get("--out", "");
-  // Fail before the (possibly long) solve when the result could not be written anyway.
-  const auto out_dir = std::filesystem::path(out).parent_path();
-  if (!out_dir.empty() && !std::filesystem::is_directory(out_dir))
-    throw db::Error("output directory does not exist: " + out_dir.string());
-  db::DeformOptions o;
-  o.method = a.get("--method", "lap");
-  o.weights = db::parse_weights(a.get("--weights", "uniform"));
-  o.constraints = db::parse_constraints(a.get("--constraints", "hard"));
-  o.soft_weight = a.number("--soft-weight", 1.0);
-  o.tf_translation = !a.has("--tf-no-translation");
-  o.lri_frames = a.get("--lri-frames", o.lri_frames);
-  o.lri_orthonormalize = a.get("--lri-orthonormalize", o.lri_orthonormalize);
-  o.lri_seed = static_cast<unsigned>(a.number("--lri-seed", o.lri_seed));
-  o.build = db::parse_build(a.get("--build", "structured"));
-  o.solver = a.get("--solver", "multifrontal");
-  o.solver_options.ordering = a.get("--ordering", "default");
-  o.solver_options.factor_dir = a.get("--factor-dir", "");
-  o.normalize = !a.has("--no-normalize");
-  if (a.has("--memory-budget-mb"))
-    o.memory_budget = static_cast<std::size_t>(a.number("--memory-budget-mb", 0) * 1e6);
-  const int frames = static_cast<int>(a.number("--frames", 1));
-  if (frames < 1) throw db::Error("--frames must be at least 1");
+//! Most frames one run interpolates: every frame's phase times are kept for the medians (32 bytes a frame).
+constexpr long long kMaxFrames = 100000;
+const std::vector<std::string> kMeshExtensions = {".off", ".ply", ".obj"};  // what write_mesh writes
+const std::vector<std::string> kMethods = {"lap", "tf", "lri"};
+// Orderings the structured LAP / TF build applies to the vertex graph itself (systems/vertex_ordering.h).
+const std::vector<std::string> kVertexOrderings = {"default", "natural", "amd", "metis", "nesdis"};
 
-  db::EditCase ec = db::load_edit_case(a.positional[0]);
-  if (a.has("--transform")) ec.edit.transform = db::parse_transform(a.get("--transform", ""));
-  auto deformer = db::make_deformer(ec.mesh, ec.edit, o);
+struct DeformArgs {
+  std::string edit, out, csv, transform, factor_dir;
+  std::string method = "lap", weights = "uniform", constraints = "hard", build = "structured", solver;
+  std::string ordering = "default", lri_frames = "first", lri_orthonormalize = "gram_schmidt";
+  double soft_weight = 1.0;
+  unsigned lri_seed = 1;
+  bool tf_no_translation = false, no_normalize = false;
+  long long frames = 1, memory_budget_mb = 0;
+};
 
-  std::vector<double> frame_times, rhs_times, solve_times, write_times;
-  db::Points result;
-  for (int f = 1; f <= frames; ++f) {
-    result = deformer->deform(db::interpolate_transform(ec.edit.transform, static_cast<double>(f) / frames));
-    const auto& ft = deformer->times();
-    frame_times.push_back(ft.frame());
-    rhs_times.push_back(ft.rhs);
-    solve_times.push_back(ft.solve);
-    write_times.push_back(ft.write);
+bool contains(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+template <class E>
+std::vector<std::string> names(std::initializer_list<E> values) {
+  std::vector<std::string> out;
+  for (E e : values) out.push_back(to_string(e));
+  return out;
+}
+
+std::vector<std::string> all_orderings() {
+  std::vector<std::string> out = kVertexOrderings;
+  for (const std::string& s : solver_names())
+    for (const std::string& o : solver_info(s).orderings)
+      if (!contains(out, o)) out.push_back(o);
+  return out;
+}
+
+// --transform is checked as text here (a usage error); a def:FILE is read with the edit (a bad file: exit 2).
+CLI::Validator TransformSpec() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        if (s.rfind("def:", 0) == 0) return {};
+        try {
+          parse_transform(s);
+        } catch (const InputError& e) {
+          return e.what();
+        }
+        return {};
+      },
+      "");
+}
+
+void add_deform_options(CLI::App& d, DeformArgs& a) {
+  d.add_option("edit", a.edit, "a Botsch-Sorkine stem (STEM.off|.ply|.obj + STEM.sel + STEM.def) or a .edit file")
+      ->type_name("EDIT")->required();
+  d.add_option("--out", a.out, "the deformed mesh (.off, .ply or .obj); written only if the whole run succeeds")
+      ->type_name("FILE")->required();
+  d.add_option("--csv", a.csv, "also write one tidy CSV row (.csv) of the measurements, with --out, all or nothing")
+      ->type_name("FILE");
+  d.add_option("--frames", a.frames, "interpolate the handle transform over N frames; report the median frame")
+      ->type_name("N")->check(cli::Integer(1, kMaxFrames))->capture_default_str();
+  d.add_option("--transform", a.transform,
+               "replace the edit's handle transform: translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | "
+               "matrix:16 values | def:FILE")
+      ->type_name("SPEC")->check(TransformSpec());
+  const std::string m = "Method";
+  d.add_option("--method", a.method, "the deformation method")->check(cli::OneOf(kMethods))->capture_default_str()
+      ->group(m);
+  d.add_option("--constraints", a.constraints, "eliminate the handle and fixed vertices, or keep them as weighted rows")
+      ->check(cli::OneOf(names({ConstraintMode::Hard, ConstraintMode::Soft})))->capture_default_str()->group(m);
+  d.add_option("--soft-weight", a.soft_weight, "weight w of the soft constraint rows w^2 |v - u|^2 (--constraints soft)")
+      ->type_name("W")->check(cli::Real(1e-8, 1e8))->capture_default_str()->group(m);
+  d.add_option("--weights", a.weights, "Laplacian weights (lap, tf)")
+      ->check(cli::OneOf(names({Weights::Uniform, Weights::Cotan})))->capture_default_str()->group(m);
+  d.add_flag("--tf-no-translation", a.tf_no_translation, "TF without the translation fit, thesis eq. 2-12 (tf)")
+      ->group(m);
+  d.add_flag("--no-normalize", a.no_normalize, "build in raw coordinates (diagnosis only: TF may fail)")->group(m);
+  const std::string l = "LRI (--method lri)";
+  d.add_option("--lri-frames", a.lri_frames, "local frame strategy")
+      ->check(cli::OneOf(names({FrameStrategy::First, FrameStrategy::Random, FrameStrategy::HeightAngle,
+                                FrameStrategy::Curvature})))
+      ->capture_default_str()->group(l);
+  d.add_option("--lri-orthonormalize", a.lri_orthonormalize, "how solved frames are made rotations again")
+      ->check(cli::OneOf(names({Orthonormalization::GramSchmidt, Orthonormalization::Polar})))
+      ->capture_default_str()->group(l);
+  d.add_option("--lri-seed", a.lri_seed, "seed of --lri-frames random")
+      ->type_name("N")->check(cli::Integer(0, 4294967295LL))->capture_default_str()->group(l);
+  const std::string s = "Linear system";
+  d.add_option("--build", a.build, "how the normal matrix is formed (lri: structured or naive)")
+      ->check(cli::OneOf(names({Build::Structured, Build::Naive, Build::Dense})))->capture_default_str()->group(s);
+  d.add_option("--solver", a.solver,
+               "linear-solver backend (default multifrontal, dense_llt for --build dense; `deformbench solvers`)")
+      ->check(cli::OneOf(solver_names()))->group(s);
+  d.add_option("--ordering", a.ordering,
+               "fill-reducing ordering: of the vertex graph with the structured lap/tf build, else the backend's own "
+               "(`deformbench solvers` lists what each accepts)")
+      ->check(cli::OneOf(all_orderings()))->capture_default_str()->group(s);
+  d.add_option("--factor-dir", a.factor_dir, "out of core: the factor in a scratch file in DIR (multifrontal)")
+      ->type_name("DIR")->group(s);
+  d.add_option("--memory-budget-mb", a.memory_budget_mb, "refuse builds predicted above MB megabytes (exit 4)")
+      ->type_name("MB")->check(cli::Integer(1, 1000000000))->group(s);
+}
+
+// The backend this run uses: --solver, or the build's default.
+std::string backend(const DeformArgs& a) {
+  if (!a.solver.empty()) return a.solver;
+  return a.build == "dense" ? "dense_llt" : "multifrontal";
+}
+
+// Options the chosen method, constraints or build do not use are refused, not ignored.
+void refuse_unused(const CLI::App& d, const DeformArgs& a) {
+  auto refuse = [&](const char* option, const std::string& why) {
+    if (d.count(option) > 0) throw UsageError(fmt::format("{} {}", option, why));
+  };
+  const bool lri = a.method == "lri";
+  if (lri) refuse("--weights", "is not used by --method lri (its systems have no Laplacian weights)");
+  if (a.method != "tf") refuse("--tf-no-translation", fmt::format("is for --method tf only, not {}", a.method));
+  if (!lri)
+    for (const char* o : {"--lri-frames", "--lri-orthonormalize", "--lri-seed"})
+      refuse(o, fmt::format("is for --method lri only, not {}", a.method));
+  else if (a.lri_frames != "random")
+    refuse("--lri-seed", fmt::format("is used by --lri-frames random only, not {}", a.lri_frames));
+  if (a.constraints != "soft") refuse("--soft-weight", "weights soft constraints; it needs --constraints soft");
+  if (a.build == "dense") {
+    if (lri) throw UsageError("--build dense: lri offers the structured and naive builds only");
+    refuse("--ordering", "does not apply to --build dense (the dense factorization orders nothing)");
   }
-  const double median_frame = db::harness::median(frame_times);
+}
 
-  db::Mesh outm = ec.mesh;
-  outm.V = result;
-  db::write_mesh(out, outm);
+// The backend must take the build's matrix, the ordering and --factor-dir. The orderings mirror LaplacianDeformer:
+// the structured LAP / TF build orders the vertex graph itself when the backend takes an ordered matrix as it is
+// ("natural"); otherwise the backend orders, from its own list.
+void check_backend(const CLI::App& d, const DeformArgs& a) {
+  const SolverInfo info = solver_info(backend(a));
+  if (a.build == "dense" && info.family != "dense")
+    throw UsageError(fmt::format("--solver {} takes sparse input only; --build dense needs a dense backend ({})",
+                                 info.name, info.family));
+  if (!a.factor_dir.empty() && !info.out_of_core)
+    throw UsageError(fmt::format("--factor-dir: {} cannot keep its factor out of core (multifrontal can)", info.name));
+  if (d.count("--ordering") == 0) return;
+  const bool vertex_graph = a.method != "lri" && a.build == "structured" && contains(info.orderings, "natural");
+  const std::vector<std::string>& accepted = vertex_graph ? kVertexOrderings : info.orderings;
+  if (!contains(accepted, a.ordering))
+    throw UsageError(fmt::format("--ordering {} is not accepted by {} with --build {}{} (accepted: {})", a.ordering,
+                                 info.name, a.build, a.method == "lri" ? " and --method lri" : "",
+                                 fmt::join(accepted, ", ")));
+}
 
-  const auto& t = deformer->times();
-  const auto& sys = deformer->systems().front();
+DeformOptions deform_options(const DeformArgs& a) {
+  DeformOptions o;
+  o.method = a.method;
+  o.weights = parse_weights(a.weights);
+  o.constraints = parse_constraints(a.constraints);
+  o.soft_weight = a.soft_weight;
+  o.tf_translation = !a.tf_no_translation;
+  o.lri_frames = a.lri_frames;
+  o.lri_orthonormalize = a.lri_orthonormalize;
+  o.lri_seed = a.lri_seed;
+  o.build = parse_build(a.build);
+  o.solver = backend(a);
+  o.solver_options.ordering = a.ordering;
+  o.solver_options.factor_dir = a.factor_dir;
+  o.normalize = !a.no_normalize;
+  o.memory_budget = static_cast<std::size_t>(a.memory_budget_mb) * 1000000;
+  return o;
+}
+
+struct FrameMedians {
+  double frame = 0, rhs = 0, solve = 0, write = 0;
+};
+
+// Drags the handle from the rest pose to T over `frames` frames; the last frame's positions go to `result`.
+FrameMedians run_frames(Deformer& deformer, const Mat4& T, long long frames, Points& result) {
+  std::vector<double> frame, rhs, solve, write;
+  for (long long f = 1; f <= frames; ++f) {
+    result = deformer.deform(interpolate_transform(T, static_cast<double>(f) / static_cast<double>(frames)));
+    const PhaseTimes& t = deformer.times();
+    frame.push_back(t.frame());
+    rhs.push_back(t.rhs);
+    solve.push_back(t.solve);
+    write.push_back(t.write);
+  }
+  using harness::median;
+  return {median(frame), median(rhs), median(solve), median(write)};
+}
+
+void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& deformer, long long frames,
+                  const FrameMedians& m) {
+  const PhaseTimes& t = deformer.times();
   fmt::print("mesh {} ({} vertices, {} faces), edit {}: {} fixed, {} free, {} handle\n", ec.mesh.name,
-             ec.mesh.num_vertices(), ec.mesh.num_faces(), ec.edit.name, ec.edit.count(db::Role::Fixed),
-             ec.edit.count(db::Role::Free), ec.edit.count(db::Role::Handle));
-  fmt::print("method {} | build {} | solver {} | constraints {}\n", o.method, db::to_string(o.build), o.solver,
-             db::to_string(o.constraints));
-  for (const auto& s : deformer->systems())
+             ec.mesh.num_vertices(), ec.mesh.num_faces(), ec.edit.name, ec.edit.count(Role::Fixed),
+             ec.edit.count(Role::Free), ec.edit.count(Role::Handle));
+  fmt::print("method {} | build {} | solver {} | constraints {}\n", o.method, to_string(o.build), o.solver,
+             to_string(o.constraints));
+  for (const auto& s : deformer.systems())
     fmt::print("  system {}: n {} | nnz {} | ordering {} | matrix {:.2f} MB | factor {:.2f} MB{} (nnz(L) {}, {:.2f} GFlop) "
                "| min pivot/diagonal {:.3g}\n",
                s.name, s.n, s.nnz, s.factor.ordering_used, s.matrix_bytes / 1e6, s.factor.factor_bytes / 1e6,
                s.factor.factor_on_disk ? " on disk" : "", s.factor.nnz_factor, s.factor.flops / 1e9,
                s.factor.min_pivot_ratio);
-  for (const auto& s : deformer->systems())
-    if (s.factor.min_pivot_ratio > 0 && s.factor.min_pivot_ratio < db::singular_pivot_bound(s.n))
+  for (const auto& s : deformer.systems())
+    if (s.factor.min_pivot_ratio > 0 && s.factor.min_pivot_ratio < singular_pivot_bound(s.n))
       fmt::print("  note: system {} is ill-conditioned: its smallest pivot is {:.2g} of its diagonal entry, under the "
                  "{:.2g} (10 n eps) a singular matrix's rounding noise reaches; the constraints pin its null space, so "
                  "it is solved, but expect fewer correct digits\n",
-                 s.name, s.factor.min_pivot_ratio, db::singular_pivot_bound(s.n));
+                 s.name, s.factor.min_pivot_ratio, singular_pivot_bound(s.n));
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
-  fmt::print("per frame (median of {}): {:.5f} s (medians: rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames,
-             median_frame, db::harness::median(rhs_times), db::harness::median(solve_times),
-             db::harness::median(write_times));
+  fmt::print("per frame (median of {}): {:.5f} s (medians: rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames, m.frame,
+             m.rhs, m.solve, m.write);
   double flops = 0;
-  for (const auto& s : deformer->systems()) flops += s.factor.flops;
+  for (const auto& s : deformer.systems()) flops += s.factor.flops;
   fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",
-             deformer->matrix_bytes() / 1e6, deformer->factor_bytes() / 1e6,
-             t.factorize > 0 ? flops / 1e9 / t.factorize : 0.0, db::peak_rss_bytes() / 1e6);
-  fmt::print("{}\n", db::provenance_summary());
-  fmt::print("wrote {}\n", out);
+             deformer.matrix_bytes() / 1e6, deformer.factor_bytes() / 1e6,
+             t.factorize > 0 ? flops / 1e9 / t.factorize : 0.0, peak_rss_bytes() / 1e6);
+  fmt::print("{}\n", provenance_summary());
+}
 
-  if (a.has("--csv")) {
-    db::CsvTable csv;
-    csv.add({{"mesh", ec.mesh.name},
-             {"edit", ec.edit.name},
-             {"vertices", std::to_string(ec.mesh.num_vertices())},
-             {"faces", std::to_string(ec.mesh.num_faces())},
-             {"handle", std::to_string(ec.edit.count(db::Role::Handle))},
-             {"fixed", std::to_string(ec.edit.count(db::Role::Fixed))},
-             {"method", o.method},
-             {"weights", db::to_string(o.weights)},
-             {"constraints", db::to_string(o.constraints)},
-             {"build", db::to_string(o.build)},
-             {"backend", o.solver},
-             {"ordering", sys.factor.ordering_used},
-             {"factor_storage", sys.factor.factor_on_disk ? "disk" : "memory"},
-             {"n", std::to_string(sys.n)},
-             {"nnz", std::to_string(sys.nnz)},
-             {"nnz_factor", std::to_string(sys.factor.nnz_factor)},
-             {"build_s", db::num(t.build)},
-             {"analyze_s", db::num(t.analyze)},
-             {"factorize_s", db::num(t.factorize)},
-             {"init_s", db::num(t.init())},
-             {"frames", std::to_string(frames)},
-             {"frame_median_s", db::num(median_frame)},
-             {"matrix_bytes", std::to_string(deformer->matrix_bytes())},
-             {"factor_bytes", std::to_string(deformer->factor_bytes())},
-             {"peak_rss_bytes", std::to_string(db::peak_rss_bytes())}});
-    csv.write(a.get("--csv", ""));
+CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& deformer, long long frames,
+                   const FrameMedians& m) {
+  const PhaseTimes& t = deformer.times();
+  const SystemReport& sys = deformer.systems().front();
+  CsvTable csv;
+  csv.add({{"mesh", ec.mesh.name},
+           {"edit", ec.edit.name},
+           {"vertices", std::to_string(ec.mesh.num_vertices())},
+           {"faces", std::to_string(ec.mesh.num_faces())},
+           {"handle", std::to_string(ec.edit.count(Role::Handle))},
+           {"fixed", std::to_string(ec.edit.count(Role::Fixed))},
+           {"method", o.method},
+           {"weights", to_string(o.weights)},
+           {"constraints", to_string(o.constraints)},
+           {"build", to_string(o.build)},
+           {"backend", o.solver},
+           {"ordering", sys.factor.ordering_used},
+           {"factor_storage", sys.factor.factor_on_disk ? "disk" : "memory"},
+           {"n", std::to_string(sys.n)},
+           {"nnz", std::to_string(sys.nnz)},
+           {"nnz_factor", std::to_string(sys.factor.nnz_factor)},
+           {"build_s", num(t.build)},
+           {"analyze_s", num(t.analyze)},
+           {"factorize_s", num(t.factorize)},
+           {"init_s", num(t.init())},
+           {"frames", std::to_string(frames)},
+           {"frame_median_s", num(m.frame)},
+           {"matrix_bytes", std::to_string(deformer.matrix_bytes())},
+           {"factor_bytes", std::to_string(deformer.factor_bytes())},
+           {"peak_rss_bytes", std::to_string(peak_rss_bytes())}});
+  return csv;
+}
+
+int cmd_deform(const CLI::App& d, const DeformArgs& a) {
+  refuse_unused(d, a);
+  check_backend(d, a);
+  const DeformOptions o = deform_options(a);
+  // Outputs before any mesh is read: a run that could not write its results fails at once, not after the solve.
+  const std::vector<std::string> inputs = edit_case_files(a.edit);
+  cli::check_output("--out", a.out, kMeshExtensions, inputs);
+  if (d.count("--csv") > 0) cli::check_output("--csv", a.csv, {".csv"}, inputs);
+  if (d.count("--factor-dir") > 0) cli::check_directory("--factor-dir", a.factor_dir);
+  const Mat4 transform = a.transform.empty() ? Mat4::Identity() : parse_transform(a.transform);  // def:FILE: exit 2
+
+  EditCase ec = load_edit_case(a.edit);
+  if (!a.transform.empty()) ec.edit.transform = transform;
+  const auto deformer = make_deformer(ec.mesh, ec.edit, o);
+  Points result;
+  const FrameMedians m = run_frames(*deformer, ec.edit.transform, a.frames, result);
+
+  StagedOutputs outputs;  // the mesh and the CSV row land together or not at all
+  Mesh deformed = ec.mesh;
+  deformed.V = std::move(result);
+  write_mesh(outputs.stage(a.out), deformed);
+  print_report(ec, o, *deformer, a.frames, m);
+  if (!a.csv.empty()) csv_table(ec, o, *deformer, a.frames, m).write(outputs.stage(a.csv));
+  outputs.commit();
+  fmt::print("wrote {}{}\n", a.out, a.csv.empty() ? "" : " and " + a.csv);
+  return 0;
+}
+
+// One line a backend: its name first, then what the deform options may ask of it.
+int cmd_solvers() {
+  for (const std::string& s : solver_names()) {
+    const SolverInfo info = solver_info(s);
+    fmt::print("{:<24} {:<16} orderings {}{}\n", s, info.family, fmt::join(info.orderings, ","),
+               info.out_of_core ? " | --factor-dir" : "");
   }
+  return 0;
+}
+
+int cmd_provenance() {
+  for (const auto& kv : provenance().columns()) std::cout << kv.first << ": " << kv.second << "\n";
   return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help")) {
-    std::cout << kUsage << "\n";
-    return argc < 2 ? 1 : 0;
-  }
-  const std::string cmd = argv[1];
-  try {
-    const db::Args a = db::parse_args(argc, argv, 2, {"--tf-no-translation", "--no-normalize"});
-    if (cmd == "deform") return cmd_deform(a);
-    if (cmd == "solvers") {
-      for (const auto& s : db::solver_names()) std::cout << s << "\n";
-      return 0;
-    }
-    if (cmd == "provenance") {
-      for (const auto& kv : db::provenance().columns()) std::cout << kv.first << ": " << kv.second << "\n";
-      return 0;
-    }
-    std::cerr << "deformbench: unknown command '" << cmd << "'\n" << kUsage << "\n";
+  CLI::App app("deformbench: linear mesh deformation (LAP, TF, LRI) with interchangeable linear solvers",
+               "deformbench");
+  app.require_subcommand(1);
+  app.footer(fmt::format("Exit codes: 0 ok, 1 usage (an unknown option, a value out of range, options that do not go "
+                         "together, an output that cannot be written), 2 bad input (a mesh, an edit, a selection), 3 "
+                         "solver failure (singular, indefinite, non-finite), 4 over the memory budget.\n"
+                         "--frames is capped at {}.",
+                         kMaxFrames));
+  DeformArgs a;
+  CLI::App* deform = app.add_subcommand("deform", "deform one edit; print the phase times and bytes");
+  add_deform_options(*deform, a);
+  CLI::App* solvers = app.add_subcommand("solvers", "list the linear-solver backends and the orderings each accepts");
+  CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");
+  return cli::run(app, argc, argv, [&] {
+    if (deform->parsed()) return cmd_deform(*deform, a);
+    if (solvers->parsed()) return cmd_solvers();
+    if (prov->parsed()) return cmd_provenance();
     return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "deformbench: error: " << e.what() << "\n";
-    return db::exit_code(e);
-  }
+  });
 }

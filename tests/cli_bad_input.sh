@@ -1,23 +1,42 @@
 #!/usr/bin/env bash
-# Bad input through the command line: a clear message naming the problem, a non-zero exit code, and no
-# output file. usage: cli_bad_input.sh PATH/TO/deformbench
+# Bad input through `deformbench deform`: each case gets its documented exit code (README "Exit codes": 1 usage,
+# 2 bad input, 3 solver failure, 4 over budget), a message naming the cause, returns within seconds, and leaves
+# no file behind (the output directory stays empty; inputs are unchanged).
+# usage: cli_bad_input.sh PATH/TO/deformbench [SOURCE_DIR]
 set -u
 BIN=$1
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+SRC=${2:-$(cd "$(dirname "$0")/.." && pwd)}
+T=$(mktemp -d)   # inputs, and the output directory $O
+L=$(mktemp -d)   # the tool's stdout and stderr
+trap 'rm -rf "$T" "$L"' EXIT
+O=$T/outdir # every case writes here; it must stay empty
+mkdir -p "$O"
 fails=0; passes=0
 
 # expect NAME EXIT_CODE MESSAGE_REGEX -- deformbench args...
 expect() {
   local name=$1 code=$2 re=$3; shift 4
-  rm -f "$T/out.ply"
-  "$BIN" "$@" >"$T/stdout" 2>"$T/stderr"
+  local before; before=$(cd "$T" && find . -path ./outdir -prune -o -type f -print0 | sort -z | xargs -0 md5sum)
+  timeout 20 "$BIN" "$@" >"$L/stdout" 2>"$L/stderr"
   local got=$?
   local ok=1
   [ "$got" -eq "$code" ] || { echo "FAIL $name: exit $got, expected $code"; ok=0; }
-  grep -Eqi "$re" "$T/stderr" || { echo "FAIL $name: message does not match /$re/:"; cat "$T/stderr"; ok=0; }
-  if [ -e "$T/out.ply" ] || ls "$T"/out.ply.tmp.* >/dev/null 2>&1; then echo "FAIL $name: output file left behind"; ok=0; fi
-  if ((ok)); then passes=$((passes + 1)); echo "ok   $name: $(head -c 200 "$T/stderr")"; else fails=$((fails + 1)); fi
+  grep -Eqi -- "$re" "$L/stderr" || { echo "FAIL $name: message does not match /$re/:"; cat "$L/stderr"; ok=0; }
+  if [ -n "$(ls -A "$O")" ]; then echo "FAIL $name: left behind: $(ls -A "$O")"; rm -rf "${O:?}"/*; ok=0; fi
+  local after; after=$(cd "$T" && find . -path ./outdir -prune -o -type f -print0 | sort -z | xargs -0 md5sum)
+  [ "$before" = "$after" ] || { echo "FAIL $name: the input files changed"; ok=0; }
+  if ((ok)); then passes=$((passes + 1)); echo "ok   $name ($got): $(head -c 200 "$L/stderr")"; else fails=$((fails + 1)); fi
+}
+
+# expect_ok NAME FILES -- deformbench args... : exits 0 and writes exactly FILES (names in $O; then removed).
+expect_ok() {
+  local name=$1 files=$2; shift 3
+  timeout 20 "$BIN" "$@" >"$L/stdout" 2>"$L/stderr"
+  local got=$? wrote
+  wrote=$(cd "$O" && find . -type f -size +0 | sed 's|^\./||' | sort | tr '\n' ' ')
+  if [ "$got" -eq 0 ] && [ "$wrote" = "$files " ]; then passes=$((passes + 1)); echo "ok   $name (0)"
+  else fails=$((fails + 1)); echo "FAIL $name: exit $got, wrote '$wrote', expected '$files '"; cat "$L/stderr"; fi
+  rm -rf "${O:?}"/*
 }
 
 # A small valid closed mesh: an octahedron (6 vertices, 8 faces).
@@ -38,47 +57,141 @@ octa_f='3 0 2 4
 write_off() { # file nv nf vertices faces
   printf 'OFF\n%s %s 0\n%s\n%s\n' "$2" "$3" "$4" "$5" >"$1"
 }
-edit_for() { # stem: write STEM.sel (handle=4, fixed=5, rest free) and an identity-ish .def
+edit_for() { # stem: write STEM.sel (handle=4, fixed=5, rest free) and a .def moving the handle
   local n=$2
   { for ((i = 0; i < n; i++)); do
       if [ $i -eq 4 ]; then echo 2; elif [ $i -eq 5 ]; then echo 0; else echo 1; fi
     done; } >"$1.sel"
   printf '1 0 0 0.1\n0 1 0 0\n0 0 1 0\n0 0 0 1\n' >"$1.def"
 }
+scaled_octa() { # stem factor: the octahedron with coordinates and translation scaled; vertices 0, 1, 5 fixed
+  # (TF needs constraints off one line), 4 the handle
+  write_off "$1.off" 6 8 "$(echo "$octa_v" | awk -v k="$2" '{printf "%.17g %.17g %.17g\n", $1*k, $2*k, $3*k}')" "$octa_f"
+  edit_for "$1" 6
+  printf '0\n0\n1\n1\n2\n0\n' >"$1.sel"
+  awk -v k="$2" 'NR==1{printf "1 0 0 %.17g\n", 0.1*k; next} {print}' "$1.def" >"$1.tmp" && mv "$1.tmp" "$1.def"
+}
+write_edit() { # file roi handle [transform]
+  printf 'mesh = good.off\nroi = %s\nhandle = %s\ntransform = %s\n' "$2" "$3" "${4:-translate:0,0,0.1}" >"$1"
+}
 
 write_off "$T/good.off" 6 8 "$octa_v" "$octa_f"; edit_for "$T/good" 6
-"$BIN" deform "$T/good" --out "$T/good_out.ply" >/dev/null 2>&1 || { echo "FAIL sanity: the valid octahedron edit did not run"; fails=$((fails + 1)); }
+printf '4\n' >"$T/handle.txt"
+G=$T/good
+OUT=$O/out.ply
 
-expect missing_mesh 2 "cannot open|not found|no such|missing" -- deform "$T/nothere" --out "$T/out.ply"
-printf 'OFF\n6 8 0\n1 0 0\n-1 0\n' >"$T/trunc.off"; cp "$T/good.sel" "$T/trunc.sel"; cp "$T/good.def" "$T/trunc.def"
-expect truncated_off 2 "trunc" -- deform "$T/trunc" --out "$T/out.ply"
-printf 'OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 9\n' >"$T/range.off"; cp "$T/good.sel" "$T/range.sel"; cp "$T/good.def" "$T/range.def"
-expect index_out_of_range 2 "range|index" -- deform "$T/range" --out "$T/out.ply"
+echo "== runs that must succeed"
+expect_ok valid_stem out.ply -- deform "$G" --out "$OUT"
+expect_ok valid_with_csv "out.ply r.csv" -- deform "$G" --out "$OUT" --csv "$O/r.csv"
+printf '2 3 4\n' >"$T/roi_tf.txt"
+write_edit "$T/good.edit" indices:roi_tf.txt indices:handle.txt
+expect_ok valid_edit_file out.ply -- deform "$T/good.edit" --method tf --frames 3 --out "$OUT"
+for k in 1e200 1e-300; do
+  scaled_octa "$T/s$k" "$k"
+  for m in lap tf; do expect_ok "scaled_${k}_$m" out.ply -- deform "$T/s$k" --method "$m" --out "$OUT"; done
+done
+
+echo "== 1 usage: the command line"
+expect typo_frame 1 "unknown option --frame .*did you mean --frames" -- deform "$G" --out "$OUT" --frame 20
+expect typo_method 1 "unknown option --metod" -- deform "$G" --metod tf --out "$OUT"
+expect frames_fraction 1 "--frames: 2.5 is not a whole number" -- deform "$G" --out "$OUT" --frames 2.5
+expect frames_1e10 1 "--frames: 1e10 is not a whole number" -- deform "$G" --out "$OUT" --frames 1e10
+expect frames_nan 1 "--frames: nan is not a whole number" -- deform "$G" --out "$OUT" --frames nan
+expect frames_negative 1 "--frames: -1 is outside \[1, 100000\]" -- deform "$G" --out "$OUT" --frames -1
+expect frames_over_cap 1 "--frames: 100001 is outside \[1, 100000\]" -- deform "$G" --out "$OUT" --frames 100001
+expect soft_weight_nan 1 "--soft-weight: nan is not a finite number" -- deform "$G" --out "$OUT" --constraints soft --soft-weight nan
+expect unknown_method 1 "--method: 'nope' is not one of: lap, tf, lri" -- deform "$G" --method nope --out "$OUT"
+expect unknown_solver 1 "--solver: 'nope' is not one of" -- deform "$G" --solver nope --out "$OUT"
+expect unknown_ordering 1 "--ordering: 'rcm' is not one of" -- deform "$G" --ordering rcm --out "$OUT"
+expect unknown_command 1 "unknown command 'deforn'" -- deforn "$G" --out "$OUT"
+expect missing_out 1 "--out is required" -- deform "$G"
+expect extra_argument 1 "unexpected argument" -- deform "$G" "$G" --out "$OUT"
+expect bad_transform_spec 1 "--transform: transform 'rotate:90'" -- deform "$G" --out "$OUT" --transform rotate:90
+
+echo "== 1 usage: an option the method, constraints or backend does not use"
+expect weights_with_lri 1 "--weights is not used by --method lri" -- deform "$G" --method lri --weights cotan --out "$OUT"
+expect tf_option_with_lap 1 "--tf-no-translation is for --method tf only" -- deform "$G" --tf-no-translation --out "$OUT"
+expect lri_option_with_tf 1 "--lri-frames is for --method lri only" -- deform "$G" --method tf --lri-frames random --out "$OUT"
+expect lri_seed_without_random 1 "--lri-seed is used by --lri-frames random only" -- deform "$G" --method lri --lri-seed 3 --out "$OUT"
+expect soft_weight_with_hard 1 "--soft-weight .*needs --constraints soft" -- deform "$G" --soft-weight 2 --out "$OUT"
+expect factor_dir_with_umfpack 1 "--factor-dir: umfpack cannot keep its factor out of core" -- deform "$G" --solver umfpack --factor-dir "$T" --out "$OUT"
+expect ordering_not_accepted 1 "--ordering nesdis is not accepted by umfpack" -- deform "$G" --solver umfpack --build naive --ordering nesdis --out "$OUT"
+expect ordering_with_dense 1 "--ordering does not apply to --build dense" -- deform "$G" --build dense --ordering amd --out "$OUT"
+expect dense_with_sparse_solver 1 "--build dense needs a dense backend" -- deform "$G" --build dense --solver cholmod_supernodal --out "$OUT"
+expect lri_dense 1 "--build dense: lri offers" -- deform "$G" --method lri --build dense --out "$OUT"
+
+echo "== 1 usage: outputs, checked before any mesh is read"
+expect out_missing_dir 1 "directory .* does not exist" -- deform "$G" --out "$O/no/such/dir/out.ply"
+expect out_before_input 1 "directory .* does not exist" -- deform "$T/nothere" --out "$O/no/out.ply"
+expect out_bad_extension 1 "unsupported extension '.stl'" -- deform "$G" --out "$O/out.stl"
+mkdir -p "$T/dir.ply"
+expect out_is_a_directory 1 "is a directory" -- deform "$G" --out "$T/dir.ply"
+expect out_is_the_input 1 "is an input file" -- deform "$G" --out "$G.off"
+expect out_is_the_input_respelled 1 "is an input file" -- deform "$G" --out "$T/./outdir/../good.off"
+expect out_is_the_edit_mesh 1 "is an input file" -- deform "$T/good.edit" --out "$T/good.off"
+expect csv_missing_dir 1 "--csv .*does not exist" -- deform "$G" --out "$OUT" --csv "$O/no/such/dir/r.csv"
+expect csv_bad_extension 1 "--csv .*unsupported extension '.txt'" -- deform "$G" --out "$OUT" --csv "$O/r.txt"
+expect csv_under_a_file 1 "--csv .*does not exist" -- deform "$G" --out "$OUT" --csv "$G.off/r.csv"
+expect factor_dir_missing 1 "--factor-dir: directory .* does not exist" -- deform "$G" --out "$OUT" --factor-dir "$T/nodir"
+if [ "$(id -u)" -ne 0 ]; then # root writes anywhere
+  mkdir -p "$T/ro" && chmod 555 "$T/ro"
+  expect csv_read_only_dir 1 "--csv .*not writable" -- deform "$G" --out "$OUT" --csv "$T/ro/r.csv"
+fi
+
+echo "== 2 bad input: mesh and edit files"
+expect missing_mesh 2 "cannot open|not found|no such|missing" -- deform "$T/nothere" --out "$OUT"
+printf 'OFF\n6 8 0\n1 0 0\n-1 0\n' >"$T/trunc.off"; cp "$G.sel" "$T/trunc.sel"; cp "$G.def" "$T/trunc.def"
+expect truncated_off 2 "trunc" -- deform "$T/trunc" --out "$OUT"
+printf 'OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 9\n' >"$T/range.off"; cp "$G.sel" "$T/range.sel"; cp "$G.def" "$T/range.def"
+expect index_out_of_range 2 "range|index" -- deform "$T/range" --out "$OUT"
 write_off "$T/nan.off" 6 8 "1 0 0
 -1 0 0
 0 nan 0
 0 -1 0
 0 0 1
-0 0 -1" "$octa_f"; cp "$T/good.sel" "$T/nan.sel"; cp "$T/good.def" "$T/nan.def"
-expect nan_coordinates 2 "finite|nan" -- deform "$T/nan" --out "$T/out.ply"
+0 0 -1" "$octa_f"; cp "$G.sel" "$T/nan.sel"; cp "$G.def" "$T/nan.def"
+expect nan_coordinates 2 "finite|nan" -- deform "$T/nan" --out "$OUT"
 write_off "$T/iso.off" 7 8 "$octa_v
 3 3 3" "$octa_f"; edit_for "$T/iso" 7
-expect isolated_vertex 2 "isolated" -- deform "$T/iso" --out "$T/out.ply"
+expect isolated_vertex 2 "isolated" -- deform "$T/iso" --out "$OUT"
 write_off "$T/degen.off" 6 9 "$octa_v" "$octa_f
-3 0 0 1"; cp "$T/good.sel" "$T/degen.sel"; cp "$T/good.def" "$T/degen.def"
-expect degenerate_face 2 "degenerate" -- deform "$T/degen" --out "$T/out.ply"
-# Three faces on one edge: a fin glued to edge 0-2 of the octahedron.
+3 0 0 1"; cp "$G.sel" "$T/degen.sel"; cp "$G.def" "$T/degen.def"
+expect degenerate_face 2 "degenerate" -- deform "$T/degen" --out "$OUT"
+# Three faces on one edge: a fin glued to edge 0-2 of the octahedron. Cotan weights need a manifold 1-ring.
 write_off "$T/nm.off" 7 9 "$octa_v
 2 2 0" "$octa_f
 3 0 6 2"; edit_for "$T/nm" 7
-expect non_manifold 2 "manifold" -- deform "$T/nm" --out "$T/out.ply"
-cp "$T/good.off" "$T/short.off"; head -3 "$T/good.sel" >"$T/short.sel"; cp "$T/good.def" "$T/short.def"
-expect selection_size_mismatch 2 "entries|vertices" -- deform "$T/short" --out "$T/out.ply"
-cp "$T/good.off" "$T/nohandle.off"; printf '1\n1\n1\n1\n1\n0\n' >"$T/nohandle.sel"; cp "$T/good.def" "$T/nohandle.def"
-expect empty_handle 2 "handle" -- deform "$T/nohandle" --out "$T/out.ply"
+expect non_manifold_cotan 2 "manifold" -- deform "$T/nm" --weights cotan --out "$OUT"
+cp "$G.off" "$T/short.off"; head -3 "$G.sel" >"$T/short.sel"; cp "$G.def" "$T/short.def"
+expect selection_size_mismatch 2 "entries|vertices" -- deform "$T/short" --out "$OUT"
+cp "$G.off" "$T/nohandle.off"; printf '1\n1\n1\n1\n1\n0\n' >"$T/nohandle.sel"; cp "$G.def" "$T/nohandle.def"
+expect empty_handle_sel 2 "handle is empty" -- deform "$T/nohandle" --out "$OUT"
+expect transform_file_missing 2 "cannot open transform file" -- deform "$G" --out "$OUT" --transform "def:$T/none.def"
+scaled_octa "$T/huge" 1e308
+expect coordinates_overflow 2 "vertices 1 and 0 \\(their x coordinates .*\\) lie farther apart than a double can measure" -- deform "$T/huge" --out "$OUT"
+
+echo "== 2 bad input: selections name their cause"
+printf '0 1 2\n' >"$T/roi.txt"
 printf 'mesh = good.off\nroi = indices:roi.txt\nhandle = indices:handle.txt\ntransform = translate:0,0,1\n' >"$T/outside.edit"
-printf '0 1 2\n' >"$T/roi.txt"; printf '4\n' >"$T/handle.txt"
-expect handle_outside_roi 2 "outside" -- deform "$T/outside.edit" --out "$T/out.ply"
+expect handle_outside_roi 2 "handle vertex 4 is outside the region of interest" -- deform "$T/outside.edit" --out "$OUT"
+write_edit "$T/e1.edit" sphere:9,9,9,0.5 indices:handle.txt
+expect empty_roi 2 "roi selection 'sphere:9,9,9,0.5' selects no vertex" -- deform "$T/e1.edit" --out "$OUT"
+write_edit "$T/e2.edit" all box:5,5,5,6,6,6
+expect empty_handle 2 "handle selection 'box:5,5,5,6,6,6' selects no vertex" -- deform "$T/e2.edit" --out "$OUT"
+write_edit "$T/e3.edit" box:1,1,1,-1,-1,-1 indices:handle.txt
+expect inverted_box 2 "box: inverted in x" -- deform "$T/e3.edit" --out "$OUT"
+write_edit "$T/e4.edit" sphere:0,0,0,-1 indices:handle.txt
+expect negative_radius 2 "radius -1 is negative" -- deform "$T/e4.edit" --out "$OUT"
+write_edit "$T/e5.edit" kring:99,1 indices:handle.txt
+expect kring_bad_vertex 2 "seed vertex 99 out of range" -- deform "$T/e5.edit" --out "$OUT"
+write_edit "$T/e6.edit" kring:4,-1 indices:handle.txt
+expect kring_negative_k 2 "k must be >= 0" -- deform "$T/e6.edit" --out "$OUT"
+write_edit "$T/e7.edit" all nearest:0,0,1,0
+expect nearest_zero 2 "count 0 must be in \[1, 6\]" -- deform "$T/e7.edit" --out "$OUT"
+write_edit "$T/e8.edit" all nearest:0,0,1,7
+expect nearest_too_many 2 "count 7 must be in \[1, 6\]" -- deform "$T/e8.edit" --out "$OUT"
+write_edit "$T/e9.edit" indices:handle.txt indices:handle.txt
+expect roi_only_handle 2 "no free vertex" -- deform "$T/e9.edit" --out "$OUT"
 # Two octahedra, the constraints only on the first: the second is a free component with no anchor.
 write_off "$T/two.off" 12 16 "$octa_v
 11 0 0
@@ -95,9 +208,10 @@ write_off "$T/two.off" 12 16 "$octa_v
 3 7 8 11
 3 9 7 11
 3 6 9 11"; edit_for "$T/two" 12
-expect singular_roi 2 "singular" -- deform "$T/two" --out "$T/out.ply"
-expect bad_method 2 "method" -- deform "$T/good" --method nope --out "$T/out.ply"
-expect missing_out_dir 1 "directory" -- deform "$T/good" --out "$T/no/such/dir/out.ply"
+expect singular_roi 2 "singular" -- deform "$T/two" --out "$OUT"
+
+echo "== 4 over budget"
+expect over_memory_budget 4 "over the budget of 1.0 MB" -- deform "$SRC/data/bs08/bar" --method tf --memory-budget-mb 1 --out "$OUT" --csv "$O/r.csv"
 
 echo "$passes passed, $fails failed"
 [ "$fails" -eq 0 ]

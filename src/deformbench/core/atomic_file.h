@@ -1,8 +1,10 @@
 #pragma once
-//! Outputs are written to "<path>.tmp.<pid>" and renamed into place, so a failure never leaves a partial file.
+//! Outputs are written to a temporary next to their target and renamed into place, so a failure never leaves a
+//! partial file; StagedOutputs extends that to all the outputs of one run.
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace db {
 
@@ -10,5 +12,29 @@ namespace db {
 //! \throw Error when the file cannot be opened, written or renamed (the temporary is removed).
 void write_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
                       bool binary = false);
+
+//! All or nothing for the outputs of one run: each is written to a temporary next to its target (the same
+//! extension, so writers that go by it still work) and commit() renames them all into place at the end. When a
+//! rename fails, the targets already renamed are removed again; the destructor removes temporaries never
+//! committed (a run that failed halfway leaves no output).
+class StagedOutputs {
+ public:
+  StagedOutputs() = default;
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+  ~StagedOutputs();
+
+  //! The temporary to write instead of `target` ("DIR/NAME.tmp.PID.EXT").
+  std::string stage(const std::string& target);
+  //! Renames every staged temporary to its target. \throw Error naming the target that failed (none of the
+  //! targets is then left).
+  void commit();
+
+ private:
+  struct Entry {
+    std::string target, temporary;
+  };
+  std::vector<Entry> entries_;
+};
 
 }  // namespace db

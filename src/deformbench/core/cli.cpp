@@ -79,6 +79,18 @@ const CLI::App& innermost(const CLI::App& app) {
   return app;
 }
 
+// "unknown command 'bogus' (commands: deform, solvers)" when a tool with subcommands got a word that is none of
+// them; "" otherwise.
+std::string unknown_subcommand(const CLI::App& app) {
+  const auto subs = app.get_subcommands({});
+  if (subs.empty() || !app.get_subcommands().empty() || app.remaining().empty()) return {};
+  const std::string word = app.remaining().front();
+  if (word.rfind("-", 0) == 0) return {};
+  std::vector<std::string> names;
+  for (const CLI::App* s : subs) names.push_back(s->get_name());
+  return fmt::format("unknown command '{}' (commands: {})", word, fmt::join(names, ", "));
+}
+
 }  // namespace
 
 CLI::Validator Integer(long long min, long long max) {
@@ -132,7 +144,8 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
               << tool << " --help)\n";
     return 1;
   } catch (const CLI::ParseError& e) {
-    std::cerr << tool << ": error: " << e.what() << " (see " << tool << " --help)\n";
+    std::cerr << tool << ": error: " << (unknown_subcommand(app).empty() ? e.what() : unknown_subcommand(app))
+              << " (see " << tool << " --help)\n";
     return 1;
   }
   try {
@@ -146,6 +159,13 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
   }
 }
 
+void check_directory(const std::string& option, const std::string& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw UsageError(fmt::format("{}: directory '{}' does not exist", option, dir));
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw UsageError(fmt::format("{}: directory '{}' is not writable", option, dir));
+}
+
 void check_output(const std::string& option, const std::string& path, const std::vector<std::string>& extensions,
                   const std::vector<std::string>& inputs) {
   if (path.empty()) throw UsageError(fmt::format("{}: empty path", option));
@@ -157,12 +177,8 @@ void check_output(const std::string& option, const std::string& path, const std:
       throw UsageError(fmt::format("{} {}: unsupported extension '{}' (supported: {})", option, path, ext,
                                    fmt::join(extensions, ", ")));
   }
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  check_directory(fmt::format("{} {}", option, path), p.has_parent_path() ? p.parent_path().string() : ".");
   std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw UsageError(fmt::format("{} {}: directory '{}' does not exist", option, path, dir.string()));
-  if (::access(dir.c_str(), W_OK | X_OK) != 0)
-    throw UsageError(fmt::format("{} {}: directory '{}' is not writable", option, path, dir.string()));
   if (fs::is_directory(p, ec)) throw UsageError(fmt::format("{} {}: is a directory", option, path));
   for (const std::string& in : inputs) {
     const bool same = fs::exists(p, ec) && fs::exists(in, ec) ? fs::equivalent(p, in, ec)

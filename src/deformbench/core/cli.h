@@ -27,6 +27,10 @@ CLI::Validator OneOf(const std::vector<std::string>& values);
 //! SolverError 3, BudgetError 4, UsageError and anything else 1).
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
+//! Checks a directory the run will write into (an out-of-core scratch directory, say) before any work: it exists
+//! and is writable. \throw UsageError naming `option`.
+void check_directory(const std::string& option, const std::string& dir);
+
 //! Checks an output path before any input is read: its directory exists and is writable, its extension is one
 //! of `extensions` (lower case with the dot, e.g. ".ply"; empty = any) and it is not one of `inputs` (the same
 //! file, however spelled). \throw UsageError naming `option`.

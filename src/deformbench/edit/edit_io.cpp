@@ -79,6 +79,67 @@ auto prefixed(const std::string& prefix, F&& f) -> decltype(f()) {
   }
 }
 
+// The stem's mesh as load_stem reads it: the first of STEM.off, .ply, .obj that exists ("" if none).
+std::string stem_mesh(const std::string& stem) {
+  for (const char* ext : {".off", ".ply", ".obj"})
+    if (exists(stem + ext)) return stem + ext;
+  return {};
+}
+
+// "data/bs08/bar.off" and "data/bs08/bar" name the same stem.
+std::string stem_of(const std::string& spec) {
+  const std::string ext = fs::path(spec).extension().string();
+  if (ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".sel" || ext == ".def")
+    return spec.substr(0, spec.size() - ext.size());
+  return spec;
+}
+
+bool is_edit_file(const std::string& spec) { return fs::path(spec).extension() == ".edit"; }
+
+// A path written in a .edit file is relative to that file.
+std::string resolve(const fs::path& dir, const std::string& p) {
+  return fs::path(p).is_relative() ? (dir / p).string() : p;
+}
+
+struct Entry {
+  std::string value;
+  int line;
+};
+
+// The `key = value` lines of a .edit file. \throw InputError naming the file and line.
+std::map<std::string, Entry> read_edit_entries(const std::string& path) {
+  const auto lines = read_lines(path, "edit");
+  std::map<std::string, Entry> kv;
+  static const char* known[] = {"mesh", "name", "sel", "def", "roi", "handle", "transform"};
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string s = strip(lines[i]);
+    if (s.empty()) continue;
+    const int ln = static_cast<int>(i + 1);
+    const auto eq = s.find('=');
+    if (eq == std::string::npos) throw InputError(fmt::format("{}: line {}: expected 'key = value'", path, ln));
+    const std::string key = strip(s.substr(0, eq)), value = strip(s.substr(eq + 1));
+    if (std::find(std::begin(known), std::end(known), key) == std::end(known))
+      throw InputError(fmt::format("{}: line {}: unknown key '{}' (known: mesh, name, sel, def, roi, handle, transform)",
+                                   path, ln, key));
+    if (value.empty()) throw InputError(fmt::format("{}: line {}: empty value for '{}'", path, ln, key));
+    if (kv.count(key))
+      throw InputError(fmt::format("{}: line {}: '{}' given twice (first on line {})", path, ln, key, kv[key].line));
+    kv[key] = {value, ln};
+  }
+  return kv;
+}
+
+// A selection that selects nothing: name the spec and where the mesh lies, the usual cause being coordinates of
+// another model or units.
+void check_not_empty(const std::vector<int>& ids, const char* what, const std::string& spec, const Mesh& mesh,
+                     const std::string& where) {
+  if (!ids.empty()) return;
+  const Eigen::RowVector3d lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
+  throw InputError(fmt::format("{}: {} selection '{}' selects no vertex (the mesh spans ({:g}, {:g}, {:g}) to ({:g}, "
+                               "{:g}, {:g}))",
+                               where, what, spec, lo(0), lo(1), lo(2), hi(0), hi(1), hi(2)));
+}
+
 }  // namespace
 
 std::vector<Role> read_sel(const std::string& path, int num_vertices) {
@@ -152,16 +213,20 @@ Edit edit_from_lists(int num_vertices, const std::vector<int>& roi, const std::v
   };
   check(roi, "region-of-interest");
   check(handle, "handle");
+  if (roi.empty()) throw InputError("the region of interest is empty");
   if (handle.empty()) throw InputError("the handle is empty");
   Edit e;
   e.transform = T;
   e.roles.assign(num_vertices, Role::Fixed);
   for (int v : roi) e.roles[v] = Role::Free;
-  for (int v : handle) {
-    if (e.roles[v] == Role::Fixed)
-      throw InputError(fmt::format("handle vertex {} is outside the region of interest", v));
-    e.roles[v] = Role::Handle;
-  }
+  std::vector<int> outside;
+  for (int v : handle)
+    if (e.roles[v] == Role::Fixed) outside.push_back(v);
+  if (!outside.empty())
+    throw InputError(fmt::format("handle vertex {} is outside the region of interest ({} of the {} handle vertices "
+                                 "are); the handle must be part of it",
+                                 outside.front(), outside.size(), handle.size()));
+  for (int v : handle) e.roles[v] = Role::Handle;
   return e;
 }
 
@@ -174,11 +239,7 @@ EditCase finish(EditCase c, const std::string& where) {
 
 EditCase load_stem(const std::string& stem) {
   EditCase c;
-  for (const char* ext : {".off", ".ply", ".obj"})
-    if (exists(stem + ext)) {
-      c.mesh_path = stem + ext;
-      break;
-    }
+  c.mesh_path = stem_mesh(stem);
   const std::string sel = stem + ".sel", def = stem + ".def";
   if (c.mesh_path.empty() || !exists(sel) || !exists(def))
     throw InputError(fmt::format("edit case '{}': not a .edit file, and not a stem with .off (or .ply/.obj), .sel and "
@@ -192,28 +253,7 @@ EditCase load_stem(const std::string& stem) {
 }
 
 EditCase load_edit_file(const std::string& path) {
-  const auto lines = read_lines(path, "edit");
-  struct Entry {
-    std::string value;
-    int line;
-  };
-  std::map<std::string, Entry> kv;
-  static const char* known[] = {"mesh", "name", "sel", "def", "roi", "handle", "transform"};
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::string s = strip(lines[i]);
-    if (s.empty()) continue;
-    const int ln = static_cast<int>(i + 1);
-    const auto eq = s.find('=');
-    if (eq == std::string::npos) throw InputError(fmt::format("{}: line {}: expected 'key = value'", path, ln));
-    const std::string key = strip(s.substr(0, eq)), value = strip(s.substr(eq + 1));
-    if (std::find(std::begin(known), std::end(known), key) == std::end(known))
-      throw InputError(fmt::format("{}: line {}: unknown key '{}' (known: mesh, name, sel, def, roi, handle, transform)",
-                                   path, ln, key));
-    if (value.empty()) throw InputError(fmt::format("{}: line {}: empty value for '{}'", path, ln, key));
-    if (kv.count(key))
-      throw InputError(fmt::format("{}: line {}: '{}' given twice (first on line {})", path, ln, key, kv[key].line));
-    kv[key] = {value, ln};
-  }
+  auto kv = read_edit_entries(path);
   auto has = [&](const char* k) { return kv.count(k) > 0; };
   auto at = [&](const char* k) { return fmt::format("{}: line {}", path, kv.at(k).line); };
   if (!has("mesh")) throw InputError(path + ": missing 'mesh = PATH'");
@@ -225,26 +265,25 @@ EditCase load_edit_file(const std::string& path) {
     throw InputError(path + ": give exactly one of 'def = FILE' and 'transform = SPEC'");
 
   const fs::path dir = fs::path(path).parent_path();
-  auto resolve = [&](const std::string& p) { return fs::path(p).is_relative() ? (dir / p).string() : p; };
 
   EditCase c;
-  c.mesh_path = resolve(kv["mesh"].value);
+  c.mesh_path = resolve(dir, kv["mesh"].value);
   c.mesh = prefixed(at("mesh"), [&] { return read_mesh(c.mesh_path); });
   // Mesh first: k-ring selections need a valid adjacency.
   prefixed(c.mesh_path, [&] { validate_mesh(c.mesh); });
   const int nv = c.mesh.num_vertices();
 
-  const Mat4 T = has("def") ? prefixed(at("def"), [&] { return read_def(resolve(kv["def"].value)); })
+  const Mat4 T = has("def") ? prefixed(at("def"), [&] { return read_def(resolve(dir, kv["def"].value)); })
                             : prefixed(at("transform"), [&] { return parse_transform(kv["transform"].value, dir.string()); });
   if (has("sel")) {
-    c.edit.roles = prefixed(at("sel"), [&] { return read_sel(resolve(kv["sel"].value), nv); });
+    c.edit.roles = prefixed(at("sel"), [&] { return read_sel(resolve(dir, kv["sel"].value), nv); });
     c.edit.transform = T;
   } else {
     const auto roi = prefixed(at("roi"), [&] { return select_by_spec(c.mesh, kv["roi"].value, dir.string()); });
+    check_not_empty(roi, "roi", kv["roi"].value, c.mesh, at("roi"));
     const auto handle =
         prefixed(at("handle"), [&] { return select_by_spec(c.mesh, kv["handle"].value, dir.string()); });
-    if (handle.empty())
-      throw InputError(fmt::format("{}: handle selection '{}' selects no vertex", at("handle"), kv["handle"].value));
+    check_not_empty(handle, "handle", kv["handle"].value, c.mesh, at("handle"));
     c.edit = prefixed(path, [&] { return edit_from_lists(nv, roi, handle, T); });
   }
   c.edit.name = has("name") ? kv["name"].value : fs::path(path).stem().string();
@@ -254,12 +293,27 @@ EditCase load_edit_file(const std::string& path) {
 }  // namespace
 
 EditCase load_edit_case(const std::string& spec) {
-  if (fs::path(spec).extension() == ".edit") return load_edit_file(spec);
-  std::string stem = spec;
-  const std::string ext = fs::path(spec).extension().string();
-  if (ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".sel" || ext == ".def")
-    stem = spec.substr(0, spec.size() - ext.size());
-  return load_stem(stem);
+  return is_edit_file(spec) ? load_edit_file(spec) : load_stem(stem_of(spec));
+}
+
+std::vector<std::string> edit_case_files(const std::string& spec) {
+  if (!is_edit_file(spec)) {
+    const std::string stem = stem_of(spec), mesh = stem_mesh(stem);
+    return {mesh.empty() ? stem + ".off" : mesh, stem + ".sel", stem + ".def"};
+  }
+  const auto kv = read_edit_entries(spec);
+  const fs::path dir = fs::path(spec).parent_path();
+  std::vector<std::string> files{spec};
+  auto file_after = [&](const char* key, const std::string& prefix) {
+    const auto it = kv.find(key);
+    if (it != kv.end() && it->second.value.rfind(prefix, 0) == 0)
+      files.push_back(resolve(dir, strip(it->second.value.substr(prefix.size()))));
+  };
+  for (const char* key : {"mesh", "sel", "def"}) file_after(key, "");
+  file_after("roi", "indices:");
+  file_after("handle", "indices:");
+  file_after("transform", "def:");
+  return files;
 }
 
 }  // namespace db

@@ -29,8 +29,8 @@ std::vector<int> read_index_list(const std::string& path);
 
 //! Edit from vertex lists: ROI vertices are Free, handle vertices Handle (they must lie in the ROI), all others
 //! Fixed. Duplicates are allowed. Does not check that a free vertex remains (validate_edit does).
-//! \throw InputError for an index outside [0, num_vertices), an empty handle, or "handle vertex 17 is outside the
-//! region of interest".
+//! \throw InputError for an index outside [0, num_vertices), an empty region of interest, an empty handle, or
+//! handle vertices outside the region of interest (counted, the first named).
 Edit edit_from_lists(int num_vertices, const std::vector<int>& roi, const std::vector<int>& handle, const Mat4& T);
 
 //! A mesh with its edit, ready for a method.
@@ -50,7 +50,14 @@ struct EditCase {
 //!    SELECTION is one of  all | sphere:cx,cy,cz,r | box:x0,y0,z0,x1,y1,z1 | kring:v,k | indices:FILE |
 //!    nearest:x,y,z,count  (see select_by_spec).
 //! Reads the mesh, validates mesh and edit, and names the edit (the stem's or the .edit's base name by default).
-//! \throw InputError naming the file for every problem.
+//! \throw InputError naming the file for every problem; a roi or handle selection that selects no vertex is named
+//! with the mesh's extent.
 EditCase load_edit_case(const std::string& spec);
+
+//! The files load_edit_case(spec) reads, without reading any of them but a .edit file itself: the stem's mesh
+//! (STEM.off when none exists yet), .sel and .def; or the .edit file, its mesh, sel, def, `indices:` selection
+//! files and `def:` transform file. For refusing an output path that would overwrite an input before any work.
+//! \throw InputError as load_edit_case for an unreadable or malformed .edit file.
+std::vector<std::string> edit_case_files(const std::string& spec);
 
 }  // namespace db

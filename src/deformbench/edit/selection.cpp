@@ -14,14 +14,21 @@
 namespace db {
 
 std::vector<int> select_sphere(const Mesh& mesh, const Vec3& center, double radius) {
+  if (!(radius >= 0)) throw InputError(fmt::format("sphere: the radius {:g} is negative", radius));
   std::vector<int> out;
-  const double r2 = radius * radius;
+  // Compared as distances, not squares: radii and offsets beyond ~1e154 or below ~1e-154 would over- or underflow.
   for (int i = 0; i < mesh.num_vertices(); ++i)
-    if (radius >= 0 && (mesh.V.row(i).transpose() - center).squaredNorm() <= r2) out.push_back(i);
+    if ((mesh.V.row(i).transpose() - center).stableNorm() <= radius) out.push_back(i);
   return out;
 }
 
 std::vector<int> select_box(const Mesh& mesh, const Vec3& lo, const Vec3& hi) {
+  static const char* const axis[] = {"x", "y", "z"};
+  for (int c = 0; c < 3; ++c)
+    if (lo(c) > hi(c))
+      throw InputError(fmt::format("box: inverted in {} ({:g} > {:g}); give the lower corner first: "
+                                   "box:x0,y0,z0,x1,y1,z1 with x0 <= x1, y0 <= y1, z0 <= z1",
+                                   axis[c], lo(c), hi(c)));
   std::vector<int> out;
   for (int i = 0; i < mesh.num_vertices(); ++i) {
     const Vec3 p = mesh.V.row(i);

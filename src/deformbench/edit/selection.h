@@ -8,10 +8,11 @@
 
 namespace db {
 
-//! Vertices with |p - center| <= radius.
+//! Vertices with |p - center| <= radius. \throw InputError for a negative radius.
 std::vector<int> select_sphere(const Mesh& mesh, const Vec3& center, double radius);
 
 //! Vertices inside the axis-aligned box [lo, hi] (bounds included).
+//! \throw InputError for an inverted box (lo above hi in some axis), naming the axis.
 std::vector<int> select_box(const Mesh& mesh, const Vec3& lo, const Vec3& hi);
 
 //! Vertices at most k edges away from seed (k = 0: the seed alone).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <Eigen/Geometry>
@@ -68,7 +69,8 @@ Adjacency vertex_adjacency(const Mesh& mesh) {
 
 double bbox_diagonal(const Points& V) {
   if (V.rows() == 0) return 0.0;
-  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  // stableNorm: the plain norm squares, which over- or underflows for extents beyond ~1e154 or below ~1e-154.
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).stableNorm();
 }
 
 void validate_mesh(const Mesh& mesh) {
@@ -89,18 +91,24 @@ void validate_mesh(const Mesh& mesh) {
         throw InputError(fmt::format("{}: face {} has corner index {} out of range [0, {})", who, f, v, nv));
     }
 
-  // Area threshold relative to the model size, so the check is scale invariant.
-  const double diag = bbox_diagonal(mesh.V);
-  const double min_area = 1e-14 * diag * diag;
+  // Area relative to the squared diagonal, on coordinates divided by it: scale invariant, and neither tiny nor huge
+  // models under- or overflow.
+  double diag = 0;
+  try {
+    diag = checked_bbox_diagonal(mesh.V);
+  } catch (const InputError& e) {
+    throw InputError(who + ": " + e.what());
+  }
+  const double s = diag > 0 ? 1.0 / diag : 1.0;
   for (int f = 0; f < nf; ++f) {
     const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
     if (a == b || b == c || a == c)
       throw InputError(fmt::format("{}: face {} is degenerate (repeated corner: {} {} {})", who, f, a, b, c));
     const Vec3 pa = mesh.V.row(a), pb = mesh.V.row(b), pc = mesh.V.row(c);
-    const double area = 0.5 * (pb - pa).cross(pc - pa).norm();
-    if (!(area >= min_area))
-      throw InputError(fmt::format("{}: face {} is degenerate (area {:.3g} < {:.3g} = 1e-14 * bbox_diagonal^2)", who,
-                                   f, area, min_area));
+    const double area = 0.5 * (s * (pb - pa)).cross(s * (pc - pa)).norm();
+    if (!(area >= 1e-14))
+      throw InputError(fmt::format("{}: face {} is degenerate (area {:.3g} x bbox_diagonal^2, under 1e-14)", who, f,
+                                   area));
   }
 
   std::vector<int> vf_off, vf;
@@ -151,6 +159,26 @@ void validate_mesh(const Mesh& mesh) {
       throw InputError(fmt::format("{}: non-manifold vertex {} (its {} incident faces form {} separate fans)", who, v,
                                    vf_off[v + 1] - vf_off[v], components));
   }
+}
+
+double checked_bbox_diagonal(const Points& V) {
+  const double d = bbox_diagonal(V);
+  if (std::isfinite(d) && (d == 0 || d >= std::numeric_limits<double>::min())) return d;
+  static const char* const kAxis[] = {"x", "y", "z"};
+  const Eigen::RowVector3d lo = V.colwise().minCoeff(), hi = V.colwise().maxCoeff();
+  Eigen::Index c, imin, imax;
+  (hi - lo).maxCoeff(&c);
+  V.col(c).minCoeff(&imin);
+  V.col(c).maxCoeff(&imax);
+  const std::string span =
+      fmt::format("vertices {} and {} (their {} coordinates {:g} and {:g})", imin, imax, kAxis[c], lo(c), hi(c));
+  if (!std::isfinite(d))
+    throw InputError(fmt::format("{} lie farther apart than a double can measure (the bounding-box diagonal "
+                                 "overflows); scale the mesh down",
+                                 span));
+  throw InputError(fmt::format("the bounding-box diagonal {:g} is below the smallest normal double ({:g}): {} keep "
+                               "too few digits to deform; scale the mesh up",
+                               d, std::numeric_limits<double>::min(), span));
 }
 
 }  // namespace db

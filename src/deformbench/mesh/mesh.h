@@ -39,4 +39,9 @@ void validate_mesh(const Mesh& mesh);
 //! Axis-aligned bounding-box diagonal length.
 double bbox_diagonal(const Points& V);
 
+//! bbox_diagonal of finite coordinates, checked to serve as the unit the deformers scale by: finite, and zero or
+//! at least the smallest normal double (its inverse finite). \throw InputError naming the vertices and the axis
+//! otherwise: a mesh spanning more than a double can measure, or so small that its coordinates keep too few digits.
+double checked_bbox_diagonal(const Points& V);
+
 }  // namespace db

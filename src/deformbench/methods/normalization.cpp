@@ -1,5 +1,10 @@
 #include "methods/normalization.h"
 
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
 #include "mesh/mesh.h"
 
 namespace db {
@@ -8,8 +13,8 @@ Normalization Normalization::fit(const Points& V) {
   Normalization n;
   if (V.rows() == 0) return n;
   const Eigen::RowVector3d lo = V.colwise().minCoeff(), hi = V.colwise().maxCoeff();
-  n.center = (0.5 * (lo + hi)).transpose();
-  const double d = (hi - lo).norm();
+  n.center = (0.5 * lo + 0.5 * hi).transpose();  // halves first: lo + hi may overflow
+  const double d = checked_bbox_diagonal(V);
   n.scale = d > 0 ? 1.0 / d : 1.0;
   return n;
 }
@@ -19,7 +24,15 @@ Points Normalization::apply(const Points& V) const {
 }
 
 Points Normalization::restore(const Points& Vn) const {
-  return ((Vn / scale).rowwise() + center.transpose()).eval();
+  Points V = ((Vn / scale).rowwise() + center.transpose()).eval();
+  if (V.allFinite()) return V;
+  for (Eigen::Index v = 0; v < V.rows(); ++v)
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(V(v, c)) && std::isfinite(Vn(v, c)))
+        throw InputError(fmt::format("deformed vertex {}: its {} coordinate ({:g} times the bounding-box diagonal "
+                                     "from the center) is beyond the largest double; scale the mesh down",
+                                     v, "xyz"[c], Vn(v, c)));
+  return V;  // non-finite already before restoring: the deformers report that as a solver failure
 }
 
 Mat4 Normalization::conjugate(const Mat4& T) const {
