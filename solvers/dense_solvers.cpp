@@ -77,7 +77,7 @@ class DenseSolver : public LinearSolver {
   virtual void solve_in_place(DenseMat& X) = 0;
 
   //! LAPACK's 1-norm reciprocal condition estimate; below eps the matrix is singular to working
-  //! precision (singular bi-Laplacians measure ~1e-18 here).
+  //! precision (singular bi-Laplacians land well below it).
   void check_rcond(double rcond) const {
     if (!(rcond >= std::numeric_limits<double>::epsilon()))
       throw SolverError(fmt::format("{}: matrix numerically singular (rcond estimate {:.3g})", name(), rcond));
