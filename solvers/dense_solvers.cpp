@@ -116,7 +116,7 @@ class DenseLLT final : public DenseSolver {
     const auto& L = llt_.matrixLLT();
     std::vector<double> pivots(static_cast<std::size_t>(L.rows()));
     for (Eigen::Index k = 0; k < L.rows(); ++k) pivots[std::size_t(k)] = L(k, k) * L(k, k);
-    check_pivots(pivots, nullptr, diag, name(), singular_test_);
+    stats_.min_pivot_ratio = check_pivots(pivots, nullptr, diag, name(), singular_test_);
   }
   void solve_in_place(DenseMat& X) override { llt_.solveInPlace(X); }
 
@@ -140,7 +140,7 @@ class LapackPotrf final : public DenseSolver {
     if (info > 0) throw SolverError(fmt::format("lapack_potrf: not positive definite at column {}", info - 1));
     std::vector<double> pivots(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) pivots[std::size_t(k)] = a_(k, k) * a_(k, k);
-    check_pivots(pivots, nullptr, diag, name(), singular_test_);
+    stats_.min_pivot_ratio = check_pivots(pivots, nullptr, diag, name(), singular_test_);
   }
   void solve_in_place(DenseMat& X) override {
     const int n = int(a_.rows()), nrhs = int(X.cols());
