@@ -1,8 +1,8 @@
 //! "multifrontal": supernodal multifrontal Cholesky LL^T for systems of b x b blocks (TF: b = 3).
 //!
 //! Why a backend of our own next to CHOLMOD: on the large TF systems CHOLMOD's left-looking supernodal
-//! factorization reached a small fraction of the BLAS's dgemm rate on this project's machines, and its symbolic
-//! analysis ran on the 3n-unknown matrix (results/solvers.md compares them). Here
+//! factorization ran far below the BLAS's dgemm rate, and its symbolic analysis ran on the 3n-unknown matrix
+//! (the solver study, experiments/solvers.cpp, compares the two; the README quotes the rates). Here
 //!  - the symbolic analysis is CHOLMOD's, run on the compressed block graph and expanded (symbolic.h);
 //!  - the numeric phase is multifrontal: each supernode assembles a dense front from the matrix and its
 //!    children's update matrices, then dpotrf, dtrsm and dsyrk/dgemm on column panels (front.h);
@@ -14,6 +14,8 @@
 //!    triangular_solve.h), their panel kernels hand-written (kernels.h);
 //!  - out of core, the factor lives in a scratch file (storage.h: Mapping::on_file).
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
