@@ -10,26 +10,8 @@
 
 #include "core/error.h"
 #include "solvers/backends.h"
+#include "solvers/blas_lapack.h"
 #include "solvers/solver_util.h"
-
-// Fortran LAPACK (OpenBLAS ships it; LAPACKE does not come with it). The trailing size_t arguments
-// are gfortran's hidden CHARACTER lengths: passing them keeps the calls well-defined.
-extern "C" {
-void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uplo_len);
-void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, double* b,
-             const int* ldb, int* info, std::size_t uplo_len);
-void dsytrf_(const char* uplo, const int* n, double* a, const int* lda, int* ipiv, double* work, const int* lwork,
-             int* info, std::size_t uplo_len);
-void dsytrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, const int* ipiv,
-             double* b, const int* ldb, int* info, std::size_t uplo_len);
-void dsycon_(const char* uplo, const int* n, const double* a, const int* lda, const int* ipiv, const double* anorm,
-             double* rcond, double* work, int* iwork, int* info, std::size_t uplo_len);
-void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
-void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda, const int* ipiv,
-             double* b, const int* ldb, int* info, std::size_t trans_len);
-void dgecon_(const char* norm, const int* n, const double* a, const int* lda, const double* anorm, double* rcond,
-             double* work, int* iwork, int* info, std::size_t norm_len);
-}
 
 namespace db {
 namespace {
@@ -95,7 +77,7 @@ class DenseSolver : public LinearSolver {
   virtual void solve_in_place(DenseMat& X) = 0;
 
   //! LAPACK's 1-norm reciprocal condition estimate; below eps the matrix is singular to working
-  //! precision (singular bi-Laplacians measure ~1e-18 here).
+  //! precision (singular bi-Laplacians land well below it).
   void check_rcond(double rcond) const {
     if (!(rcond >= std::numeric_limits<double>::epsilon()))
       throw SolverError(fmt::format("{}: matrix numerically singular (rcond estimate {:.3g})", name(), rcond));
@@ -134,7 +116,7 @@ class DenseLLT final : public DenseSolver {
     const auto& L = llt_.matrixLLT();
     std::vector<double> pivots(static_cast<std::size_t>(L.rows()));
     for (Eigen::Index k = 0; k < L.rows(); ++k) pivots[std::size_t(k)] = L(k, k) * L(k, k);
-    check_pivots(pivots, nullptr, diag, name(), singular_test_);
+    stats_.min_pivot_ratio = check_pivots(pivots, nullptr, diag, name(), singular_test_);
   }
   void solve_in_place(DenseMat& X) override { llt_.solveInPlace(X); }
 
@@ -153,17 +135,17 @@ class LapackPotrf final : public DenseSolver {
     const int n = int(A.rows());
     a_ = std::move(A);
     int info = 0;
-    dpotrf_("L", &n, a_.data(), &n, &info, 1);
+    LAPACK_dpotrf("L", &n, a_.data(), &n, &info);
     if (info < 0) throw SolverError(fmt::format("lapack_potrf: dpotrf argument {} invalid", -info));
     if (info > 0) throw SolverError(fmt::format("lapack_potrf: not positive definite at column {}", info - 1));
     std::vector<double> pivots(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) pivots[std::size_t(k)] = a_(k, k) * a_(k, k);
-    check_pivots(pivots, nullptr, diag, name(), singular_test_);
+    stats_.min_pivot_ratio = check_pivots(pivots, nullptr, diag, name(), singular_test_);
   }
   void solve_in_place(DenseMat& X) override {
     const int n = int(a_.rows()), nrhs = int(X.cols());
     int info = 0;
-    dpotrs_("L", &n, &nrhs, a_.data(), &n, X.data(), &n, &info, 1);
+    LAPACK_dpotrs("L", &n, &nrhs, a_.data(), &n, X.data(), &n, &info);
     if (info != 0) throw SolverError(fmt::format("lapack_potrf: dpotrs failed (info {})", info));
   }
 
@@ -184,23 +166,23 @@ class DenseLdltBunchKaufman final : public DenseSolver {
     ipiv_.assign(std::size_t(n), 0);
     int info = 0, lwork = -1;
     double query = 0;
-    dsytrf_("L", &n, a_.data(), &n, ipiv_.data(), &query, &lwork, &info, 1);
+    LAPACK_dsytrf("L", &n, a_.data(), &n, ipiv_.data(), &query, &lwork, &info);
     lwork = std::max(1, int(query));
     std::vector<double> work(static_cast<std::size_t>(lwork));
-    dsytrf_("L", &n, a_.data(), &n, ipiv_.data(), work.data(), &lwork, &info, 1);
+    LAPACK_dsytrf("L", &n, a_.data(), &n, ipiv_.data(), work.data(), &lwork, &info);
     if (info < 0) throw SolverError(fmt::format("dense_ldlt_bk: dsytrf argument {} invalid", -info));
     if (info > 0)
       throw SolverError(fmt::format("dense_ldlt_bk: matrix singular (zero pivot D({0},{0}) of {1})", info - 1, n));
     double rcond = 0;
     std::vector<double> cwork(2 * std::size_t(n));
     std::vector<int> iwork(static_cast<std::size_t>(n));
-    dsycon_("L", &n, a_.data(), &n, ipiv_.data(), &anorm, &rcond, cwork.data(), iwork.data(), &info, 1);
+    LAPACK_dsycon("L", &n, a_.data(), &n, ipiv_.data(), &anorm, &rcond, cwork.data(), iwork.data(), &info);
     check_rcond(rcond);
   }
   void solve_in_place(DenseMat& X) override {
     const int n = int(a_.rows()), nrhs = int(X.cols());
     int info = 0;
-    dsytrs_("L", &n, &nrhs, a_.data(), &n, ipiv_.data(), X.data(), &n, &info, 1);
+    LAPACK_dsytrs("L", &n, &nrhs, a_.data(), &n, ipiv_.data(), X.data(), &n, &info);
     if (info != 0) throw SolverError(fmt::format("dense_ldlt_bk: dsytrs failed (info {})", info));
   }
 
@@ -222,19 +204,19 @@ class DenseLU final : public DenseSolver {
     a_ = std::move(A);
     ipiv_.assign(std::size_t(n), 0);
     int info = 0;
-    dgetrf_(&n, &n, a_.data(), &n, ipiv_.data(), &info);
+    LAPACK_dgetrf(&n, &n, a_.data(), &n, ipiv_.data(), &info);
     if (info < 0) throw SolverError(fmt::format("dense_lu: dgetrf argument {} invalid", -info));
     if (info > 0) throw SolverError(fmt::format("dense_lu: matrix singular (U({0},{0}) = 0 of {1})", info - 1, n));
     double rcond = 0;
     std::vector<double> cwork(4 * std::size_t(n));
     std::vector<int> iwork(static_cast<std::size_t>(n));
-    dgecon_("1", &n, a_.data(), &n, &anorm, &rcond, cwork.data(), iwork.data(), &info, 1);
+    LAPACK_dgecon("1", &n, a_.data(), &n, &anorm, &rcond, cwork.data(), iwork.data(), &info);
     check_rcond(rcond);
   }
   void solve_in_place(DenseMat& X) override {
     const int n = int(a_.rows()), nrhs = int(X.cols());
     int info = 0;
-    dgetrs_("N", &n, &nrhs, a_.data(), &n, ipiv_.data(), X.data(), &n, &info, 1);
+    LAPACK_dgetrs("N", &n, &nrhs, a_.data(), &n, ipiv_.data(), X.data(), &n, &info);
     if (info != 0) throw SolverError(fmt::format("dense_lu: dgetrs failed (info {})", info));
   }
 

@@ -95,7 +95,7 @@ class EigenSimplicial final : public EigenSparseBase {
     }
     // Eigen factors P A P^T; Pinv maps factor positions back to original indices (empty = identity).
     const auto& pinv = solver_.permutationPinv();
-    check_pivots(pivots, pinv.size() ? pinv.indices().data() : nullptr, upper, name());
+    stats_.min_pivot_ratio = check_pivots(pivots, pinv.size() ? pinv.indices().data() : nullptr, upper, name());
 
     // L's column pointers are exact (symbolic counts); LDLT stores the unit diagonal implicitly.
     const std::size_t lnz = std::size_t(L.nonZeros()) + (kLDLT ? std::size_t(n) : 0);

@@ -30,13 +30,13 @@ struct SolverOptions {
   //! whose pivots end at rounding noise. Callers that know their system is regular turn it off (the
   //! Laplacian deformers, once the constraints are seen to pin the energy's null space): a regular but
   //! ill-conditioned system of millions of unknowns can fall below the bound. Non-positive pivots are always
-  //! rejected. The multifrontal and CHOLMOD backends honour it; the others always test.
+  //! rejected. The multifrontal, CHOLMOD and dense LL^T backends honour it; the others always test.
   bool pivot_singularity_test = true;
 };
 
 //! 10 n eps: the smallest d_k / A_kk the pivot test accepts. On singular bi-Laplacians (no constraints) the last
-//! pivot measured ~n eps A_kk (n = 49 .. 160000), while constrained systems of the same size kept d_k / A_kk
-//! >~ 1e-4.
+//! pivot is rounding noise of order n eps A_kk, while constrained systems of the same size keep d_k / A_kk
+//! orders of magnitude above it.
 double singular_pivot_bound(std::size_t n);
 
 struct FactorStats {

@@ -80,9 +80,11 @@ SolverInfo solver_info(const std::string& name) { return find(name).info; }
 
 void LinearSolver::factorize_dense(DenseMat& full) {
   full = DenseMat();
-  throw Error(fmt::format("{}: takes sparse input only; a dense matrix needs a dense backend (dense_llt, "
-                          "dense_ldlt_bk, dense_lu)",
-                          name()));
+  std::vector<std::string> dense;
+  for (const Entry& e : table())
+    if (e.info.family == "dense") dense.push_back(e.info.name);
+  throw Error(fmt::format("{}: takes sparse input only; a dense matrix needs a dense backend ({})", name(),
+                          fmt::join(dense, ", ")));
 }
 
 double singular_pivot_bound(std::size_t n) { return 10.0 * double(n) * std::numeric_limits<double>::epsilon(); }

@@ -77,7 +77,7 @@ DenseMat dense_from_upper(const SpMat& upper) {
 
 namespace {
 //! 64-bit fingerprint of an index array: four independent FNV-style lanes (one dependent multiply chain
-//! would cost ~4 cycles an entry), mixed at the end.
+//! would be bound by the multiply's latency), mixed at the end.
 std::uint64_t fingerprint(const int* a, std::size_t count) {
   constexpr std::uint64_t kPrime = 0x100000001b3ULL;
   std::uint64_t h[4] = {0xcbf29ce484222325ULL, 0x84222325cbf29ce4ULL, 0x9e3779b97f4a7c15ULL, 0xc2b2ae3d27d4eb4fULL};

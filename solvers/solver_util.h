@@ -47,7 +47,7 @@ class PatternGuard {
   void check(const SpMat& upper, const std::string& who) const;
 
  private:
-  // Size, nonzeros and a 64-bit hash of the index arrays, not a copy of them (38 MB on the 104k TF system).
+  // Size, nonzeros and a 64-bit hash of the index arrays, not a copy of them (as large as the matrix's indices).
   std::size_t n_ = 0, nnz_ = 0;
   std::uint64_t hash_ = 0;
   bool set_ = false;

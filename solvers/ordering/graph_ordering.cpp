@@ -135,12 +135,10 @@ class ChildTask {
 //! METIS nested dissection whose first level is done here, so that the two sides can be ordered at once: a
 //! METIS vertex separator splits the graph, each side is ordered by METIS (the smaller one in a child process
 //! when there are two worker threads), the separator comes last. METIS_NodeND takes the same first step itself,
-//! and the fill stays the same (armadillo Loop 1, 104k vertices: 74.52 against 74.53 GFlop for TF), while the
-//! TF analysis takes ~0.45 s less (1.15 against 1.61 s, medians of 7 interleaved CLI runs). The result does
-//! not depend on the thread count. A second level (four parts, better balanced) was measured too: over five
-//! random renumberings of that graph the flops of METIS whole, one level and two varied by +-3% alike, but on
-//! the bundled numbering two levels cost 4.7% more (77.3 GFlop) and a 1% larger factor, more than the balance
-//! saves. Empty if the bisection fails (the caller then runs METIS whole).
+//! so the fill stays that of METIS run whole, while the two sides' orderings overlap in time. The result does
+//! not depend on the thread count. A second level (four parts, better balanced) was tried and dropped: on the
+//! bundled meshes it cost more flops and a larger factor than its balance saved. Empty if the bisection fails
+//! (the caller then runs METIS whole).
 std::vector<int> dissected_metis_order(const GraphPattern& pat, cholmod_common& cc) {
   const int n = pat.n;
   std::vector<int> part(static_cast<std::size_t>(n));

@@ -1,4 +1,5 @@
 // Conformance of every registered solver backend (TEST_P over solver_names()), plus backend specifics.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -287,8 +288,8 @@ TEST_P(Conformance, FactorizeConsumingMatchesFactorize) {
   }
 }
 
-// factorize_dense (the dense build's input): dense backends solve as from the sparse upper triangle; the others
-// refuse it with an Error and leave the matrix empty.
+// factorize_dense (the dense build's input): dense backends solve as from the sparse upper triangle and report
+// the same factor; the others refuse it with an Error naming the dense backends and leave the matrix empty.
 TEST_P(Conformance, DenseInputOnlyForDenseBackends) {
   std::mt19937 rng(17);
   const SpMat full = normal_equations(mesh_laplacian(7, 6, true, rng), 3, rng);
@@ -297,7 +298,16 @@ TEST_P(Conformance, DenseInputOnlyForDenseBackends) {
   sparse->factorize(upper_of(full));
   DenseMat A = DenseMat(full);
   if (info().family != "dense") {
-    EXPECT_THROW(dense->factorize_dense(A), db::Error);
+    try {
+      dense->factorize_dense(A);
+      FAIL() << "expected db::Error";
+    } catch (const db::Error& e) {
+      for (const std::string& name : db::solver_names()) {
+        if (db::solver_info(name).family == "dense") {
+          EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+      }
+    }
     EXPECT_EQ(A.size(), 0);
     return;
   }
@@ -307,11 +317,91 @@ TEST_P(Conformance, DenseInputOnlyForDenseBackends) {
   sparse->solve(B, Xs);
   dense->solve(B, Xd);
   EXPECT_LT(rel(Xd, Xs), 1e-12);
-  EXPECT_EQ(dense->stats().n, std::size_t(full.rows()));
+  const db::FactorStats ss = sparse->stats(), sd = dense->stats();
+  const std::size_t n = std::size_t(full.rows());
+  EXPECT_EQ(sd.n, n);
+  EXPECT_EQ(sd.nnz_matrix, n * (n + 1) / 2);  // the dense matrix's upper triangle
+  EXPECT_EQ(sd.nnz_factor, ss.nnz_factor);
+  EXPECT_EQ(sd.flops, ss.flops);
+  EXPECT_EQ(sd.factor_bytes, ss.factor_bytes);
+  EXPECT_NEAR(sd.min_pivot_ratio, ss.min_pivot_ratio, 1e-12);
   if (info().requires_spd) {
     DenseMat bad = DenseMat(full);
     bad(4, 4) = -1.0;
     EXPECT_THROW(dense->factorize_dense(bad), db::SolverError);
+    DenseMat X;
+    EXPECT_THROW(dense->solve(B, X), db::SolverError) << "no factor after a failure";
+  }
+  DenseMat nan = DenseMat(full), wide = DenseMat::Ones(4, 5);
+  nan(3, 2) = std::nan("");
+  EXPECT_THROW(dense->factorize_dense(nan), db::SolverError);
+  EXPECT_EQ(nan.size(), 0);
+  EXPECT_THROW(dense->factorize_dense(wide), db::SolverError);
+  // Singular: the bi-Laplacian of a closed mesh without constraints; every dense backend tests for it (pivots
+  // or LAPACK's condition estimate).
+  const SpMat L = mesh_laplacian(7, 6, true, rng);
+  DenseMat singular = DenseMat(SpMat(L.transpose()) * L);
+  EXPECT_THROW(dense->factorize_dense(singular), db::SolverError);
+}
+
+//! Smallest L_kk^2 / A_kk of a dense Cholesky in the natural order: what a Cholesky backend's min_pivot_ratio
+//! must be in that order.
+double dense_min_pivot_ratio(const DenseMat& A) {
+  const DenseMat L = A.llt().matrixL();
+  double r = 1e300;
+  for (Eigen::Index k = 0; k < A.rows(); ++k) r = std::min(r, L(k, k) * L(k, k) / A(k, k));
+  return r;
+}
+
+// What each family reports in FactorStats (linear_solver.h), against the matrix: sizes, factor counts within
+// the bounds of its factor type, the pivot ratio where the backend tests pivots (a dense Cholesky's, in the
+// natural order), nothing on disk.
+TEST_P(Conformance, StatsDescribeTheFactor) {
+  std::mt19937 rng(19);
+  const SpMat full = normal_equations(mesh_laplacian(8, 7, true, rng), 3, rng);
+  const SpMat upper = upper_of(full);
+  const std::size_t n = std::size_t(full.rows()), tri = n * (n + 1) / 2;
+  const db::SolverInfo si = info();
+  const bool natural = std::find(si.orderings.begin(), si.orderings.end(), "natural") != si.orderings.end();
+  auto s = db::make_solver(GetParam(), options(natural ? "natural" : "default", 1));
+  s->analyze(upper);
+  s->factorize(upper);
+  DenseMat X;
+  s->solve(random_rhs(full.rows(), 1, rng), X);  // iterative backends report on solve
+  const db::FactorStats st = s->stats();
+  EXPECT_EQ(st.n, n);
+  EXPECT_EQ(st.nnz_matrix, std::size_t(upper.nonZeros()));
+  EXPECT_FALSE(st.factor_on_disk);
+  EXPECT_FALSE(st.ordering_used.empty());
+  if (si.family == "dense") {
+    EXPECT_EQ(st.ordering_used, "none");
+    EXPECT_TRUE(st.nnz_factor == tri || st.nnz_factor == n * n) << st.nnz_factor;  // triangle; LU: L and U
+    const double cube = double(n) * double(n) * double(n);
+    EXPECT_DOUBLE_EQ(st.flops, st.nnz_factor == tri ? cube / 3 : 2 * cube / 3);
+    EXPECT_GE(st.factor_bytes, n * n * sizeof(double));
+  } else if (si.family == "sparse-cholesky") {
+    EXPECT_GE(st.nnz_factor, n);
+    EXPECT_LE(st.nnz_factor, tri);
+    EXPECT_GE(st.flops, double(st.nnz_factor));  // sum of squared column counts
+    EXPECT_GE(st.factor_bytes, st.nnz_factor * sizeof(double));
+  } else if (si.family == "sparse-lu") {
+    EXPECT_GE(st.nnz_factor, n);
+    EXPECT_LE(st.nnz_factor, n * n);
+    EXPECT_GE(st.factor_bytes, st.nnz_factor * sizeof(double));
+  } else {
+    ASSERT_EQ(si.family, "iterative");
+    EXPECT_EQ(st.nnz_factor, 0u);
+    EXPECT_EQ(st.flops, 0);
+    EXPECT_GT(st.iterations, 0);
+    EXPECT_LE(st.achieved_tolerance, 1e-12);
+  }
+  if (si.requires_spd) {  // the Cholesky-type backends test their pivots and report the smallest ratio
+    ASSERT_TRUE(natural);
+    const double ref = dense_min_pivot_ratio(DenseMat(full));
+    EXPECT_NEAR(st.min_pivot_ratio, ref, 1e-10 * ref);
+    EXPECT_LE(st.min_pivot_ratio, 1.0);
+  } else {
+    EXPECT_EQ(st.min_pivot_ratio, 0) << "no pivot test, no ratio";
   }
 }
 
@@ -431,6 +521,7 @@ TEST(Multifrontal, ThreadCountsAndBackendsAgree) {
       EXPECT_LT(rel(X[2], X[0]), 1e-12);
       EXPECT_EQ(st[1].nnz_factor, st[0].nnz_factor);
       EXPECT_GT(st[0].flops, 0);
+      EXPECT_GT(st[0].workspace_bytes, 0u);  // the update matrices' peak
       EXPECT_GE(st[0].nnz_factor, std::size_t(upper.nonZeros()));
       auto ref = db::make_solver("cholmod_supernodal", o);
       ref->factorize(upper);
@@ -625,8 +716,13 @@ TEST(Multifrontal, WidePanelsMatchDense) {
 TEST(Dense, RefusesHugeSystemsBeforeAllocating) {
   SpMat I(16001, 16001);
   I.setIdentity();
-  for (const char* name : {"dense_llt", "dense_ldlt_bk", "dense_lu"})
-    EXPECT_THROW(db::make_solver(name)->analyze(I), db::BudgetError) << name;
+  int dense = 0;
+  for (const std::string& name : db::solver_names())
+    if (db::solver_info(name).family == "dense") {
+      EXPECT_THROW(db::make_solver(name)->analyze(I), db::BudgetError) << name;
+      ++dense;
+    }
+  EXPECT_GE(dense, 4);  // dense_llt, lapack_potrf, dense_ldlt_bk, dense_lu
 }
 
 //! [L; w S]: mesh Laplacian rows plus weighted constraint rows (m > n, full column rank).

@@ -14,11 +14,8 @@
 #include "core/timer.h"
 #include "methods/deformer.h"
 #include "operators/energy_operator.h"
+#include "solvers/blas_lapack.h"
 #include "solvers/linear_solver.h"
-
-extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
-                       const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
-                       const double* beta, double* c, const int* ldc, std::size_t, std::size_t);
 
 namespace db::harness {
 namespace {
@@ -97,8 +94,9 @@ double MachineRates::blas_gemm() {
   const int m = 1024;
   const DenseMat A = DenseMat::Random(m, m), B = DenseMat::Random(m, m);
   DenseMat C(m, m);
-  const double one = 1.0, zero = 0.0;
-  auto gemm = [&] { dgemm_("N", "N", &m, &m, &m, &one, A.data(), &m, B.data(), &m, &zero, C.data(), &m, 1, 1); };
+  auto gemm = [&] {
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, m, m, 1.0, A.data(), m, B.data(), m, 0.0, C.data(), m);
+  };
   gemm();  // the BLAS's thread pool and the pages of C, outside the timing
   return 2.0 * m * m * m / best_of(3, gemm);
 }

@@ -1,0 +1,58 @@
+#pragma once
+//! The numeric work on one supernode of the multifrontal factorization: its front is assembled from the
+//! matrix and from its children's update matrices (extend-add), its columns are factored left-looking over
+//! column panels with LAPACK/BLAS-3 (dpotrf, dtrsm, dsyrk/dgemm: large calls on dense blocks), and its update
+//! matrix (Schur complement) is formed for its parent.
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "core/types.h"
+#include "solvers/multifrontal/storage.h"
+#include "solvers/multifrontal/symbolic.h"
+
+namespace db::multifrontal {
+
+//! Per-thread scratch: row -> front position map, relative indices.
+struct Workspace {
+  std::vector<int> map, rel;
+  std::vector<double> diag;  //!< a panel's diagonal block, unpacked for dpotrf
+  explicit Workspace(int n) : map(std::size_t(n), -1), diag(std::size_t(FactorBlock::kWidth) * FactorBlock::kWidth) {}
+};
+
+//! Which columns of a child's update matrix an extend-add moves: those landing in the parent's own columns
+//! (its factor block), those landing in its update matrix, or both.
+enum Part { kPivot = 1, kUpdate = 2, kBoth = 3 };
+
+//! The state one numeric factorization shares among its threads: the factor's values (the FactorBlocks of all
+//! supernodes, starting as zeros), the update matrices alive, the pivots and the first failed column. The
+//! caller runs each supernode after its children, and no two threads on the same supernode.
+class FrontFactorization {
+ public:
+  //! `values`: S.xptr.back() zeroed doubles; `pivots`: S.n entries, L_jj^2 per column once factored.
+  FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots);
+
+  //! Assembles and factors the front of supernode s and forms its update matrix; false (and failed_column()
+  //! set) when a pivot is not positive.
+  bool factor_supernode(const SpMat& A, int s, Workspace& ws);
+  //! Extend-add of `part` of child c's update matrix into supernode p's factor block and update matrix (with
+  //! kUpdate, p's update matrix is allocated zeroed here if it has none yet); frees the child's matrix once
+  //! nothing of it is left to move. The caller makes sure no other thread works on p meanwhile.
+  void assemble_child(int c, int p, Workspace& ws, Part part = kBoth);
+  //! The first column found not positive definite (factor order), or -1.
+  std::int64_t failed_column() const { return failed_column_; }
+
+ private:
+  FactorBlock block(int s) const { return {values_ + S_.xptr[std::size_t(s)], S_.nrows(s), S_.ncols(s)}; }
+  void add_matrix_entries(const SpMat& A, int s, const FactorBlock& L, Workspace& ws) const;
+  bool factor_panels(int s, const FactorBlock& L, Workspace& ws);
+  void form_update(int s, const FactorBlock& L, bool fresh_heap);
+
+  const Symbolic& S_;
+  double* values_;
+  std::vector<double>& pivots_;
+  std::vector<UpdateBlock> updates_;  //!< update matrix of each supernode until its parent takes it
+  std::atomic<std::int64_t> failed_column_{-1};
+};
+
+}  // namespace db::multifrontal

@@ -1,0 +1,160 @@
+#include "solvers/multifrontal/kernels.h"
+
+#include <algorithm>
+#include <cstddef>
+
+#include "solvers/multifrontal/storage.h"
+
+namespace db::multifrontal {
+namespace {
+
+//! Four doubles as one vector (an AVX2 register, or two SSE2 ones in the baseline clone); loads need not be
+//! aligned, and may alias the doubles they read.
+typedef double Vec4d __attribute__((vector_size(32), aligned(8), may_alias));
+
+//! x_j -= sum_{i < h} Rr(i, j) x_{w + i} for the NB columns j0 .. j0 + NB - 1 of a panel's rectangle and R
+//! right-hand sides (columns of x, leading dimension ldx): each entry of x is loaded once for the NB columns
+//! and each entry of L once for the R right-hand sides, four partial sums per product (the compiler may not
+//! reorder a floating-point sum itself), NB x R of them in flight to hide the adds' latency. One dot product per
+//! column and right-hand side loaded both operands for every multiply-add, and was slower on TF's frames.
+template <int NB, int R>
+inline __attribute__((always_inline)) void rect_dots(const double* Rr, std::size_t sh, int j0, int w, int h,
+                                                     double* x, int ldx) {
+  Vec4d acc[NB][R];
+  for (int k = 0; k < NB; ++k)
+    for (int c = 0; c < R; ++c) acc[k][c] = Vec4d{0, 0, 0, 0};
+  const double* q[NB];
+  for (int k = 0; k < NB; ++k) q[k] = Rr + std::size_t(j0 + k) * sh;
+  const double* xs[R];
+  for (int c = 0; c < R; ++c) xs[c] = x + std::size_t(c) * std::size_t(ldx) + std::size_t(w);
+  int i = 0;
+  for (; i + 4 <= h; i += 4) {
+    Vec4d xv[R];
+    for (int c = 0; c < R; ++c) xv[c] = *reinterpret_cast<const Vec4d*>(xs[c] + i);
+    for (int k = 0; k < NB; ++k) {
+      const Vec4d qv = *reinterpret_cast<const Vec4d*>(q[k] + i);
+      for (int c = 0; c < R; ++c) acc[k][c] += qv * xv[c];
+    }
+  }
+  for (int k = 0; k < NB; ++k)
+    for (int c = 0; c < R; ++c) {
+      double sum = (acc[k][c][0] + acc[k][c][2]) + (acc[k][c][1] + acc[k][c][3]);
+      for (int t = i; t < h; ++t) sum += q[k][t] * xs[c][t];
+      x[std::size_t(c) * std::size_t(ldx) + std::size_t(j0 + k)] -= sum;
+    }
+}
+
+//! The rectangle's part of backward_panel for R right-hand sides: NB columns at a time (NB x R accumulators and
+//! NB + R loads per step fit the sixteen vector registers), then the remaining columns one by one.
+template <int NB, int R>
+inline __attribute__((always_inline)) void rect_solve(const double* Rr, int w, int h, double* x, int ldx) {
+  const std::size_t sh = std::size_t(h);
+  int j = 0;
+  for (; j + NB <= w; j += NB) rect_dots<NB, R>(Rr, sh, j, w, h, x, ldx);
+  for (; j < w; ++j) rect_dots<1, R>(Rr, sh, j, w, h, x, ldx);
+}
+
+//! x_j -= sum_{i < h} Rr(i, j) x_{w + i} for the NB columns from j0, x held row by row as in backward_rows4.
+template <int NB>
+inline __attribute__((always_inline)) void rows4_rect(const double* Rr, std::size_t sh, int j0, int w, int h,
+                                                      double* x) {
+  Vec4d acc[NB];
+  for (int k = 0; k < NB; ++k) acc[k] = Vec4d{0, 0, 0, 0};
+  const double* q = Rr + std::size_t(j0) * sh;
+  const double* xb = x + 4 * std::size_t(w);
+  for (int i = 0; i < h; ++i) {
+    const Vec4d xi = *reinterpret_cast<const Vec4d*>(xb + 4 * std::size_t(i));
+    for (int k = 0; k < NB; ++k) {
+      const double l = q[std::size_t(k) * sh + std::size_t(i)];
+      acc[k] += Vec4d{l, l, l, l} * xi;
+    }
+  }
+  for (int k = 0; k < NB; ++k) *reinterpret_cast<Vec4d*>(x + 4 * std::size_t(j0 + k)) -= acc[k];
+}
+
+}  // namespace
+
+//! The triangle first, then the rectangle four columns at a time (one pass over x's rows per four columns of
+//! L, each column read from memory once for all right-hand sides).
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forward_panel(const double* T, const double* Rr, int w,
+                                                                                int h, int r, double* x, int ldx) {
+  for (int j = 0; j < w; ++j) {
+    const double* t = T + packed_column(j, w);  // t[i - j] = L_ij, i = j .. w - 1
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v = (xc[j] /= t[0]);
+      for (int i = 1; i < w - j; ++i) xc[j + i] -= t[i] * v;
+    }
+  }
+  const std::size_t sh = std::size_t(h);
+  int j = 0;
+  for (; j + 3 < w; j += 4) {
+    const double *q0 = Rr + std::size_t(j) * sh, *q1 = q0 + sh, *q2 = q1 + sh, *q3 = q2 + sh;
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v0 = xc[j], v1 = xc[j + 1], v2 = xc[j + 2], v3 = xc[j + 3];
+      double* xr = xc + w;
+      for (int i = 0; i < h; ++i) xr[i] -= (q0[i] * v0 + q1[i] * v1) + (q2[i] * v2 + q3[i] * v3);
+    }
+  }
+  for (; j < w; ++j) {
+    const double* q = Rr + std::size_t(j) * sh;
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v = xc[j];
+      double* xr = xc + w;
+      for (int i = 0; i < h; ++i) xr[i] -= q[i] * v;
+    }
+  }
+}
+
+//! The rectangle's dot products first (independent of each other, the rows below are final), then the
+//! triangle bottom up.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_panel(const double* T, const double* Rr, int w,
+                                                                                 int h, int r, double* x, int ldx) {
+  if (h > 0)
+    for (int c = 0; c < r;) {  // one (TF's); more than four (backward_rows4 takes two to four) three at a time
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      switch (std::min(r - c, 3)) {
+        case 3: rect_solve<2, 3>(Rr, w, h, xc, ldx); c += 3; break;
+        case 2: rect_solve<2, 2>(Rr, w, h, xc, ldx); c += 2; break;
+        default: rect_solve<4, 1>(Rr, w, h, xc, ldx); c += 1; break;
+      }
+    }
+  for (int j = w - 1; j >= 0; --j) {
+    const double* t = T + packed_column(j, w);
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      double sum = 0;
+      for (int i = 1; i < w - j; ++i) sum += t[i] * xc[j + i];
+      xc[j] = (xc[j] - sum) / t[0];
+    }
+  }
+}
+
+//! Each entry of L is one multiply-add on a whole row of x, with no horizontal sums. With LAP's three
+//! right-hand sides on small supernodes (most of a mesh system's) the general kernel's per-column dot products
+//! were mostly reductions and tails, and its frames took several times one pass over the factor at the memory
+//! read rate.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void backward_rows4(const double* T, const double* Rr, int w,
+                                                                                 int h, double* x) {
+  const std::size_t sh = std::size_t(h);
+  int j = 0;
+  for (; j + 8 <= w; j += 8) rows4_rect<8>(Rr, sh, j, w, h, x);
+  for (; j + 4 <= w; j += 4) rows4_rect<4>(Rr, sh, j, w, h, x);
+  for (; j < w; ++j) rows4_rect<1>(Rr, sh, j, w, h, x);
+  auto row = [x](int i) -> Vec4d& { return *reinterpret_cast<Vec4d*>(x + 4 * std::size_t(i)); };
+  for (j = w - 1; j >= 0; --j) {  // the triangle bottom up, two partial sums (the adds' latency)
+    const double* t = T + packed_column(j, w);
+    Vec4d s0{0, 0, 0, 0}, s1{0, 0, 0, 0};
+    int i = 1;
+    for (; i + 1 < w - j; i += 2) {
+      s0 += Vec4d{t[i], t[i], t[i], t[i]} * row(j + i);
+      s1 += Vec4d{t[i + 1], t[i + 1], t[i + 1], t[i + 1]} * row(j + i + 1);
+    }
+    if (i < w - j) s0 += Vec4d{t[i], t[i], t[i], t[i]} * row(j + i);
+    row(j) = (row(j) - (s0 + s1)) / Vec4d{t[0], t[0], t[0], t[0]};
+  }
+}
+
+}  // namespace db::multifrontal

@@ -1,0 +1,321 @@
+//! "multifrontal": supernodal multifrontal Cholesky LL^T for systems of b x b blocks (TF: b = 3).
+//!
+//! Why a backend of our own next to CHOLMOD: on the large TF systems CHOLMOD's left-looking supernodal
+//! factorization ran far below the BLAS's dgemm rate, and its symbolic analysis ran on the 3n-unknown matrix
+//! (the solver study, experiments/solvers.cpp, compares the two; the README quotes the rates). Here
+//!  - the symbolic analysis is CHOLMOD's, run on the compressed block graph and expanded (symbolic.h);
+//!  - the numeric phase is multifrontal: each supernode assembles a dense front from the matrix and its
+//!    children's update matrices, then dpotrf, dtrsm and dsyrk/dgemm on column panels (front.h);
+//!  - nothing above the diagonal is stored: a supernode's factor is a lower trapezoid in column panels, its
+//!    update matrix a lower triangle (storage.h); full square blocks cost markedly more factor memory and twice
+//!    the update memory;
+//!  - independent subtrees of the assembly tree run on separate threads with a single-threaded BLAS, the
+//!    few top fronts after them with the multithreaded BLAS; the solves are split the same way (schedule.h,
+//!    triangular_solve.h), their panel kernels hand-written (kernels.h);
+//!  - out of core, the factor lives in a scratch file (storage.h: Mapping::on_file).
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/resources.h"
+#include "solvers/backends.h"
+#include "solvers/multifrontal/front.h"
+#include "solvers/multifrontal/schedule.h"
+#include "solvers/multifrontal/storage.h"
+#include "solvers/multifrontal/symbolic.h"
+#include "solvers/multifrontal/triangular_solve.h"
+#include "solvers/solver_util.h"
+
+namespace db {
+namespace {
+
+using namespace solver_util;
+using namespace multifrontal;
+
+class MultifrontalSolver final : public LinearSolver {
+ public:
+  explicit MultifrontalSolver(const SolverOptions& options) : options_(options) { check_options(options, name()); }
+
+  std::string name() const override { return "multifrontal"; }
+  void analyze(const SpMat& upper_in) override;
+  void factorize(const SpMat& upper_in) override { factorize_impl(upper_in, nullptr); }
+  void factorize_consuming(SpMat& upper) override {
+    const ClearOnExit clear{upper};
+    factorize_impl(upper, &upper);
+  }
+  void solve(const DenseMat& B, DenseMat& X) override;
+  void set_base_rhs(const DenseMat& B0, const std::vector<int>& rows) override;
+  void solve_changed(const DenseMat& B, DenseMat& X) override;
+  FactorStats stats() const override { return stats_; }
+
+ private:
+  //! `consumed`: the caller's matrix (the same object as upper_in), whose memory may be handed back as the
+  //! factorization no longer needs it; null to leave the matrix alone.
+  void factorize_impl(const SpMat& upper_in, SpMat* consumed);
+  //! Upper triangle of P A P^T with sorted columns (the front assembly searches them).
+  SpMat permuted(const SpMat& given) const;
+  //! Factors every supernode of A by factor_plan_ into values_; false when a pivot failed (fronts says where).
+  bool factor_tree(const SpMat& A, bool may_release, FrontFactorization& fronts);
+  //! The supernodes `rows` reach in the forward substitution, and their columns, into reach_ / reach_columns_.
+  void find_reach(const std::vector<int>& rows);
+
+  int iperm(int i) const { return iperm_.empty() ? i : iperm_[std::size_t(i)]; }
+  FactorView factor() const { return {S_, values_}; }
+  void check_factored(const char* what) const {
+    if (!factored_) throw SolverError(fmt::format("{}: {}() before a successful factorize()", name(), what));
+  }
+  //! y_ := P B (row-major).
+  void load_rhs(const DenseMat& B);
+  //! X := P^T y_.
+  void store_solution(DenseMat& X) const;
+  bool matches_base_outside_changing_rows(const DenseMat& B) const;
+  //! Out of core: supernode s's FactorBlock leaves the resident set (done with it for now).
+  void release_block(int s) const { factor().release(s); }
+  std::size_t factor_bytes() const;
+
+  SolverOptions options_;
+  Symbolic S_;
+  Plan factor_plan_, solve_plan_;
+  int threads_ = 1;
+  Mapping values_;  //!< the FactorBlocks of all supernodes
+  std::vector<double> pivots_;  //!< L_jj^2 per column, kept as the factorization goes (no pass over the factor)
+  RowMajorMat y_;
+  std::vector<RowMajorMat> acc_;
+  std::vector<int> iperm_;  //!< inverse of S_.perm (empty: identity)
+  // set_base_rhs(): the base right-hand side, its forward substitution, the rows that may change and the
+  // supernodes (and their columns) they reach.
+  DenseMat base_;
+  RowMajorMat y0_;
+  std::vector<char> changing_;
+  std::vector<int> changing_rows_, reach_, reach_columns_;
+  PatternGuard guard_;
+  FactorStats stats_;
+  bool factored_ = false;
+};
+
+void MultifrontalSolver::analyze(const SpMat& upper_in) {
+  check_square(upper_in, name());
+  SpMat storage;
+  const SpMat& upper = compressed(upper_in, storage);
+  const int n = int(upper.cols());
+  const int b = options_.block_size > 1 && n % options_.block_size == 0 ? options_.block_size : 1;
+  factored_ = false;
+  values_.reset();
+  base_.resize(0, 0);
+  threads_ = std::clamp(worker_threads(), 1, 64);  // owner[] holds a thread index in a signed char
+  S_ = analyze_blocks(upper, b, options_.ordering);
+  std::vector<double> flops(std::size_t(S_.nsuper())), entries(std::size_t(S_.nsuper()));
+  for (int s = 0; s < S_.nsuper(); ++s) {
+    flops[std::size_t(s)] = supernode_flops(S_, s);
+    entries[std::size_t(s)] = double(S_.xptr[std::size_t(s) + 1] - S_.xptr[std::size_t(s)]);
+  }
+  factor_plan_ = schedule(S_, threads_, flops);
+  // A solve reads each factor entry once per direction: its threads are balanced by entries, not flops.
+  solve_plan_ = schedule(S_, threads_, entries);
+  guard_.remember(upper);
+  stats_ = FactorStats{};
+  stats_.n = std::size_t(n);
+  stats_.nnz_matrix = std::size_t(upper.nonZeros());
+  stats_.nnz_factor = S_.nnz;
+  stats_.flops = S_.flops;
+  stats_.ordering_used = (options_.ordering == "default" ? std::string(default_ordering(b)) : options_.ordering) +
+                         (b > 1 ? fmt::format("-block{}", b) : "");
+  stats_.factor_bytes = factor_bytes();
+  stats_.factor_on_disk = !options_.factor_dir.empty();
+  stats_.workspace_bytes = std::size_t(update_peak(S_, factor_plan_));
+}
+
+void MultifrontalSolver::factorize_impl(const SpMat& upper_in, SpMat* consumed) {
+  SpMat storage;
+  const SpMat& given = prepare_factorize(*this, guard_, upper_in, storage);
+  const DenseVec diag = diagonal_of(given);  // for the pivot check, before any of the matrix is released
+  factored_ = false;
+  iperm_.assign(S_.perm.size(), 0);
+  for (std::size_t k = 0; k < S_.perm.size(); ++k) iperm_[std::size_t(S_.perm[k])] = int(k);
+  SpMat perm_copy;
+  if (!S_.perm.empty()) {  // the analysis chose an order: factor P A P^T
+    permuted(given).swap(perm_copy);
+    if (consumed) *consumed = SpMat();  // the permuted copy holds all the factorization reads
+  }
+  const SpMat& A = S_.perm.empty() ? given : perm_copy;
+  // Pages of A whose columns are consumed may be returned: ours (a copy), or the caller's when consumed.
+  const bool may_release = &A != &upper_in || consumed != nullptr;
+  base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
+  values_ = options_.factor_dir.empty() ? Mapping(S_.xptr.back(), "the factor")
+                                        : Mapping::on_file(S_.xptr.back(), "the factor", options_.factor_dir);
+  pivots_.assign(std::size_t(S_.n), 0.0);
+  std::int64_t failed = -1;
+  {
+    FrontFactorization fronts(S_, values_.get(), pivots_);  // its update matrices die with it
+    if (!factor_tree(A, may_release, fronts)) failed = fronts.failed_column();
+  }
+  if (failed >= 0) {
+    values_.reset();
+    const int k = int(failed);
+    const int orig = S_.perm.empty() ? k : S_.perm[std::size_t(k)];
+    throw SolverError(fmt::format("multifrontal: matrix not positive definite (failed at column {} of {}, "
+                                  "unknown {})",
+                                  k, S_.n, orig));
+  }
+  stats_.min_pivot_ratio = check_pivots(pivots_, S_.perm.empty() ? nullptr : S_.perm.data(), diag, name(),
+                                        options_.pivot_singularity_test);
+  factored_ = true;
+  stats_.factor_bytes = factor_bytes();
+}
+
+SpMat MultifrontalSolver::permuted(const SpMat& given) const {
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(std::size_t(given.nonZeros()));
+  for (int j = 0; j < given.outerSize(); ++j)
+    for (SpMat::InnerIterator it(given, j); it; ++it) {
+      const int a = iperm_[std::size_t(it.row())], c = iperm_[std::size_t(j)];
+      t.emplace_back(std::min(a, c), std::max(a, c), it.value());
+    }
+  SpMat P(given.rows(), given.cols());
+  P.setFromTriplets(t.begin(), t.end());
+  return P;
+}
+
+bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFactorization& fronts) {
+  std::atomic<bool> ok{true};
+  std::mutex top_mutex;
+  run_subtrees(factor_plan_.subtrees.size(), [&](std::size_t t) {
+    Workspace ws(S_.n);
+    ColumnRelease release(A, may_release);
+    for (int root : factor_plan_.subtrees[t]) {
+      release.start(S_.col0[std::size_t(S_.first[std::size_t(root)])]);
+      for (int s = S_.first[std::size_t(root)]; s <= root; ++s) {
+        if (!ok.load(std::memory_order_relaxed) || !fronts.factor_supernode(A, s, ws)) {
+          ok = false;
+          return;
+        }
+        release_block(s);
+        release.dead_before(S_.col0[std::size_t(s) + 1], s == root);
+      }
+      // Hand the subtree's update matrix to its (top) parent now rather than when the top phase reaches it:
+      // otherwise every subtree root's update is resident at once when the top phase starts. Threads finish
+      // their subtrees at different times, so this rarely waits.
+      if (const int parent = S_.parent[std::size_t(root)]; parent >= 0) {
+        std::lock_guard<std::mutex> lock(top_mutex);
+        fronts.assemble_child(root, parent, ws);
+      }
+    }
+  });
+  if (!ok) return false;
+  Workspace ws(S_.n);
+  ColumnRelease release(A, may_release);
+  for (int s : factor_plan_.top) {
+    release.start(S_.col0[std::size_t(s)]);
+    if (!fronts.factor_supernode(A, s, ws)) return false;
+    release_block(s);
+    release.dead_before(S_.col0[std::size_t(s) + 1], true);
+  }
+  return true;
+}
+
+void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {
+  check_factored("solve");
+  check_rhs(B, Index(S_.n), name());
+  load_rhs(B);
+  forward_all(factor(), solve_plan_, y_, acc_);
+  backward_all(factor(), solve_plan_, y_);
+  store_solution(X);
+}
+
+void MultifrontalSolver::set_base_rhs(const DenseMat& B0, const std::vector<int>& rows) {
+  check_factored("set_base_rhs");
+  check_rhs(B0, Index(S_.n), name());
+  base_.resize(0, 0);
+  std::vector<char> changing(std::size_t(S_.n), 0);
+  for (int i : rows) {
+    if (i < 0 || i >= S_.n) throw SolverError(fmt::format("{}: set_base_rhs(): row {} out of range", name(), i));
+    changing[std::size_t(i)] = 1;
+  }
+  find_reach(rows);
+  load_rhs(B0);
+  forward_all(factor(), solve_plan_, y_, acc_);
+  y0_ = y_;
+  changing_ = std::move(changing);
+  changing_rows_ = rows;
+  base_ = B0;
+}
+
+void MultifrontalSolver::find_reach(const std::vector<int>& rows) {
+  // Supernodes holding the changing rows and all their ancestors (ascending = postorder).
+  std::vector<int> super_of(std::size_t(S_.n));
+  for (int s = 0; s < S_.nsuper(); ++s)
+    std::fill(super_of.begin() + S_.col0[std::size_t(s)], super_of.begin() + S_.col0[std::size_t(s) + 1], s);
+  std::vector<char> reached(std::size_t(S_.nsuper()), 0);
+  for (int i : rows)
+    for (int s = super_of[std::size_t(iperm(i))]; s >= 0 && !reached[std::size_t(s)]; s = S_.parent[std::size_t(s)])
+      reached[std::size_t(s)] = 1;
+  reach_.clear();
+  reach_columns_.clear();
+  for (int s = 0; s < S_.nsuper(); ++s)
+    if (reached[std::size_t(s)]) {
+      reach_.push_back(s);
+      for (int j = S_.col0[std::size_t(s)]; j < S_.col0[std::size_t(s) + 1]; ++j) reach_columns_.push_back(j);
+    }
+}
+
+void MultifrontalSolver::solve_changed(const DenseMat& B, DenseMat& X) {
+  check_factored("solve");
+  check_rhs(B, Index(S_.n), name());
+  if (base_.rows() != B.rows() || base_.cols() != B.cols() || !matches_base_outside_changing_rows(B)) {
+    solve(B, X);
+    return;
+  }
+  // L z = P (B - B0) has z = 0 outside the reached supernodes; y = y0 + z.
+  y_ = y0_;
+  for (int j : reach_columns_) y_.row(j).setZero();
+  for (int i : changing_rows_)
+    for (Index c = 0; c < B.cols(); ++c) y_(iperm(i), c) += B(i, c) - base_(i, c);
+  std::vector<double> tmp;
+  for (int s : reach_) forward_supernode(factor(), s, y_, tmp);
+  for (int j : reach_columns_) y_.row(j) += y0_.row(j);
+  backward_all(factor(), solve_plan_, y_);
+  store_solution(X);
+}
+
+void MultifrontalSolver::load_rhs(const DenseMat& B) {
+  const Index n = S_.n, r = B.cols();
+  y_.resize(n, r);
+  for (Index c = 0; c < r; ++c)
+    for (Index k = 0; k < n; ++k) y_(k, c) = B(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c);
+}
+
+void MultifrontalSolver::store_solution(DenseMat& X) const {
+  const Index n = S_.n, r = y_.cols();
+  X.resize(n, r);
+  for (Index c = 0; c < r; ++c)
+    for (Index k = 0; k < n; ++k) X(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c) = y_(k, c);
+  check_finite_result(X, name());
+}
+
+bool MultifrontalSolver::matches_base_outside_changing_rows(const DenseMat& B) const {
+  for (Index c = 0; c < B.cols(); ++c)
+    for (Index k = 0; k < B.rows(); ++k)
+      if (!changing_[std::size_t(k)] && B(k, c) != base_(k, c)) return false;
+  return true;
+}
+
+std::size_t MultifrontalSolver::factor_bytes() const {
+  const std::size_t ints = S_.perm.size() + S_.col0.size() + S_.rptr.size() + S_.rows.size() + S_.parent.size() +
+                           S_.first.size() + S_.cptr.size() + S_.child.size();
+  return S_.xptr.back() * sizeof(double) + ints * sizeof(int) + S_.xptr.size() * sizeof(std::size_t);
+}
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> backends::make_multifrontal(const SolverOptions& options) {
+  return std::make_unique<MultifrontalSolver>(options);
+}
+
+}  // namespace db

@@ -1,0 +1,155 @@
+#include "solvers/multifrontal/schedule.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include <dlfcn.h>
+
+#include "core/resources.h"
+#include "solvers/multifrontal/storage.h"
+
+namespace db::multifrontal {
+namespace {
+
+//! Greedy assignment of the `open` subtrees (heaviest first, each to the least loaded bin); whether the heaviest
+//! bin is within 10% of the mean.
+bool assign(const std::vector<int>& open, const std::vector<double>& work, std::vector<std::vector<int>>& bins) {
+  std::vector<double> load(bins.size(), 0.0);
+  for (auto& b : bins) b.clear();
+  std::vector<int> order = open;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return work[std::size_t(a)] > work[std::size_t(b)]; });
+  for (int s : order) {
+    const std::size_t t = std::size_t(std::min_element(load.begin(), load.end()) - load.begin());
+    bins[t].push_back(s);
+    load[t] += work[std::size_t(s)];
+  }
+  const double total = std::accumulate(load.begin(), load.end(), 0.0);
+  return *std::max_element(load.begin(), load.end()) <= 1.1 * total / double(bins.size()) + 1.0;
+}
+
+//! Opens the heaviest subtree (its root to the top set, its children to `open`) until `assign` balances.
+void open_until_balanced(const Symbolic& S, const std::vector<double>& work, std::vector<int>& open,
+                         std::vector<char>& is_top, std::vector<std::vector<int>>& bins) {
+  for (int iter = 0; iter < 4096 && !assign(open, work, bins); ++iter) {
+    auto h = std::max_element(open.begin(), open.end(),
+                              [&](int a, int b) { return work[std::size_t(a)] < work[std::size_t(b)]; });
+    const int s = *h;
+    open.erase(h);
+    is_top[std::size_t(s)] = 1;
+    for (int p = S.cptr[std::size_t(s)]; p < S.cptr[std::size_t(s) + 1]; ++p) open.push_back(S.child[std::size_t(p)]);
+    if (open.empty()) break;
+  }
+  assign(open, work, bins);
+}
+
+//! P.top, P.owner and P.top_columns from the subtrees and the top set.
+void mark_owners(const Symbolic& S, const std::vector<char>& is_top, Plan& P) {
+  for (int s = 0; s < S.nsuper(); ++s)
+    if (is_top[std::size_t(s)]) P.top.push_back(s);
+  P.owner.assign(std::size_t(S.n), -1);
+  for (std::size_t t = 0; t < P.subtrees.size(); ++t)
+    for (int r : P.subtrees[t])
+      for (int s = S.first[std::size_t(r)]; s <= r; ++s)
+        for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j)
+          P.owner[std::size_t(j)] = static_cast<signed char>(t);
+  for (int s : P.top)
+    for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) P.top_columns.push_back(j);
+}
+
+}  // namespace
+
+Plan schedule(const Symbolic& S, int threads, const std::vector<double>& cost) {
+  Plan P;
+  const int ns = S.nsuper();
+  std::vector<double> work(std::size_t(ns), 0.0);  // of each subtree
+  for (int s = 0; s < ns; ++s) {
+    work[std::size_t(s)] += cost[std::size_t(s)];
+    if (S.parent[std::size_t(s)] >= 0) work[std::size_t(S.parent[std::size_t(s)])] += work[std::size_t(s)];
+  }
+  std::vector<int> open;
+  for (int s = 0; s < ns; ++s)
+    if (S.parent[std::size_t(s)] < 0) open.push_back(s);
+  std::vector<char> is_top(std::size_t(ns), 0);
+  P.subtrees.assign(std::size_t(std::max(threads, 1)), {});
+  if (threads > 1)
+    open_until_balanced(S, work, open, is_top, P.subtrees);
+  else
+    P.subtrees[0] = open;
+  for (auto& b : P.subtrees) std::sort(b.begin(), b.end());
+  mark_owners(S, is_top, P);
+  return P;
+}
+
+namespace {
+
+double update_bytes(const Symbolic& S, int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); }
+
+//! The subtree phase's part of update_peak: each thread's peak, summed.
+double subtree_peaks(const Symbolic& S, const Plan& plan) {
+  double subtrees = 0;
+  for (const auto& roots : plan.subtrees) {
+    double live = 0, peak = 0;
+    for (int root : roots) {
+      for (int s = S.first[std::size_t(root)]; s <= root; ++s) {
+        live += update_bytes(S, s);
+        peak = std::max(peak, live);
+        for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q)
+          live -= update_bytes(S, S.child[std::size_t(q)]);
+      }
+      live -= update_bytes(S, root);  // handed to its top parent
+    }
+    subtrees += peak;
+  }
+  return subtrees;
+}
+
+}  // namespace
+
+double update_peak(const Symbolic& S, const Plan& plan) {
+  std::vector<char> is_top(std::size_t(S.nsuper()), 0);
+  for (int s : plan.top) is_top[std::size_t(s)] = 1;
+  const double subtrees = subtree_peaks(S, plan);
+  double early = 0;  // top matrices begun by subtree roots
+  std::vector<char> begun(std::size_t(S.nsuper()), 0);
+  for (const auto& roots : plan.subtrees)
+    for (int root : roots)
+      if (const int p = S.parent[std::size_t(root)]; p >= 0 && !begun[std::size_t(p)]) {
+        begun[std::size_t(p)] = 1;
+        early += update_bytes(S, p);
+      }
+  double live = early, top = early;
+  for (int s : plan.top) {
+    if (!begun[std::size_t(s)]) live += update_bytes(S, s);
+    top = std::max(top, live);
+    for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q)
+      if (const int c = S.child[std::size_t(q)]; is_top[std::size_t(c)]) live -= update_bytes(S, c);  // roots' died at handover
+  }
+  return std::max(subtrees + early, top);
+}
+
+BlasThreads::BlasThreads() {
+  void* self = ::dlopen(nullptr, RTLD_LAZY);
+  set_ = reinterpret_cast<void (*)(int)>(::dlsym(self, "openblas_set_num_threads"));
+  get_ = reinterpret_cast<int (*)()>(::dlsym(self, "openblas_get_num_threads"));
+}
+
+const BlasThreads& blas_threads() {
+  static const BlasThreads b;
+  return b;
+}
+
+void run_subtrees(std::size_t threads, const std::function<void(std::size_t)>& fn) {
+  if (threads <= 1) {
+    if (threads == 1) fn(0);
+    return;
+  }
+  const int saved = blas_threads().get();
+  blas_threads().set(1);
+  struct Restore {
+    int n;
+    ~Restore() { blas_threads().set(n); }
+  } restore{saved};
+  run_on_threads(int(threads), [&](int t) { fn(std::size_t(t)); });
+}
+
+}  // namespace db::multifrontal

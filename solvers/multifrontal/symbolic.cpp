@@ -1,0 +1,150 @@
+#include "solvers/multifrontal/symbolic.h"
+
+#include <algorithm>
+#include <memory>
+#include <numeric>
+
+#include <cholmod.h>
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "solvers/multifrontal/storage.h"
+#include "solvers/ordering/graph_ordering.h"
+
+namespace db::multifrontal {
+
+double supernode_flops(const Symbolic& S, int s) {
+  double f = 0;
+  const int m = S.nrows(s);
+  for (int k = 0; k < S.ncols(s); ++k) f += double(m - k) * double(m - k);
+  return f;
+}
+
+const char* default_ordering(int b) { return b > 1 ? "metis" : "amd"; }
+
+namespace {
+
+//! Upper triangle of the block graph with the diagonal, the pattern CHOLMOD analyzes, into Up / Ui; a scalar
+//! matrix (b = 1) is its own block graph and is viewed in place.
+GraphPattern block_pattern(const SpMat& upper, int b, std::vector<int>& Up, std::vector<int>& Ui) {
+  const int nb = int(upper.cols()) / b;
+  if (b == 1) return GraphPattern{nb, upper.outerIndexPtr(), upper.innerIndexPtr()};
+  Up.assign(std::size_t(nb) + 1, 0);
+  Ui.reserve(std::size_t(upper.nonZeros()) / std::size_t(b * b) + std::size_t(nb));
+  std::vector<int> mark(std::size_t(nb), -1);
+  const int* Ap = upper.outerIndexPtr();
+  const int* Ai = upper.innerIndexPtr();
+  for (int J = 0; J < nb; ++J) {
+    const std::size_t start = Ui.size();
+    mark[std::size_t(J)] = J;  // the diagonal block, appended last
+    for (int j = J * b; j < (J + 1) * b; ++j)
+      for (int p = Ap[j]; p < Ap[j + 1]; ++p)
+        if (const int I = Ai[p] / b; I < J && mark[std::size_t(I)] != J) {
+          mark[std::size_t(I)] = J;
+          Ui.push_back(I);
+        }
+    std::sort(Ui.begin() + std::ptrdiff_t(start), Ui.end());
+    Ui.push_back(J);
+    Up[std::size_t(J) + 1] = int(Ui.size());
+  }
+  return GraphPattern{nb, Up.data(), Ui.data()};
+}
+
+//! Frees a CHOLMOD factor with the common it was made with.
+struct FactorFree {
+  cholmod_common* cc;
+  void operator()(cholmod_factor* L) const { cholmod_free_factor(&L, cc); }
+};
+using FactorPtr = std::unique_ptr<cholmod_factor, FactorFree>;
+
+//! Permutation and supernodes of the block factor L expanded to b x b blocks: perm, col0, rptr, rows, xptr,
+//! nnz, parent.
+void expand_supernodes(const cholmod_factor& L, int b, Symbolic& S) {
+  const int nb = int(L.n), ns = int(L.nsuper);
+  const int* Perm = static_cast<const int*>(L.Perm);
+  const int* super = static_cast<const int*>(L.super);
+  const int* pi = static_cast<const int*>(L.pi);
+  const int* srow = static_cast<const int*>(L.s);
+  S.n = nb * b;
+  bool identity = true;
+  for (int k = 0; k < nb; ++k) identity = identity && Perm[k] == k;
+  if (!identity) {
+    S.perm.resize(std::size_t(S.n));
+    for (int k = 0; k < nb; ++k)
+      for (int c = 0; c < b; ++c) S.perm[std::size_t(b * k + c)] = b * Perm[k] + c;
+  }
+  S.col0.resize(std::size_t(ns) + 1);
+  S.rptr.assign(std::size_t(ns) + 1, 0);
+  S.xptr.assign(std::size_t(ns) + 1, 0);
+  S.rows.reserve(std::size_t(pi[ns]) * std::size_t(b));
+  std::vector<int> super_of(static_cast<std::size_t>(nb));
+  for (int s = 0; s < ns; ++s) {
+    S.col0[std::size_t(s)] = b * super[s];
+    for (int J = super[s]; J < super[s + 1]; ++J) super_of[std::size_t(J)] = s;
+    const std::size_t start = S.rows.size();
+    for (int p = pi[s]; p < pi[s + 1]; ++p)
+      for (int c = 0; c < b; ++c) S.rows.push_back(b * srow[p] + c);
+    // CHOLMOD lists a supernode's own columns first but leaves the rows below unsorted; the extend-add
+    // relies on ascending rows (it maps a child's lower triangle into the parent's lower triangle).
+    std::sort(S.rows.begin() + std::ptrdiff_t(start), S.rows.end());
+    S.rptr[std::size_t(s) + 1] = int(S.rows.size());
+    const std::size_t m = std::size_t(S.rptr[std::size_t(s) + 1] - S.rptr[std::size_t(s)]);
+    const std::size_t nc = std::size_t(b) * std::size_t(super[s + 1] - super[s]);
+    S.xptr[std::size_t(s) + 1] = S.xptr[std::size_t(s)] + FactorBlock::size(int(m), int(nc));
+    S.nnz += FactorBlock::size(int(m), int(nc));
+  }
+  S.col0[std::size_t(ns)] = S.n;
+  S.parent.assign(std::size_t(ns), -1);
+  for (int s = 0; s < ns; ++s) {
+    const int nsc = super[s + 1] - super[s];
+    if (pi[s + 1] - pi[s] > nsc)
+      S.parent[std::size_t(s)] = super_of[std::size_t(S.rows[std::size_t(S.rptr[std::size_t(s)] + b * nsc)] / b)];
+  }
+}
+
+//! Children lists and subtree ranges from S.parent, and the flop count. \throw SolverError unless postordered.
+void link_tree(Symbolic& S) {
+  const int ns = S.nsuper();
+  S.cptr.assign(std::size_t(ns) + 1, 0);
+  for (int s = 0; s < ns; ++s)
+    if (S.parent[std::size_t(s)] >= 0) ++S.cptr[std::size_t(S.parent[std::size_t(s)]) + 1];
+  for (int s = 0; s < ns; ++s) S.cptr[std::size_t(s) + 1] += S.cptr[std::size_t(s)];
+  S.child.resize(std::size_t(S.cptr[std::size_t(ns)]));
+  std::vector<int> next(S.cptr.begin(), S.cptr.end() - 1);
+  S.first.resize(std::size_t(ns));
+  std::iota(S.first.begin(), S.first.end(), 0);
+  for (int s = 0; s < ns; ++s) {
+    const int p = S.parent[std::size_t(s)];
+    if (p < 0) continue;
+    if (p <= s) throw SolverError("multifrontal: the supernodal tree is not postordered");
+    S.child[std::size_t(next[std::size_t(p)]++)] = s;
+    S.first[std::size_t(p)] = std::min(S.first[std::size_t(p)], S.first[std::size_t(s)]);
+  }
+  for (int s = 0; s < ns; ++s) S.flops += supernode_flops(S, s);
+}
+
+}  // namespace
+
+Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
+  std::vector<int> Up, Ui;
+  const GraphPattern G = block_pattern(upper, b, Up, Ui);
+  cholmod_common cc;
+  cholmod_start(&cc);
+  std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> finish(&cc, cholmod_finish);
+  cc.print = 0;
+  cc.supernodal = CHOLMOD_SUPERNODAL;
+  // CHOLMOD's amalgamation thresholds count columns; a block column is b scalar columns.
+  for (int k = 0; k < 3; ++k) cc.nrelax[k] = std::max<std::size_t>(1, (cc.nrelax[k] + std::size_t(b) - 1) / std::size_t(b));
+  // The shared graph analysis: METIS on large graphs runs dissected on two processes (solvers/ordering).
+  FactorPtr L(analyze_graph(G, method == "default" ? default_ordering(b) : method, cc), FactorFree{&cc});
+  if (!L->is_super)
+    throw SolverError(fmt::format("multifrontal: the symbolic analysis of the {0}x{0} block graph is not supernodal",
+                                  G.n));
+  Symbolic S;
+  expand_supernodes(*L, b, S);
+  L.reset();
+  link_tree(S);
+  return S;
+}
+
+}  // namespace db::multifrontal

@@ -1,0 +1,111 @@
+#include "solvers/multifrontal/triangular_solve.h"
+
+#include "solvers/multifrontal/kernels.h"
+
+namespace db::multifrontal {
+namespace {
+
+//! Supernode s's place in the solves: its first column f, its nc columns and m rows (R: their indices, its own
+//! columns first), the r right-hand sides of y (sm, sr: m and r as sizes) and y's values (row-major).
+struct Place {
+  int f, nc, m, r;
+  const int* R;
+  std::size_t sm, sr;
+  double* y;
+};
+Place place(const FactorView& F, int s, RowMajorMat& y) {
+  const int m = F.S.nrows(s), r = int(y.cols());
+  return {F.S.col0[std::size_t(s)], F.S.ncols(s), m, r, F.S.rows.data() + F.S.rptr[std::size_t(s)],
+          std::size_t(m), std::size_t(r), y.data()};
+}
+
+}  // namespace
+
+void forward_supernode(const FactorView& F, int s, RowMajorMat& y_, std::vector<double>& tmp,
+                       const ForeignRows* foreign) {
+  const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
+  tmp.assign(sm * sr, 0.0);
+  for (int k = 0; k < nc; ++k)
+    for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = y[std::size_t(f + k) * sr + std::size_t(c)];
+  const FactorBlock L = F.block(s);
+  for (int p = 0; p < L.panels(); ++p)
+    forward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+  F.release(s);
+  for (int k = 0; k < nc; ++k)
+    for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
+  double* acc = foreign ? foreign->acc.data() : nullptr;
+  for (int k = nc; k < m; ++k) {
+    const int i = R[k];
+    double* dst = (!foreign || foreign->owner[std::size_t(i)] == foreign->thread ? y : acc) + std::size_t(i) * sr;
+    for (int c = 0; c < r; ++c) dst[c] += tmp[std::size_t(c) * sm + std::size_t(k)];
+  }
+}
+
+namespace {
+
+//! backward_supernode for two to four right-hand sides: rows of x as vectors (backward_rows4).
+void backward_rows(const FactorView& F, int s, RowMajorMat& y_, std::vector<double>& tmp) {
+  const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
+  const FactorBlock L = F.block(s);
+  tmp.resize(sm * 4);
+  double* x = tmp.data();
+  for (int k = 0; k < m; ++k) {  // plain loops: a few doubles a row, not worth a library call
+    const double* src = y + std::size_t(k < nc ? f + k : R[k]) * sr;
+    for (int c = 0; c < 4; ++c) x[4 * std::size_t(k) + std::size_t(c)] = c < r ? src[c] : 0.0;
+  }
+  for (int p = L.panels() - 1; p >= 0; --p)
+    backward_rows4(L.tri(p), L.rect(p), L.width(p), L.height(p), x + 4 * std::size_t(L.c0(p)));
+  F.release(s);
+  for (int k = 0; k < nc; ++k)
+    for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = x[4 * std::size_t(k) + std::size_t(c)];
+}
+
+}  // namespace
+
+void backward_supernode(const FactorView& F, int s, RowMajorMat& y_, std::vector<double>& tmp) {
+  if (y_.cols() >= 2 && y_.cols() <= 4) return backward_rows(F, s, y_, tmp);  // the general kernel otherwise
+  const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
+  const FactorBlock L = F.block(s);
+  tmp.resize(sm * sr);
+  for (int k = 0; k < m; ++k) {
+    const double* src = y + std::size_t(k < nc ? f + k : R[k]) * sr;
+    for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = src[c];
+  }
+  for (int p = L.panels() - 1; p >= 0; --p)
+    backward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+  F.release(s);
+  for (int k = 0; k < nc; ++k)
+    for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
+}
+
+void forward_all(const FactorView& F, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc) {
+  const Index n = F.S.n, r = y.cols();
+  const std::size_t T = plan.subtrees.size();
+  acc.resize(T);
+  for (auto& a : acc) {
+    a.resize(n, r);
+    for (int j : plan.top_columns) a.row(j).setZero();
+  }
+  run_subtrees(T, [&](std::size_t t) {
+    std::vector<double> tmp;
+    const ForeignRows foreign{int(t), plan.owner, acc[t]};
+    for (int root : plan.subtrees[t])
+      for (int s = F.S.first[std::size_t(root)]; s <= root; ++s) forward_supernode(F, s, y, tmp, &foreign);
+  });
+  for (std::size_t t = 0; t < T; ++t)
+    for (int j : plan.top_columns) y.row(j) += acc[t].row(j);
+  std::vector<double> tmp;
+  for (int s : plan.top) forward_supernode(F, s, y, tmp);
+}
+
+void backward_all(const FactorView& F, const Plan& plan, RowMajorMat& y) {
+  std::vector<double> tmp;
+  for (auto it = plan.top.rbegin(); it != plan.top.rend(); ++it) backward_supernode(F, *it, y, tmp);
+  run_subtrees(plan.subtrees.size(), [&](std::size_t t) {
+    std::vector<double> tmp_t;
+    for (auto it = plan.subtrees[t].rbegin(); it != plan.subtrees[t].rend(); ++it)
+      for (int s = *it; s >= F.S.first[std::size_t(*it)]; --s) backward_supernode(F, s, y, tmp_t);
+  });
+}
+
+}  // namespace db::multifrontal

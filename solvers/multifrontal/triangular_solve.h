@@ -1,0 +1,48 @@
+#pragma once
+//! The multifrontal backend's triangular solves with its factor, L y = b and L^T x = y, supernode by supernode:
+//! each gathers its rows of the right-hand sides, runs the panel kernels (kernels.h) and scatters the result;
+//! the subtrees of a Plan run on their threads, the top supernodes serially.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "solvers/multifrontal/schedule.h"
+#include "solvers/multifrontal/storage.h"
+#include "solvers/multifrontal/symbolic.h"
+
+namespace db::multifrontal {
+
+//! Right-hand sides row-major: a row gathered or scattered in a solve is one cache line for all of them.
+using RowMajorMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+//! The factor as the solves read it: the symbolic structure and the supernodes' FactorBlocks.
+struct FactorView {
+  const Symbolic& S;
+  const Mapping& values;
+  FactorBlock block(int s) const { return {values.get() + S.xptr[std::size_t(s)], S.nrows(s), S.ncols(s)}; }
+  //! Out of core: supernode s's FactorBlock leaves the resident set (done with it for now).
+  void release(int s) const {
+    values.release(values.get() + S.xptr[std::size_t(s)], values.get() + S.xptr[std::size_t(s) + 1]);
+  }
+};
+
+//! Where a subtree's thread adds its forward updates to rows it does not own: acc, not y.
+struct ForeignRows {
+  int thread;
+  const std::vector<signed char>& owner;  //!< Plan::owner
+  RowMajorMat& acc;
+};
+
+//! y_s := L_ss^{-1} y_s, then y_rows -= L_rs y_s (into foreign->acc for rows another thread owns).
+void forward_supernode(const FactorView& F, int s, RowMajorMat& y, std::vector<double>& tmp,
+                       const ForeignRows* foreign = nullptr);
+//! y_s -= L_rs^T y_rows, then y_s := L_ss^{-T} y_s.
+void backward_supernode(const FactorView& F, int s, RowMajorMat& y, std::vector<double>& tmp);
+
+//! y := L^{-1} y: the subtrees in parallel (contributions to top columns collected per thread in acc, one
+//! matrix per thread, resized here), then the top.
+void forward_all(const FactorView& F, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc);
+//! y := L^{-T} y: the top first, then the subtrees in parallel.
+void backward_all(const FactorView& F, const Plan& plan, RowMajorMat& y);
+
+}  // namespace db::multifrontal
