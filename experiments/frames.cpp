@@ -72,16 +72,6 @@ struct Result {
   std::size_t n_frames = 0, n_positions = 0, factor_bytes = 0;
 };
 
-// The rigid motion ideal_bend applies beyond z1 (mesh/procedural.h), as a handle transform.
-Mat4 bend_transform(double a, double z0, double z1) {
-  const double R = (z1 - z0) / a, c = std::cos(a), s = std::sin(a);
-  Mat4 T = Mat4::Identity();
-  T.block<2, 2>(1, 1) << c, s, -s, c;
-  T(1, 3) = -z1 * s + R * (1 - c);
-  T(2, 3) = -z1 * c + z0 + R * s;
-  return T;
-}
-
 Points transformed(const Points& V, const Mat4& T) {
   Points out(V.rows(), 3);
   for (Eigen::Index i = 0; i < V.rows(); ++i) out.row(i) = apply(T, V.row(i).transpose()).transpose();
