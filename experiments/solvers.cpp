@@ -318,19 +318,15 @@ void write_csv(const std::string& path, std::vector<Record> recs) {
   for (Record& r : recs) {
     if (!r.res.has("vertices")) r.res.set("vertices", r.vertices);
     if (!r.res.has("n")) r.res.set("n", r.n);
-    for (const Measure& m : tidy_measures(r.res, solver_measures()))
-      csv.add({{"model", r.cell.model},
-               {"vertices", std::isnan(r.vertices) ? "" : num(r.vertices)},
-               {"system", r.cell.system},
-               {"backend", r.cell.backend},
-               {"family", r.family},
-               {"ordering", r.cell.ordering},
-               {"ordering_used", r.res.text("ordering_used")},
-               {"measure", m.name},
-               {"value", std::isnan(m.value) ? "" : num(m.value)},
-               {"unit", m.unit},
-               {"status", r.res.status},
-               {"message", r.res.message}});
+    add_measure_rows(csv,
+                     {{"model", r.cell.model},
+                      {"vertices", std::isnan(r.vertices) ? "" : num(r.vertices)},
+                      {"system", r.cell.system},
+                      {"backend", r.cell.backend},
+                      {"family", r.family},
+                      {"ordering", r.cell.ordering},
+                      {"ordering_used", r.res.text("ordering_used")}},
+                     r.res, solver_measures());
   }
   if (!csv.empty()) csv.write(path);
 }

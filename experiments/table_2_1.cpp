@@ -334,23 +334,16 @@ const std::vector<MeasureDef>& table_measures() {
 }
 
 void add_long_rows(CsvTable& csv, const Record& rec, bool with_series) {
-  for (const Measure& m : tidy_measures(rec.res, table_measures())) {
-    CsvTable::Row row;
-    if (with_series) row.insert(row.end(), {{"series", rec.series}, {"level", std::to_string(rec.level)}});
-    row.insert(row.end(), {{"model", rec.model},
-                           {"vertices", std::isnan(rec.vertices) ? "" : fmt::format("{}", rec.vertices)},
-                           {"system", rec.cell.method},
-                           {"build", rec.cell.build},
-                           {"backend", rec.cell.backend},
-                           {"factor_storage", rec.cell.factor_storage()},
-                           {"ordering_used", rec.res.text("ordering_used")},
-                           {"measure", m.name},
-                           {"value", std::isnan(m.value) ? "" : num(m.value)},
-                           {"unit", m.unit},
-                           {"status", rec.res.status},
-                           {"message", rec.res.message}});
-    csv.add(std::move(row));
-  }
+  CsvTable::Row key;
+  if (with_series) key.insert(key.end(), {{"series", rec.series}, {"level", std::to_string(rec.level)}});
+  key.insert(key.end(), {{"model", rec.model},
+                         {"vertices", std::isnan(rec.vertices) ? "" : fmt::format("{}", rec.vertices)},
+                         {"system", rec.cell.method},
+                         {"build", rec.cell.build},
+                         {"backend", rec.cell.backend},
+                         {"factor_storage", rec.cell.factor_storage()},
+                         {"ordering_used", rec.res.text("ordering_used")}});
+  add_measure_rows(csv, key, rec.res, table_measures());
 }
 
 void write_long_csv(const std::string& path, const std::vector<Record>& recs, bool with_series) {

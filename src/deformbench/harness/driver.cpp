@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -39,6 +40,18 @@ void write_settings(const std::string& path, const std::vector<std::pair<std::st
   for (const auto& [k, v] : settings) csv.add({{"setting", k}, {"value", v}});
   if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());
   csv.write(path);
+}
+
+void add_measure_rows(CsvTable& csv, const CsvTable::Row& key, const CellResult& r, const std::vector<MeasureDef>& defs) {
+  for (const Measure& m : tidy_measures(r, defs)) {
+    CsvTable::Row row = key;
+    row.insert(row.end(), {{"measure", m.name},
+                           {"value", std::isnan(m.value) ? "" : num(m.value)},
+                           {"unit", m.unit},
+                           {"status", r.status},
+                           {"message", r.message}});
+    csv.add(std::move(row));
+  }
 }
 
 }  // namespace db::harness

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "core/cli.h"
+#include "core/csv.h"
+#include "harness/cell.h"
 
 namespace db::harness {
 
@@ -21,5 +23,9 @@ void check_output_dir(const std::string& option, const std::string& dir);
 //! Writes `setting,value` rows (with the provenance columns) to `path`, atomically, creating its directory: the
 //! settings of the run (budgets, rates, the config file), which the Markdown reports quote.
 void write_settings(const std::string& path, const std::vector<std::pair<std::string, std::string>>& settings);
+
+//! Long rows of one cell: `key` columns, then measure, value, unit, status, message for every measure of the
+//! schema `defs` keeps (tidy_measures).
+void add_measure_rows(CsvTable& csv, const CsvTable::Row& key, const CellResult& r, const std::vector<MeasureDef>& defs);
 
 }  // namespace db::harness
