@@ -3,15 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
-#include <numeric>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
-#include "core/resources.h"
-#include "core/timer.h"
 #include "methods/deformer.h"
 #include "operators/energy_operator.h"
 #include "solvers/linear_solver.h"
