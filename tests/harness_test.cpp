@@ -442,6 +442,7 @@ TEST(MeshSource, TiersSeriesAndErrors) {
                           "x=a.off+loop1..2"})
     EXPECT_THROW(parse_mesh_source(bad, ""), UsageError) << bad;
   EXPECT_THROW(select_sources({t}, {"plank"}), UsageError);
+  EXPECT_THROW(select_sources({t, t}, {}), UsageError);  // two tiers of one name
   EXPECT_EQ(select_sources({t}, {}).size(), 1u);
 }
 

@@ -84,6 +84,10 @@ std::string resolve_mesh(const MeshSource& s, const std::string& generated_dir, 
 }
 
 std::vector<MeshSource> select_sources(const std::vector<MeshSource>& sources, const std::vector<std::string>& only) {
+  for (std::size_t i = 0; i < sources.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (sources[i].label == sources[j].label)
+        throw UsageError(fmt::format("two tiers named '{}' ({} and {})", sources[i].label, sources[j].path, sources[i].path));
   for (const std::string& o : only)
     if (std::none_of(sources.begin(), sources.end(), [&](const MeshSource& s) { return s.label == o; }))
       throw UsageError(fmt::format("--only {}: no such tier", o));

@@ -29,7 +29,7 @@ std::string resolve_mesh(const MeshSource& s, const std::string& generated_dir, 
                          const std::string& exe);
 
 //! Keeps the sources whose label is in `only` (all of them when `only` is empty), in the order of `sources`.
-//! \throw UsageError for a label of `only` that names no source.
+//! \throw UsageError for a label of `only` that names no source, or two sources of one label.
 std::vector<MeshSource> select_sources(const std::vector<MeshSource>& sources, const std::vector<std::string>& only);
 
 }  // namespace db::harness
