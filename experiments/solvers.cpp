@@ -7,8 +7,8 @@
 // Every cell (harness/solver_cell.h) runs in a fresh child process, so peak RSS and timings are per cell; a
 // failing or crashing backend is a row with its status, never a dead driver. Orderings that fill in badly run only
 // up to --poor-ordering-max-n unknowns: "natural" (the file's vertex order) for every sparse direct backend, and
-// "amd" for Eigen's SparseLU (a symmetric ordering for a column-pivoting LU: 123 s and 2 GB on man tf, where its
-// default COLAMD takes 15 s). error_vs_cholmod compares each cell's deformed positions with those of the CHOLMOD
+// "amd" for Eigen's SparseLU (a symmetric ordering for a column-pivoting LU, far slower and larger than its default
+// COLAMD). error_vs_cholmod compares each cell's deformed positions with those of the CHOLMOD
 // supernodal / default-ordering cell of the same tier and system, after the cells have run.
 //
 // Writes --out (default RESULTS/solvers.csv, long: one row per cell x measure; the provenance columns record the
@@ -130,8 +130,8 @@ std::vector<MeshSource> tier_sources(const Options& o) {
 // Pins the thread counts of this run (children inherit them) by re-executing the driver with OMP_NUM_THREADS,
 // OPENBLAS_NUM_THREADS and DEFORMBENCH_THREADS set: the libraries read them when they load, and the provenance
 // columns then record what was used. Why 1 by default: on a shared 2-core machine a parallel region waits for a
-// descheduled thread (CG with 2 threads measured 100x slower than with 1), and one thread compares algorithms,
-// not schedulers.
+// descheduled thread (CG ran orders of magnitude slower with 2 threads than with 1), and one thread compares
+// algorithms, not schedulers.
 void pin_threads(int threads, char** argv) {
   if (threads <= 0) return;
   const std::string want = std::to_string(threads);

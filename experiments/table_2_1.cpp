@@ -48,8 +48,8 @@ struct Options {
   bool full = false, scaling = true, out_of_core = true, dry_run = false;
   double memory_budget_mb = physical_memory_bytes() / 2.0 / kMiB, time_budget_s = 0, cell_timeout_s = 0;
   int frames = 20, repeats = 3;
-  // Cells predicted to take longer run once (the --full scaling tiers): single runs of the 104k TF init ranged
-  // 3.1-5.2 s within a day on this shared 2-core box, hence the median of fresh children below it.
+  // Single runs of a cell's init vary by tens of percent within a day on a shared box (README), hence the median
+  // of fresh children; cells predicted to take longer than repeat_max_s (the --full scaling tiers) run once.
   double repeat_max_s = 40;
   std::vector<std::string> tiers, meshes, only, systems = {"lap", "tf"}, builds = {"dense", "naive", "structured"};
   std::vector<std::string> series, full_series;
