@@ -7,6 +7,10 @@
 
 namespace db {
 
+//! Most vertices or faces a mesh may have (readers, generators and subdivision refuse more): 32-bit indices with
+//! room for TF's 3x3 blocks and the systems' index arithmetic.
+constexpr long long kMaxElements = 0x7fffffff / 4;
+
 struct Mesh {
   Points V;          //!< #V by 3 positions
   Faces F;           //!< #F by 3 corner indices, counter-clockwise
