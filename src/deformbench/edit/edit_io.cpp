@@ -25,6 +25,8 @@ std::vector<std::string> read_lines(const std::string& path, const char* what) {
   std::error_code ec;
   std::ifstream in(path);
   if (!in || fs::is_directory(path, ec)) throw InputError(fmt::format("cannot open {} file: {}", what, path));
+  // A device or a pipe (/dev/zero, /dev/stdin) would be read without end.
+  if (!fs::is_regular_file(path, ec)) throw InputError(fmt::format("{} file {} is not a regular file", what, path));
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   if (in.bad()) throw InputError(fmt::format("cannot read {} file: {}", what, path));
@@ -185,7 +187,8 @@ EditCase load_stem(const std::string& stem) {
                                  ".def files (missing {})",
                                  stem, c.mesh_path.empty() ? stem + ".off" : !exists(sel) ? sel : def));
   c.mesh = read_mesh(c.mesh_path);
-  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh); });
+  // Non-manifold meshes load: uniform lap and tf deform them; cotan and lri refuse them (make_deformer).
+  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh, Manifold::Allowed); });
   c.edit = read_bs08_edit(sel, def, c.mesh.num_vertices());
   c.edit.name = fs::path(stem).filename().string();
   return finish(std::move(c), stem);
@@ -231,7 +234,7 @@ EditCase load_edit_file(const std::string& path) {
   c.mesh_path = resolve(kv["mesh"].value);
   c.mesh = prefixed(at("mesh"), [&] { return read_mesh(c.mesh_path); });
   // Mesh first: k-ring selections need a valid adjacency.
-  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh); });
+  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh, Manifold::Allowed); });
   const int nv = c.mesh.num_vertices();
 
   const Mat4 T = has("def") ? prefixed(at("def"), [&] { return read_def(resolve(kv["def"].value)); })
