@@ -1,43 +1,9 @@
 #!/usr/bin/env bash
 # Bad input through the command line: a clear message naming the problem, a non-zero exit code, and no
 # output file. usage: cli_bad_input.sh PATH/TO/deformbench
-set -u
 BIN=$1
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 
-# expect NAME EXIT_CODE MESSAGE_REGEX -- deformbench args...
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  rm -f "$T/out.ply"
-  "$BIN" "$@" >"$T/stdout" 2>"$T/stderr"
-  local got=$?
-  local ok=1
-  [ "$got" -eq "$code" ] || { echo "FAIL $name: exit $got, expected $code"; ok=0; }
-  grep -Eqi "$re" "$T/stderr" || { echo "FAIL $name: message does not match /$re/:"; cat "$T/stderr"; ok=0; }
-  if [ -e "$T/out.ply" ] || ls "$T"/out.ply.tmp.* >/dev/null 2>&1; then echo "FAIL $name: output file left behind"; ok=0; fi
-  if ((ok)); then passes=$((passes + 1)); echo "ok   $name: $(head -c 200 "$T/stderr")"; else fails=$((fails + 1)); fi
-}
-
-# A small valid closed mesh: an octahedron (6 vertices, 8 faces).
-octa_v='1 0 0
--1 0 0
-0 1 0
-0 -1 0
-0 0 1
-0 0 -1'
-octa_f='3 0 2 4
-3 2 1 4
-3 1 3 4
-3 3 0 4
-3 2 0 5
-3 1 2 5
-3 3 1 5
-3 0 3 5'
-write_off() { # file nv nf vertices faces
-  printf 'OFF\n%s %s 0\n%s\n%s\n' "$2" "$3" "$4" "$5" >"$1"
-}
 edit_for() { # stem: write STEM.sel (handle=4, fixed=5, rest free) and an identity-ish .def
   local n=$2
   { for ((i = 0; i < n; i++)); do

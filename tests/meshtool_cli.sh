@@ -3,49 +3,15 @@
 # naming the cause, no output file left behind on failure, and refusals that come at once (a subdivision or a
 # generated mesh over the budget is refused on its prediction, before anything is allocated).
 # usage: meshtool_cli.sh PATH/TO/meshtool
-set -u
 BIN=$1
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 
-# expect NAME EXIT_CODE MESSAGE_REGEX -- meshtool args...  (the message is searched in stdout and stderr)
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  rm -f "$T"/out.*
-  local t0=$(date +%s%N)
-  timeout 120 "$BIN" "$@" >"$T/stdout" 2>"$T/stderr"
-  local got=$? ms=$((($(date +%s%N) - t0) / 1000000))
-  local ok=1
-  [ "$got" -eq "$code" ] || { echo "FAIL $name: exit $got, expected $code"; ok=0; }
-  cat "$T/stdout" "$T/stderr" >"$T/both"
-  tr '\n' ' ' <"$T/both" | grep -Eqi -- "$re" || { echo "FAIL $name: output does not match /$re/:"; cat "$T/both"; ok=0; }
-  if [ "$code" -ne 0 ] && ls "$T"/out.* >/dev/null 2>&1; then echo "FAIL $name: output file left behind"; ok=0; fi
-  # Refusals are decided before any real work: seconds at most, even on a loaded machine.
-  if [ "$code" -ne 0 ] && [ "$ms" -gt 10000 ]; then echo "FAIL $name: took $ms ms"; ok=0; fi
-  if ((ok)); then passes=$((passes + 1)); echo "ok   $name ($ms ms): $(head -c 160 "$T/both" | tr '\n' ' ')"; else fails=$((fails + 1)); fi
-}
-
-# An octahedron, and the same with a fin on edge 0-2 (three faces on one edge) and a face given twice.
-octa='OFF
-6 8 0
-1 0 0
--1 0 0
-0 1 0
-0 -1 0
-0 0 1
-0 0 -1
-3 0 2 4
-3 2 1 4
-3 1 3 4
-3 3 0 4
-3 2 0 5
-3 1 2 5
-3 3 1 5
-3 0 3 5'
-printf '%s\n' "$octa" >"$T/good.off"
-printf '%s\n' "$octa" | sed '2s/.*/7 10 0/' | sed '8a 2 2 0' >"$T/fin.off"
-printf '3 0 6 2\n3 0 2 4\n' >>"$T/fin.off"
+# The octahedron, and the same with a fin on edge 0-2 (three faces on one edge) and face 0 given twice.
+write_off "$T/good.off" 6 8 "$octa_v" "$octa_f"
+write_off "$T/fin.off" 7 10 "$octa_v
+2 2 0" "$octa_f
+3 0 6 2
+3 0 2 4"
 printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n' >"$T/flat.off"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nelement junk 1000000000000\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/huge.ply"
 
