@@ -193,7 +193,8 @@ TEST(ChildRunner, OutOfCoreCellAgreesAndIsPredictedWithoutTheFactor) {
   EXPECT_EQ(a.nnz_factor, b.nnz_factor);
   EXPECT_GT(b.min_pivot_ratio, 0);
   MachineRates rates;
-  CellPredictor pred(test_mesh(), ThesisEditOptions{}, rates);
+  const Mesh mesh = test_mesh();  // CellPredictor keeps a reference to it
+  CellPredictor pred(mesh, ThesisEditOptions{}, rates);
   const Prediction pm = pred.predict(mem), pd = pred.predict(disk);
   EXPECT_EQ(pd.factor_bytes, pm.factor_bytes);
   EXPECT_GT(pd.workspace_bytes, 0);
