@@ -1,33 +1,37 @@
-// meshtool: mesh utilities for the data step (scripts/data.sh) and for inspecting inputs.
-//   meshtool info FILE [--validate]          name, #V, #F and a content checksum (optionally validate_mesh)
-//   meshtool subdivide IN OUT LEVELS         Loop subdivision (OpenMesh)
+// meshtool: mesh utilities for the data step (scripts/data.sh), for inspecting inputs and for preparing
+// real-world meshes (`meshtool --help`; README "meshtool").
+//   meshtool info FILE [--validate]          name, #V, #F, a content checksum and the topology
 //   meshtool convert IN OUT                  re-write in the format given by OUT's extension
+//   meshtool repair IN OUT [--max-list N]    split non-manifold vertices and edges, drop degenerate and duplicate
+//                                            faces, remove isolated vertices; reports each change
+//   meshtool subdivide IN OUT LEVELS         Loop subdivision (OpenMesh)
 //   meshtool generate cylinder|bar|plane OUT [key=value ...]
+// subdivide and generate predict the vertices, faces and peak memory of their result first and refuse above
+// --memory-budget-mb (default half the RAM) before allocating anything. Exit codes: 0 ok, 1 usage, 2 bad input,
+// 4 over the memory budget.
+#include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <iostream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "core/cli.h"
 #include "core/error.h"
+#include "core/resources.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"
+#include "mesh/repair.h"
 #include "mesh/subdivision.h"
 
 namespace {
 
 using namespace db;
 
-const char* kUsage =
-    "usage: meshtool info FILE [--validate]\n"
-    "       meshtool subdivide IN OUT LEVELS\n"
-    "       meshtool convert IN OUT\n"
-    "       meshtool generate cylinder OUT [rings=41 segments=40 radius=1 height=10]\n"
-    "       meshtool generate bar OUT [nx=4 ny=4 nz=40 sx=1 sy=1 sz=10]\n"
-    "       meshtool generate plane OUT [nx=200 ny=200 size=1 bump=0.05 bumps=3]\n";
+const std::vector<std::string> kMeshExtensions = {".off", ".ply", ".obj"};
 
 // FNV-1a over the raw vertex doubles and face ints: identifies the geometry independently of the file format.
 std::uint64_t checksum(const Mesh& m) {
@@ -41,104 +45,254 @@ std::uint64_t checksum(const Mesh& m) {
   return h;
 }
 
-int to_int(const std::string& s, const std::string& what) {
-  std::size_t pos = 0;
-  int v = 0;
-  try {
-    v = std::stoi(s, &pos);
-  } catch (const std::exception&) {
-    pos = 0;
-  }
-  if (pos != s.size() || s.empty()) throw InputError(fmt::format("{}: '{}' is not an integer", what, s));
-  return v;
+// ---------------------------------------------------------------- predictions
+// What a result will take, worked out from counts alone before anything is allocated.
+struct Prediction {
+  double vertices = 0, faces = 0, bytes = 0;
+};
+
+// The result mesh (24 bytes a vertex, 12 a face) and validate_mesh's incidence lists (8 a vertex, 12 a face).
+double mesh_and_validation_bytes(double v, double f) { return 32 * v + 24 * f; }
+
+// The process itself: code, libraries, I/O buffers.
+constexpr double kProcessBytes = 16.0 * 1024 * 1024;
+
+void check_budget(const Prediction& p, std::size_t budget, const std::string& what) {
+  const double mb = 1024.0 * 1024.0;
+  if (p.vertices > kMaxElements || p.faces > kMaxElements)
+    throw BudgetError(fmt::format("{} would have {:.4g} vertices and {:.4g} faces: more than the {} a mesh may hold "
+                                  "(32-bit indices); refused before allocating",
+                                  what, p.vertices, p.faces, kMaxElements));
+  if (p.bytes > static_cast<double>(budget))
+    throw BudgetError(fmt::format("{} would have {:.4g} vertices and {:.4g} faces and need ~{:.0f} MB at its peak, "
+                                  "over the memory budget of {:.0f} MB (--memory-budget-mb); refused before allocating",
+                                  what, p.vertices, p.faces, p.bytes / mb, static_cast<double>(budget) / mb));
 }
 
-double to_double(const std::string& s, const std::string& what) {
-  std::size_t pos = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &pos);
-  } catch (const std::exception&) {
-    pos = 0;
+// Loop subdivision splits every edge and every face into four: V' = V + E, E' = 2E + 3F, F' = 4F. OpenMesh holds
+// per vertex a halfedge handle, the point and the subdivider's new position (52 bytes at most), per edge two
+// halfedges and the edge point (56), per face a handle (4); the result is then copied out and validated.
+Prediction predict_subdivision(const Mesh& in, int levels) {
+  double v = in.num_vertices(), f = in.num_faces();
+  double e = static_cast<double>(vertex_adjacency(in).nbr.size()) / 2;
+  for (int l = 0; l < levels; ++l) {
+    const double v1 = v + e, e1 = 2 * e + 3 * f, f1 = 4 * f;
+    v = v1, e = e1, f = f1;
   }
-  if (pos != s.size() || s.empty()) throw InputError(fmt::format("{}: '{}' is not a number", what, s));
-  return v;
+  return {v, f,
+          kProcessBytes + 52 * v + 56 * e + 4 * f + mesh_and_validation_bytes(v, f) +
+              mesh_and_validation_bytes(in.num_vertices(), in.num_faces())};
 }
 
-int generate(int argc, char** argv) {
-  if (argc < 4) throw InputError(std::string("generate: missing arguments\n") + kUsage);
-  const std::string kind = argv[2], out = argv[3];
-  std::map<std::string, std::string> kv;
-  for (int i = 4; i < argc; ++i) {
-    const char* eq = std::strchr(argv[i], '=');
-    if (!eq) throw InputError(fmt::format("generate: expected key=value, got '{}'", argv[i]));
-    kv[std::string(argv[i], static_cast<std::size_t>(eq - argv[i]))] = eq + 1;
-  }
-  auto take = [&](const std::string& key, const std::string& def) {
-    auto it = kv.find(key);
-    if (it == kv.end()) return def;
-    const std::string v = it->second;
-    kv.erase(it);
-    return v;
+// ---------------------------------------------------------------- generate: shapes and their parameters
+struct Param {
+  std::string key, default_value;
+  CLI::Validator check;
+  bool integer;
+};
+
+const std::map<std::string, std::vector<Param>>& shapes() {
+  const double big = 1e300, tiny = 1e-300;
+  const long long most = 1 << 30;  // the counts are ints; larger ones are refused by the prediction anyway
+  static const std::map<std::string, std::vector<Param>> s = {
+      {"cylinder",
+       {{"rings", "41", cli::Integer(2, most), true},
+        {"segments", "40", cli::Integer(3, most), true},
+        {"radius", "1", cli::Real(tiny, big), false},
+        {"height", "10", cli::Real(tiny, big), false}}},
+      {"bar",
+       {{"nx", "4", cli::Integer(1, most), true},
+        {"ny", "4", cli::Integer(1, most), true},
+        {"nz", "40", cli::Integer(1, most), true},
+        {"sx", "1", cli::Real(tiny, big), false},
+        {"sy", "1", cli::Real(tiny, big), false},
+        {"sz", "10", cli::Real(tiny, big), false}}},
+      {"plane",
+       {{"nx", "200", cli::Integer(1, most), true},
+        {"ny", "200", cli::Integer(1, most), true},
+        {"size", "1", cli::Real(tiny, big), false},
+        {"bump", "0.05", cli::Real(-big, big), false},
+        {"bumps", "3", cli::Integer(0, most), true}}},
   };
-  Mesh m;
-  if (kind == "cylinder") {
-    m = make_cylinder(to_int(take("rings", "41"), "rings"), to_int(take("segments", "40"), "segments"),
-                      to_double(take("radius", "1"), "radius"), to_double(take("height", "10"), "height"));
-  } else if (kind == "bar") {
-    m = make_bar(to_int(take("nx", "4"), "nx"), to_int(take("ny", "4"), "ny"), to_int(take("nz", "40"), "nz"),
-                 to_double(take("sx", "1"), "sx"), to_double(take("sy", "1"), "sy"), to_double(take("sz", "10"), "sz"));
-  } else if (kind == "plane") {
-    m = make_bumpy_plane(to_int(take("nx", "200"), "nx"), to_int(take("ny", "200"), "ny"),
-                         to_double(take("size", "1"), "size"), to_double(take("bump", "0.05"), "bump"),
-                         to_int(take("bumps", "3"), "bumps"));
-  } else {
-    throw InputError(fmt::format("generate: unknown shape '{}'\n{}", kind, kUsage));
+  return s;
+}
+
+std::string shape_help() {
+  std::string h;
+  for (const auto& [name, params] : shapes()) {
+    h += fmt::format("\n  {}:", name);
+    for (const Param& p : params) h += fmt::format(" {}={}", p.key, p.default_value);
   }
-  if (!kv.empty()) throw InputError(fmt::format("generate {}: unknown parameter '{}'", kind, kv.begin()->first));
-  validate_mesh(m);
-  write_mesh(out, m);
-  std::cout << fmt::format("wrote {} ({} vertices, {} faces)\n", out, m.num_vertices(), m.num_faces());
+  return h;
+}
+
+// key=value arguments over the shape's defaults, each value checked by its parameter's validator.
+std::map<std::string, double> shape_values(const std::string& shape, const std::vector<std::string>& args) {
+  const auto& params = shapes().at(shape);
+  std::map<std::string, std::string> given;
+  for (const std::string& a : args) {
+    const auto eq = a.find('=');
+    if (eq == std::string::npos) throw UsageError(fmt::format("generate {}: expected key=value, got '{}'", shape, a));
+    const std::string key = a.substr(0, eq);
+    if (std::none_of(params.begin(), params.end(), [&](const Param& p) { return p.key == key; }))
+      throw UsageError(fmt::format("generate {}: unknown parameter '{}' (parameters:{})", shape, key, shape_help()));
+    if (!given.emplace(key, a.substr(eq + 1)).second)
+      throw UsageError(fmt::format("generate {}: parameter '{}' given twice", shape, key));
+  }
+  std::map<std::string, double> values;
+  for (const Param& p : params) {
+    std::string v = given.count(p.key) ? given[p.key] : p.default_value;
+    const std::string err = p.check(v);
+    if (!err.empty()) throw UsageError(fmt::format("generate {}: {}: {}", shape, p.key, err));
+    values[p.key] = p.integer ? static_cast<double>(std::stoll(v)) : std::stod(v);
+  }
+  return values;
+}
+
+Prediction predict_shape(const std::string& shape, std::map<std::string, double> k) {
+  Prediction p;
+  if (shape == "cylinder") {
+    p.vertices = k["rings"] * k["segments"];
+    p.faces = 2 * (k["rings"] - 1) * k["segments"];
+  } else if (shape == "plane") {
+    p.vertices = (k["nx"] + 1) * (k["ny"] + 1);
+    p.faces = 2 * k["nx"] * k["ny"];
+  } else {
+    const double nx = k["nx"], ny = k["ny"], nz = k["nz"];
+    p.vertices = (nx + 1) * (ny + 1) * (nz + 1) - (nx - 1) * (ny - 1) * (nz - 1);
+    p.faces = 4 * (nx * ny + ny * nz + nz * nx);
+    // make_bar numbers the whole (nx+1)(ny+1)(nz+1) lattice (4 bytes a point) and grows its coordinates.
+    p.bytes = 4 * (nx + 1) * (ny + 1) * (nz + 1) + 2 * 24 * p.vertices;
+  }
+  p.bytes += kProcessBytes + mesh_and_validation_bytes(p.vertices, p.faces);
+  return p;
+}
+
+Mesh make_shape(const std::string& shape, std::map<std::string, double> k) {
+  auto i = [&](const char* key) { return static_cast<int>(k[key]); };
+  if (shape == "cylinder") return make_cylinder(i("rings"), i("segments"), k["radius"], k["height"]);
+  if (shape == "bar") return make_bar(i("nx"), i("ny"), i("nz"), k["sx"], k["sy"], k["sz"]);
+  return make_bumpy_plane(i("nx"), i("ny"), k["size"], k["bump"], i("bumps"));
+}
+
+// ---------------------------------------------------------------- subcommands
+std::string mb(double bytes) { return fmt::format("{:.1f} MB", bytes / (1024.0 * 1024.0)); }
+
+void report_written(const std::string& out, const Mesh& m, const Prediction* p = nullptr) {
+  std::cout << fmt::format("wrote {} ({} vertices, {} faces)", out, m.num_vertices(), m.num_faces());
+  if (p) std::cout << fmt::format("; peak memory predicted {}, peak RSS {}", mb(p->bytes), mb(peak_rss_bytes()));
+  std::cout << "\n";
+}
+
+int info(const std::string& file, bool validate) {
+  const Mesh m = read_mesh(file);
+  if (validate) validate_mesh(m);
+  std::cout << fmt::format("name={} vertices={} faces={} checksum={:016x}\n", m.name, m.num_vertices(),
+                           m.num_faces(), checksum(m));
+  std::cout << "topology: " << find_non_manifold(m).summary() << "\n";
   return 0;
 }
 
-int run(int argc, char** argv) {
-  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
-    std::cout << kUsage;
-    return argc < 2 ? 1 : 0;
-  }
-  const std::string cmd = argv[1];
-  if (cmd == "info" && (argc == 3 || (argc == 4 && std::strcmp(argv[3], "--validate") == 0))) {
-    const Mesh m = read_mesh(argv[2]);
-    if (argc == 4) validate_mesh(m);
-    std::cout << fmt::format("name={} vertices={} faces={} checksum={:016x}\n", m.name, m.num_vertices(),
-                             m.num_faces(), checksum(m));
-    return 0;
-  }
-  if (cmd == "subdivide" && argc == 5) {
-    const Mesh in = read_mesh(argv[2]);
-    validate_mesh(in);
-    const Mesh out = loop_subdivide(in, to_int(argv[4], "LEVELS"));
-    write_mesh(argv[3], out);
-    std::cout << fmt::format("wrote {} ({} vertices, {} faces)\n", argv[3], out.num_vertices(), out.num_faces());
-    return 0;
-  }
-  if (cmd == "convert" && argc == 4) {
-    write_mesh(argv[3], read_mesh(argv[2]));
-    return 0;
-  }
-  if (cmd == "generate") return generate(argc, argv);
-  std::cerr << kUsage;
-  return 1;
+int repair(const std::string& in, const std::string& out, std::size_t max_list) {
+  cli::check_output("OUT", out, kMeshExtensions, {in});
+  const Mesh m = read_mesh(in);
+  RepairReport report;
+  const Mesh fixed = repair_mesh(m, report);
+  std::cout << fmt::format("{}: {}\n", in, report.summary());
+  for (const std::string& line : report.details(max_list)) std::cout << "  " << line << "\n";
+  write_mesh(out, fixed);
+  report_written(out, fixed);
+  return 0;
+}
+
+int subdivide(const std::string& in, const std::string& out, int levels, std::size_t budget) {
+  cli::check_output("OUT", out, kMeshExtensions, {in});
+  const Mesh m = read_mesh(in);
+  validate_mesh(m);  // OpenMesh needs an oriented 2-manifold
+  const Prediction p = predict_subdivision(m, levels);
+  check_budget(p, budget, fmt::format("{} subdivided {} times", in, levels));
+  const Mesh s = loop_subdivide(m, levels);
+  write_mesh(out, s);
+  report_written(out, s, &p);
+  return 0;
+}
+
+int generate(const std::string& shape, const std::string& out, const std::vector<std::string>& args,
+             std::size_t budget) {
+  cli::check_output("OUT", out, kMeshExtensions);
+  const auto values = shape_values(shape, args);
+  const Prediction p = predict_shape(shape, values);
+  check_budget(p, budget, fmt::format("the generated {}", shape));
+  const Mesh m = make_shape(shape, values);
+  validate_mesh(m);
+  write_mesh(out, m);
+  report_written(out, m, &p);
+  return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "meshtool: " << e.what() << "\n";
-    return db::exit_code(e);
-  }
+  CLI::App app{"Mesh utilities: inspect, convert, repair, subdivide and generate triangle meshes (.off, .ply, .obj).\n"
+               "Exit codes: 0 ok, 1 usage, 2 bad input, 4 over the memory budget.",
+               "meshtool"};
+  app.require_subcommand(0, 1);  // none given: checked below, so that a misspelled one is named
+  std::string in, out, shape;
+  bool validate = false;
+  int levels = 0;
+  long long budget_mb = static_cast<long long>(physical_memory_bytes() / 2 / (1024 * 1024));
+  std::size_t max_list = 20;
+  std::vector<std::string> params;
+  auto budget_option = [&](CLI::App* sub) {
+    sub->add_option("--memory-budget-mb", budget_mb, "refuse a result predicted to need more (default: half the RAM)")
+        ->check(cli::Integer(1, 1ll << 40))
+        ->capture_default_str();
+  };
+
+  CLI::App* info_cmd =
+      app.add_subcommand("info", "print name, #vertices, #faces, a geometry checksum and the topology");
+  info_cmd->add_option("FILE", in, "mesh file")->required();
+  info_cmd->add_flag("--validate", validate, "also check what the deformers need (exit 2 naming the first problem)");
+
+  CLI::App* convert_cmd = app.add_subcommand("convert", "re-write IN in the format of OUT's extension");
+  convert_cmd->add_option("IN", in, "input mesh")->required();
+  convert_cmd->add_option("OUT", out, "output mesh (.off, .ply binary, .obj)")->required();
+
+  CLI::App* repair_cmd = app.add_subcommand(
+      "repair",
+      "make a mesh manifold for cotan weights and LRI: drop degenerate and duplicate faces, split non-manifold "
+      "vertices and edges, remove isolated vertices; prints each change");
+  repair_cmd->add_option("IN", in, "input mesh")->required();
+  repair_cmd->add_option("OUT", out, "output mesh (.off, .ply, .obj)")->required();
+  repair_cmd->add_option("--max-list", max_list, "changes listed per kind (0: all)")
+      ->check(cli::Integer(0, 1ll << 40))
+      ->capture_default_str();
+
+  CLI::App* subdivide_cmd = app.add_subcommand("subdivide", "Loop subdivision (OpenMesh)");
+  subdivide_cmd->add_option("IN", in, "input mesh (a manifold)")->required();
+  subdivide_cmd->add_option("OUT", out, "output mesh")->required();
+  subdivide_cmd->add_option("LEVELS", levels, "subdivision levels")->required()->check(cli::Integer(0, 30));
+  budget_option(subdivide_cmd);
+
+  CLI::App* generate_cmd =
+      app.add_subcommand("generate", "procedural test shapes; parameters and defaults:" + shape_help());
+  generate_cmd->add_option("SHAPE", shape, "cylinder, bar or plane")
+      ->required()
+      ->check(cli::OneOf({"cylinder", "bar", "plane"}));
+  generate_cmd->add_option("OUT", out, "output mesh")->required();
+  generate_cmd->add_option("PARAMS", params, "key=value (see above)");
+  budget_option(generate_cmd);
+
+  return cli::run(app, argc, argv, [&] {
+    const std::size_t budget = static_cast<std::size_t>(budget_mb) * 1024 * 1024;
+    if (info_cmd->parsed()) return info(in, validate);
+    if (repair_cmd->parsed()) return repair(in, out, max_list);
+    if (subdivide_cmd->parsed()) return subdivide(in, out, levels, budget);
+    if (generate_cmd->parsed()) return generate(shape, out, params, budget);
+    if (!convert_cmd->parsed())
+      throw UsageError("a subcommand is required: info, convert, repair, subdivide or generate");
+    cli::check_output("OUT", out, kMeshExtensions, {in});
+    write_mesh(out, read_mesh(in));
+    return 0;
+  });
 }

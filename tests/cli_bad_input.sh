@@ -3,17 +3,16 @@
 # 2 bad input, 3 solver failure, 4 over budget), a message naming the cause, returns within seconds, and leaves
 # no file behind (the output directory stays empty; inputs are unchanged).
 # usage: cli_bad_input.sh PATH/TO/deformbench [SOURCE_DIR]
-set -u
 BIN=$1
 SRC=${2:-$(cd "$(dirname "$0")/.." && pwd)}
-T=$(mktemp -d)   # inputs, and the output directory $O
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"  # $T, the counters, the octahedron, write_off
 L=$(mktemp -d)   # the tool's stdout and stderr
 trap 'rm -rf "$T" "$L"' EXIT
 O=$T/outdir # every case writes here; it must stay empty
 mkdir -p "$O"
-fails=0; passes=0
 
-# expect NAME EXIT_CODE MESSAGE_REGEX -- deformbench args...
+# expect NAME EXIT_CODE MESSAGE_REGEX -- deformbench args... (stricter than cli_lib's: the whole output directory
+# stays empty and the inputs unchanged)
 expect() {
   local name=$1 code=$2 re=$3; shift 4
   local before; before=$(cd "$T" && find . -path ./outdir -prune -o -type f -print0 | sort -z | xargs -0 md5sum)
@@ -39,24 +38,6 @@ expect_ok() {
   rm -rf "${O:?}"/*
 }
 
-# A small valid closed mesh: an octahedron (6 vertices, 8 faces).
-octa_v='1 0 0
--1 0 0
-0 1 0
-0 -1 0
-0 0 1
-0 0 -1'
-octa_f='3 0 2 4
-3 2 1 4
-3 1 3 4
-3 3 0 4
-3 2 0 5
-3 1 2 5
-3 3 1 5
-3 0 3 5'
-write_off() { # file nv nf vertices faces
-  printf 'OFF\n%s %s 0\n%s\n%s\n' "$2" "$3" "$4" "$5" >"$1"
-}
 edit_for() { # stem: write STEM.sel (handle=4, fixed=5, rest free) and a .def moving the handle
   local n=$2
   { for ((i = 0; i < n; i++)); do
@@ -161,7 +142,14 @@ expect degenerate_face 2 "degenerate" -- deform "$T/degen" --out "$OUT"
 write_off "$T/nm.off" 7 9 "$octa_v
 2 2 0" "$octa_f
 3 0 6 2"; edit_for "$T/nm" 7
-expect non_manifold_cotan 2 "manifold" -- deform "$T/nm" --weights cotan --out "$OUT"
+# Uniform lap and tf deform it with a warning that counts the non-manifold elements; cotan and lri refuse it.
+expect_ok non_manifold_lap out.ply -- deform "$T/nm" --out "$OUT"
+grep -q "1 non-manifold edge" "$L/stderr" || { echo "FAIL non_manifold_lap: no warning"; fails=$((fails + 1)); }
+# TF needs three constrained vertices off one line: vertex 0 fixed too.
+cp "$T/nm.off" "$T/nmtf.off"; cp "$T/nm.def" "$T/nmtf.def"; sed '1s/.*/0/' "$T/nm.sel" >"$T/nmtf.sel"
+expect_ok non_manifold_tf out.ply -- deform "$T/nmtf" --method tf --out "$OUT"
+expect non_manifold_lri 2 "not manifold.*meshtool repair" -- deform "$T/nm" --method lri --out "$OUT"
+expect non_manifold_cotan 2 "not manifold.*meshtool repair" -- deform "$T/nm" --weights cotan --out "$OUT"
 cp "$G.off" "$T/short.off"; head -3 "$G.sel" >"$T/short.sel"; cp "$G.def" "$T/short.def"
 expect selection_size_mismatch 2 "entries|vertices" -- deform "$T/short" --out "$OUT"
 cp "$G.off" "$T/nohandle.off"; printf '1\n1\n1\n1\n1\n0\n' >"$T/nohandle.sel"; cp "$G.def" "$T/nohandle.def"

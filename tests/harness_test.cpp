@@ -355,7 +355,8 @@ TEST(DeformCell, OutOfCoreAgreesAndIsPredictedWithoutTheFactor) {
   EXPECT_NEAR(a.get("mean_displacement"), b.get("mean_displacement"), 1e-12);
   EXPECT_EQ(a.get("nnz_factor"), b.get("nnz_factor"));
   EXPECT_GT(b.get("min_pivot_ratio"), 0);
-  CellPredictor pred(test_mesh(), ThesisEditOptions{}, MachineRates{});
+  const Mesh mesh = test_mesh();  // CellPredictor keeps a reference to it
+  CellPredictor pred(mesh, ThesisEditOptions{}, MachineRates{});
   const DeformPrediction pm = pred.predict(mem), pd = pred.predict(disk);
   EXPECT_EQ(pd.factor_bytes, pm.factor_bytes);
   EXPECT_GT(pd.workspace_bytes, 0);

@@ -597,8 +597,14 @@ TEST(Multifrontal, OutOfCoreFactorMatchesInMemoryAndIsNotResident) {
       EXPECT_LT(rel(X[1], X[0]), 1e-10);  // the top phase adds subtree roots in completion order
     EXPECT_LT(rel(DenseMat(full * X[1]), B), 1e-9);
     // Out of core what stays is heap the threads' allocators keep (update matrices), tens of MB here.
+    // Under AddressSanitizer its quarantine keeps freed memory resident for later allocations, so the resident set
+    // does not grow with them (with ASAN_OPTIONS=quarantine_size_mb=0 these checks hold there too).
+#ifndef __SANITIZE_ADDRESS__
     EXPECT_GT(grew[0], factor_bytes * 9 / 10) << "in memory the factor is resident; " << threads << " thread(s)";
     EXPECT_LT(grew[1], factor_bytes / 2) << "out of core it is not; " << threads << " thread(s)";
+#else
+    (void)grew;
+#endif
   }
   EXPECT_THROW(db::make_solver("cholmod_supernodal", d), db::Error);
   db::SolverOptions missing = o;

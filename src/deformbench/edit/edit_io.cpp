@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -21,14 +22,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> read_lines(const std::string& path, const char* what) {
+// Calls fn(line number, line) for every line of a text file, streaming: a selection of millions of vertices is
+// never held as millions of strings.
+void each_line(const std::string& path, const char* what, const std::function<void(int, const std::string&)>& fn) {
   std::error_code ec;
   std::ifstream in(path);
   if (!in || fs::is_directory(path, ec)) throw InputError(fmt::format("cannot open {} file: {}", what, path));
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  // A device or a pipe (/dev/zero, /dev/stdin) would be read without end.
+  if (!fs::is_regular_file(path, ec)) throw InputError(fmt::format("{} file {} is not a regular file", what, path));
+  int n = 0;
+  for (std::string line; std::getline(in, line);) fn(++n, line);
   if (in.bad()) throw InputError(fmt::format("cannot read {} file: {}", what, path));
-  return lines;
 }
 
 // Drops a '#' comment and surrounding whitespace.
@@ -106,15 +110,14 @@ struct Entry {
   int line;
 };
 
-// The `key = value` lines of a .edit file. \throw InputError naming the file and line.
+// The `key = value` lines of a .edit file: known keys, each once, none empty. \throw InputError naming the file
+// and line.
 std::map<std::string, Entry> read_edit_entries(const std::string& path) {
-  const auto lines = read_lines(path, "edit");
   std::map<std::string, Entry> kv;
   static const char* known[] = {"mesh", "name", "sel", "def", "roi", "handle", "transform"};
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::string s = strip(lines[i]);
-    if (s.empty()) continue;
-    const int ln = static_cast<int>(i + 1);
+  each_line(path, "edit", [&](int ln, const std::string& line) {
+    const std::string s = strip(line);
+    if (s.empty()) return;
     const auto eq = s.find('=');
     if (eq == std::string::npos) throw InputError(fmt::format("{}: line {}: expected 'key = value'", path, ln));
     const std::string key = strip(s.substr(0, eq)), value = strip(s.substr(eq + 1));
@@ -125,7 +128,7 @@ std::map<std::string, Entry> read_edit_entries(const std::string& path) {
     if (kv.count(key))
       throw InputError(fmt::format("{}: line {}: '{}' given twice (first on line {})", path, ln, key, kv[key].line));
     kv[key] = {value, ln};
-  }
+  });
   return kv;
 }
 
@@ -143,17 +146,19 @@ void check_not_empty(const std::vector<int>& ids, const char* what, const std::s
 }  // namespace
 
 std::vector<Role> read_sel(const std::string& path, int num_vertices) {
-  const auto lines = read_lines(path, "selection");
   std::vector<Role> roles;
-  roles.reserve(lines.size());
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::string s = strip(lines[i]);
-    if (s.empty()) continue;
+  if (num_vertices >= 0) roles.reserve(num_vertices);
+  each_line(path, "selection", [&](int ln, const std::string& line) {
+    const std::string s = strip(line);
+    if (s.empty()) return;
+    if (num_vertices >= 0 && static_cast<long>(roles.size()) == num_vertices)
+      throw InputError(fmt::format("{}: line {}: selection has more than {} entries but the mesh has {} vertices", path,
+                                   ln, num_vertices, num_vertices));
     if (s == "0") roles.push_back(Role::Fixed);
     else if (s == "1") roles.push_back(Role::Free);
     else if (s == "2") roles.push_back(Role::Handle);
-    else throw InputError(fmt::format("{}: line {}: invalid status '{}' (expected 0, 1 or 2)", path, i + 1, s));
-  }
+    else throw InputError(fmt::format("{}: line {}: invalid status '{}' (expected 0, 1 or 2)", path, ln, s));
+  });
   if (num_vertices >= 0 && static_cast<long>(roles.size()) != num_vertices)
     throw InputError(fmt::format("{}: selection has {} entries but the mesh has {} vertices", path, roles.size(),
                                  num_vertices));
@@ -161,21 +166,20 @@ std::vector<Role> read_sel(const std::string& path, int num_vertices) {
 }
 
 Mat4 read_def(const std::string& path) {
-  const auto lines = read_lines(path, "transform");
   Mat4 T;
   int row = 0;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::string s = strip(lines[i]);
-    if (s.empty()) continue;
-    if (row == 4) throw InputError(fmt::format("{}: line {}: unexpected content after the 4x4 matrix", path, i + 1));
+  each_line(path, "transform", [&](int ln, const std::string& line) {
+    const std::string s = strip(line);
+    if (s.empty()) return;
+    if (row == 4) throw InputError(fmt::format("{}: line {}: unexpected content after the 4x4 matrix", path, ln));
     const auto t = tokens(s, " \t,");
     if (t.size() != 4)
-      throw InputError(fmt::format("{}: line {}: expected 4 numbers per matrix row, got {}", path, i + 1, t.size()));
+      throw InputError(fmt::format("{}: line {}: expected 4 numbers per matrix row, got {}", path, ln, t.size()));
     for (int c = 0; c < 4; ++c)
       if (!to_double(t[c], T(row, c)) || !std::isfinite(T(row, c)))
-        throw InputError(fmt::format("{}: line {}: bad number '{}'", path, i + 1, t[c]));
+        throw InputError(fmt::format("{}: line {}: bad number '{}'", path, ln, t[c]));
     ++row;
-  }
+  });
   if (row != 4) throw InputError(fmt::format("{}: expected 4 matrix rows, got {}", path, row));
   if (T.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
     throw InputError(fmt::format("{}: not an affine transform (last row {} {} {} {}, expected 0 0 0 1)", path, T(3, 0),
@@ -192,16 +196,15 @@ Edit read_bs08_edit(const std::string& sel_path, const std::string& def_path, in
 }
 
 std::vector<int> read_index_list(const std::string& path) {
-  const auto lines = read_lines(path, "index list");
   std::vector<int> out;
-  for (std::size_t i = 0; i < lines.size(); ++i)
-    for (const std::string& t : tokens(strip(lines[i]), " \t\r,")) {
+  each_line(path, "index list", [&](int ln, const std::string& line) {
+    for (const std::string& t : tokens(strip(line), " \t\r,")) {
       long long v;
-      if (!to_int(t, v)) throw InputError(fmt::format("{}: line {}: '{}' is not a vertex index", path, i + 1, t));
-      if (v < 0 || v > INT32_MAX)
-        throw InputError(fmt::format("{}: line {}: vertex index {} out of range", path, i + 1, v));
+      if (!to_int(t, v)) throw InputError(fmt::format("{}: line {}: '{}' is not a vertex index", path, ln, t));
+      if (v < 0 || v > INT32_MAX) throw InputError(fmt::format("{}: line {}: vertex index {} out of range", path, ln, v));
       out.push_back(static_cast<int>(v));
     }
+  });
   return out;
 }
 
@@ -246,7 +249,8 @@ EditCase load_stem(const std::string& stem) {
                                  ".def files (missing {})",
                                  stem, c.mesh_path.empty() ? stem + ".off" : !exists(sel) ? sel : def));
   c.mesh = read_mesh(c.mesh_path);
-  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh); });
+  // Non-manifold meshes load: uniform lap and tf deform them; cotan and lri refuse them (make_deformer).
+  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh, Manifold::Allowed); });
   c.edit = read_bs08_edit(sel, def, c.mesh.num_vertices());
   c.edit.name = fs::path(stem).filename().string();
   return finish(std::move(c), stem);
@@ -270,7 +274,7 @@ EditCase load_edit_file(const std::string& path) {
   c.mesh_path = resolve(dir, kv["mesh"].value);
   c.mesh = prefixed(at("mesh"), [&] { return read_mesh(c.mesh_path); });
   // Mesh first: k-ring selections need a valid adjacency.
-  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh); });
+  prefixed(c.mesh_path, [&] { validate_mesh(c.mesh, Manifold::Allowed); });
   const int nv = c.mesh.num_vertices();
 
   const Mat4 T = has("def") ? prefixed(at("def"), [&] { return read_def(resolve(dir, kv["def"].value)); })

@@ -49,7 +49,8 @@ struct EditCase {
 //!      def = PATH  or  transform = SPEC (parse_transform; exactly one of the two)
 //!    SELECTION is one of  all | sphere:cx,cy,cz,r | box:x0,y0,z0,x1,y1,z1 | kring:v,k | indices:FILE |
 //!    nearest:x,y,z,count  (see select_by_spec).
-//! Reads the mesh, validates mesh and edit, and names the edit (the stem's or the .edit's base name by default).
+//! Reads the mesh, validates mesh (non-manifold meshes load: see Manifold) and edit, and names the edit (the stem's
+//! or the .edit's base name by default).
 //! \throw InputError naming the file for every problem; a roi or handle selection that selects no vertex is named
 //! with the mesh's extent.
 EditCase load_edit_case(const std::string& spec);

@@ -37,6 +37,8 @@ struct DeformPrediction {
 class CellPredictor {
  public:
   CellPredictor(const Mesh& mesh, const ThesisEditOptions& edit, const MachineRates& rates);
+  //! It keeps a reference to the mesh: a temporary would dangle.
+  CellPredictor(Mesh&&, const ThesisEditOptions&, const MachineRates&) = delete;
   ~CellPredictor();
   //! \throw Error for an unknown system, build or backend.
   DeformPrediction predict(const DeformCell& cell);

@@ -48,7 +48,7 @@ struct Problem {
 Problem make_problem(const SolverCell& c) {
   Problem p;
   p.mesh = read_mesh(c.mesh);
-  validate_mesh(p.mesh);
+  validate_mesh(p.mesh, Manifold::Allowed);  // LAP and TF (uniform) live on the vertex graph
   p.edit = make_thesis_edit(p.mesh);
   p.norm = Normalization::fit(p.mesh.V);
   p.Vn = p.norm.apply(p.mesh.V);

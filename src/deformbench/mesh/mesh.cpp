@@ -16,19 +16,6 @@ namespace {
 
 std::string label(const Mesh& mesh) { return mesh.name.empty() ? std::string("mesh") : "mesh '" + mesh.name + "'"; }
 
-// Faces incident to each vertex, CSR (vertex -> face ids). Assumes indices were range-checked.
-void vertex_faces(const Mesh& mesh, std::vector<int>& off, std::vector<int>& fid) {
-  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
-  off.assign(nv + 1, 0);
-  for (int f = 0; f < nf; ++f)
-    for (int c = 0; c < 3; ++c) ++off[mesh.F(f, c) + 1];
-  std::partial_sum(off.begin(), off.end(), off.begin());
-  fid.resize(off[nv]);
-  std::vector<int> pos(off.begin(), off.end() - 1);
-  for (int f = 0; f < nf; ++f)
-    for (int c = 0; c < 3; ++c) fid[pos[mesh.F(f, c)]++] = f;
-}
-
 }  // namespace
 
 Adjacency vertex_adjacency(const Mesh& mesh) {
@@ -67,97 +54,174 @@ Adjacency vertex_adjacency(const Mesh& mesh) {
   return adj;
 }
 
-double bbox_diagonal(const Points& V) {
-  if (V.rows() == 0) return 0.0;
-  // stableNorm: the plain norm squares, which over- or underflows for extents beyond ~1e154 or below ~1e-154.
-  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).stableNorm();
+Adjacency vertex_faces(const Mesh& mesh) {
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  Adjacency vf;
+  vf.off.assign(nv + 1, 0);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) ++vf.off[mesh.F(f, c) + 1];
+  std::partial_sum(vf.off.begin(), vf.off.end(), vf.off.begin());
+  vf.nbr.resize(vf.off[nv]);
+  std::vector<int> pos(vf.off.begin(), vf.off.end() - 1);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) vf.nbr[pos[mesh.F(f, c)]++] = f;
+  return vf;
 }
 
-void validate_mesh(const Mesh& mesh) {
+double bbox_diagonal(const Points& V) {
+  if (V.rows() == 0) return 0.0;
+  const Eigen::RowVector3d e = V.colwise().maxCoeff() - V.colwise().minCoeff();
+  const double d = e.norm();
+  // The plain norm squares: extents beyond ~1e154 or below ~1e-154 over- or underflow there.
+  return (d > 1e-150 && d < 1e150) || e.isZero(0) ? d : e.stableNorm();
+}
+
+std::string NonManifold::summary() const {
+  std::vector<std::string> parts;
+  if (!edges.empty()) {
+    const Edge& e = edges.front();
+    parts.push_back(fmt::format("{} non-manifold edge{} (first: ({}, {}) shared by {} faces)", edges.size(),
+                                edges.size() == 1 ? "" : "s", e.a, e.b, e.faces));
+  }
+  if (!vertices.empty()) {
+    const Vertex& v = vertices.front();
+    parts.push_back(fmt::format("{} non-manifold vert{} (first: {}, {} faces in {} separate fans)", vertices.size(),
+                                vertices.size() == 1 ? "ex" : "ices", v.v, v.faces, v.fans));
+  }
+  return parts.empty() ? "manifold" : fmt::format("{}", fmt::join(parts, " and "));
+}
+
+namespace {
+
+bool repeated_corner(const Mesh& mesh, int f) {
+  return mesh.F(f, 0) == mesh.F(f, 1) || mesh.F(f, 1) == mesh.F(f, 2) || mesh.F(f, 0) == mesh.F(f, 2);
+}
+
+// The link of v: the edge opposite v in each face around it (`faces`, none with a repeated corner). A link vertex
+// w used by more than two link edges means edge (v, w) has more than two faces; the faces form a single fan
+// exactly when the link is connected. Appends what it finds to nm.
+void check_link(const Mesh& mesh, int v, const std::vector<int>& faces, NonManifold& nm) {
+  std::vector<int> local;
+  local.reserve(2 * faces.size());
+  for (int f : faces)
+    for (int c = 0; c < 3; ++c)
+      if (mesh.F(f, c) != v) local.push_back(mesh.F(f, c));
+  std::sort(local.begin(), local.end());
+  for (std::size_t i = 0; i < local.size();) {
+    std::size_t j = i + 1;
+    while (j < local.size() && local[j] == local[i]) ++j;
+    if (j - i > 2 && v < local[i]) nm.edges.push_back({v, local[i], static_cast<int>(j - i)});
+    i = j;
+  }
+  local.erase(std::unique(local.begin(), local.end()), local.end());
+  std::vector<int> parent(local.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  auto id = [&](int w) { return static_cast<int>(std::lower_bound(local.begin(), local.end(), w) - local.begin()); };
+  int components = static_cast<int>(local.size());
+  for (int f : faces) {
+    int c = 0;
+    while (mesh.F(f, c) != v) ++c;
+    const int ra = find(id(mesh.F(f, (c + 1) % 3))), rb = find(id(mesh.F(f, (c + 2) % 3)));
+    if (ra != rb) {
+      parent[ra] = rb;
+      --components;
+    }
+  }
+  if (components > 1) nm.vertices.push_back({v, static_cast<int>(faces.size()), components});
+}
+
+}  // namespace
+
+NonManifold find_non_manifold(const Mesh& mesh) {
+  // Local work per vertex, so O(F log valence) overall. Faces with a repeated corner are left out (they are
+  // degenerate, see degenerate_face).
+  const Adjacency around = vertex_faces(mesh);
+  NonManifold nm;
+  std::vector<int> faces;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    faces.clear();
+    for (const int* f = around.begin(v); f != around.end(v); ++f)
+      if (!repeated_corner(mesh, *f)) faces.push_back(*f);
+    check_link(mesh, v, faces, nm);
+  }
+  std::sort(nm.edges.begin(), nm.edges.end(), [](const auto& x, const auto& y) {
+    return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);
+  });
+  return nm;
+}
+
+std::string degenerate_face(const Mesh& mesh, int f, double diag) {
+  const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
+  if (repeated_corner(mesh, f)) return fmt::format("repeated corner: {} {} {}", a, b, c);
+  const double s = diag > 0 ? 1.0 / diag : 1.0;
+  const Vec3 pa = mesh.V.row(a), pb = mesh.V.row(b), pc = mesh.V.row(c);
+  const double area = 0.5 * (s * (pb - pa)).cross(s * (pc - pa)).norm();
+  if (!(area >= 1e-14)) return fmt::format("area {:.3g} x bbox_diagonal^2, under 1e-14 x bbox_diagonal^2", area);
+  return {};
+}
+
+void check_arrays(const Mesh& mesh) {
   const std::string who = label(mesh);
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();
-  if (nv == 0) throw InputError(who + " is empty (no vertices)");
-  if (nf == 0) throw InputError(who + " is empty (no faces)");
-
   for (int v = 0; v < nv; ++v)
     if (!mesh.V.row(v).allFinite())
       throw InputError(fmt::format("{}: vertex {} has a non-finite coordinate ({}, {}, {})", who, v, mesh.V(v, 0),
                                    mesh.V(v, 1), mesh.V(v, 2)));
-
   for (int f = 0; f < nf; ++f)
     for (int c = 0; c < 3; ++c) {
       const int v = mesh.F(f, c);
       if (v < 0 || v >= nv)
         throw InputError(fmt::format("{}: face {} has corner index {} out of range [0, {})", who, f, v, nv));
     }
+}
 
-  // Area relative to the squared diagonal, on coordinates divided by it: scale invariant, and neither tiny nor huge
-  // models under- or overflow.
+namespace {
+
+constexpr const char* kRepairHint = "`meshtool repair IN OUT` fixes it";
+
+}  // namespace
+
+void validate_mesh(const Mesh& mesh, Manifold manifold) {
+  const std::string who = label(mesh);
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  if (nv == 0) throw InputError(who + " is empty (no vertices)");
+  if (nf == 0) throw InputError(who + " is empty (no faces)");
+  check_arrays(mesh);
+
+  // Named when a double cannot hold the extent (a plain norm would over- or underflow into a false verdict).
   double diag = 0;
   try {
     diag = checked_bbox_diagonal(mesh.V);
   } catch (const InputError& e) {
     throw InputError(who + ": " + e.what());
   }
-  const double s = diag > 0 ? 1.0 / diag : 1.0;
   for (int f = 0; f < nf; ++f) {
-    const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
-    if (a == b || b == c || a == c)
-      throw InputError(fmt::format("{}: face {} is degenerate (repeated corner: {} {} {})", who, f, a, b, c));
-    const Vec3 pa = mesh.V.row(a), pb = mesh.V.row(b), pc = mesh.V.row(c);
-    const double area = 0.5 * (s * (pb - pa)).cross(s * (pc - pa)).norm();
-    if (!(area >= 1e-14))
-      throw InputError(fmt::format("{}: face {} is degenerate (area {:.3g} x bbox_diagonal^2, under 1e-14)", who, f,
-                                   area));
+    const std::string why = degenerate_face(mesh, f, diag);
+    if (!why.empty()) throw InputError(fmt::format("{}: face {} is degenerate ({}); {}", who, f, why, kRepairHint));
   }
 
-  std::vector<int> vf_off, vf;
-  vertex_faces(mesh, vf_off, vf);
+  std::vector<bool> used(nv, false);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) used[mesh.F(f, c)] = true;
   for (int v = 0; v < nv; ++v)
-    if (vf_off[v] == vf_off[v + 1]) throw InputError(fmt::format("{}: vertex {} is isolated (in no face)", who, v));
+    if (!used[v]) throw InputError(fmt::format("{}: vertex {} is isolated (in no face); {}", who, v, kRepairHint));
 
-  // Per vertex v, the link: the edge opposite v in each incident face. A link vertex w used by more than two link
-  // edges means edge (v, w) has more than two faces; with manifold edges, the incident faces form a single fan
-  // exactly when the link is connected. Local work only, so O(F log valence) overall.
-  std::vector<int> local, parent;
-  for (int v = 0; v < nv; ++v) {
-    local.clear();
-    for (int k = vf_off[v]; k < vf_off[v + 1]; ++k) {
-      const int f = vf[k];
-      for (int c = 0; c < 3; ++c)
-        if (mesh.F(f, c) != v) local.push_back(mesh.F(f, c));
-    }
-    std::sort(local.begin(), local.end());
-    for (std::size_t i = 0; i < local.size();) {
-      std::size_t j = i + 1;
-      while (j < local.size() && local[j] == local[i]) ++j;
-      if (j - i > 2)
-        throw InputError(fmt::format("{}: non-manifold edge ({}, {}) shared by {} faces", who, std::min(v, local[i]),
-                                     std::max(v, local[i]), j - i));
-      i = j;
-    }
-    local.erase(std::unique(local.begin(), local.end()), local.end());
-    parent.resize(local.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](int x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
-    auto id = [&](int w) { return static_cast<int>(std::lower_bound(local.begin(), local.end(), w) - local.begin()); };
-    int components = static_cast<int>(local.size());
-    for (int k = vf_off[v]; k < vf_off[v + 1]; ++k) {
-      const int f = vf[k];
-      int c = 0;
-      while (mesh.F(f, c) != v) ++c;
-      const int ra = find(id(mesh.F(f, (c + 1) % 3))), rb = find(id(mesh.F(f, (c + 2) % 3)));
-      if (ra != rb) {
-        parent[ra] = rb;
-        --components;
-      }
-    }
-    if (components > 1)
-      throw InputError(fmt::format("{}: non-manifold vertex {} (its {} incident faces form {} separate fans)", who, v,
-                                   vf_off[v + 1] - vf_off[v], components));
+  if (manifold == Manifold::Allowed) return;
+  const NonManifold nm = find_non_manifold(mesh);
+  if (!nm.edges.empty()) {
+    const auto& e = nm.edges.front();
+    throw InputError(fmt::format("{}: non-manifold edge ({}, {}) shared by {} faces ({} in all); {}", who, e.a, e.b,
+                                 e.faces, nm.summary(), kRepairHint));
+  }
+  if (!nm.vertices.empty()) {
+    const auto& v = nm.vertices.front();
+    throw InputError(fmt::format("{}: non-manifold vertex {} (its {} incident faces form {} separate fans; {} in all); "
+                                 "{}",
+                                 who, v.v, v.faces, v.fans, nm.summary(), kRepairHint));
   }
 }
 

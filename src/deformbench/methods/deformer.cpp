@@ -1,6 +1,7 @@
 #include "methods/deformer.h"
 
 #include <cmath>
+#include <iostream>
 
 #include <fmt/format.h>
 
@@ -54,6 +55,23 @@ bool spans_a_plane(const Points& V, const std::vector<int>& pts) {
   return false;
 }
 
+// Uniform LAP and TF are defined on the vertex graph and deform a non-manifold mesh as it is (with a warning);
+// cotan weights and LRI's frames need a manifold 1-ring around every vertex.
+void check_manifold(const Mesh& mesh, const DeformOptions& options) {
+  if (options.method != "lap" && options.method != "tf" && options.method != "lri") return;  // refused below
+  const NonManifold nm = find_non_manifold(mesh);
+  if (nm.empty()) return;
+  const std::string who = mesh.name.empty() ? std::string("mesh") : "mesh '" + mesh.name + "'";
+  if (options.method == "lri" || options.weights == Weights::Cotan)
+    throw InputError(fmt::format("{} is not manifold: {}; {} needs a manifold 1-ring around every vertex. Run "
+                                 "`meshtool repair IN OUT` to split them (uniform lap and tf take the mesh as it is)",
+                                 who, nm.summary(),
+                                 options.method == "lri" ? options.method : options.method + " with cotan weights"));
+  std::cerr << fmt::format("warning: {} is not manifold: {}; {} with uniform weights works on the vertex graph and "
+                           "deforms it as it is (`meshtool repair` splits them)\n",
+                           who, nm.summary(), options.method);
+}
+
 }  // namespace
 
 void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind,
@@ -102,10 +120,12 @@ void check_every_component_anchored(const Adjacency& adj, const std::vector<Cons
 }
 
 std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
-  validate_mesh(mesh);  // cheap next to any build; library callers may not have loaded through edit_io
+  // Cheap next to any build; library callers may not have loaded through edit_io.
+  validate_mesh(mesh, Manifold::Allowed);
   validate_edit(mesh, edit);
   if (!(options.soft_weight > 0) || !std::isfinite(options.soft_weight))
     throw InputError(fmt::format("soft weight must be positive and finite, got {}", options.soft_weight));
+  check_manifold(mesh, options);
   if (options.method == "lap")
     return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Lap, options);
   if (options.method == "tf") return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Tf, options);

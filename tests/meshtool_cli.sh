@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# meshtool on the command line: the exit codes (0 ok, 1 usage, 2 bad input, 4 over the memory budget), a message
+# naming the cause, no output file left behind on failure, and refusals that come at once (a subdivision or a
+# generated mesh over the budget is refused on its prediction, before anything is allocated).
+# usage: meshtool_cli.sh PATH/TO/meshtool
+BIN=$1
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
+
+# The octahedron, and the same with a fin on edge 0-2 (three faces on one edge) and face 0 given twice.
+write_off "$T/good.off" 6 8 "$octa_v" "$octa_f"
+write_off "$T/fin.off" 7 10 "$octa_v
+2 2 0" "$octa_f
+3 0 6 2
+3 0 2 4"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n' >"$T/flat.off"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nelement junk 1000000000000\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/huge.ply"
+
+# Usage (1): the parser's and the validators' messages.
+expect no_subcommand 1 "subcommand" --
+expect unknown_subcommand 1 "unexpected argument 'smooth'" -- smooth "$T/good.off"
+expect levels_fraction 1 "2.5 is not a whole number" -- subdivide "$T/good.off" "$T/out.off" 2.5
+expect levels_negative 1 "outside" -- subdivide "$T/good.off" "$T/out.off" -1
+expect levels_huge 1 "1e10 is not a whole number" -- subdivide "$T/good.off" "$T/out.off" 1e10
+expect budget_zero 1 "outside" -- subdivide "$T/good.off" "$T/out.off" 1 --memory-budget-mb 0
+expect misspelled_option 1 "did you mean --max-list" -- repair "$T/fin.off" "$T/out.off" --max-lst 3
+expect unknown_shape 1 "not one of" -- generate sphere "$T/out.off"
+expect unknown_parameter 1 "unknown parameter 'rows'" -- generate plane "$T/out.off" rows=3
+expect bad_parameter 1 "nx: abc is not a whole number" -- generate plane "$T/out.off" nx=abc
+expect parameter_range 1 "segments: 2 is outside" -- generate cylinder "$T/out.off" segments=2
+expect nan_parameter 1 "radius: nan is not a finite number" -- generate cylinder "$T/out.off" radius=nan
+expect twice 1 "given twice" -- generate bar "$T/out.off" nx=2 nx=3
+expect not_key_value 1 "expected key=value" -- generate bar "$T/out.off" 3
+# Outputs are checked before any input is read.
+expect out_extension 1 "unsupported extension '.stl'" -- convert "$T/good.off" "$T/out.stl"
+expect out_missing_dir 1 "does not exist" -- repair "$T/good.off" "$T/no/dir/out.off"
+expect out_is_input 1 "is an input file" -- repair "$T/good.off" "$T/good.off"
+expect out_is_input_spelled 1 "is an input file" -- subdivide "$T/good.off" "$T/./good.off" 1
+
+# Bad input (2).
+expect missing_input 2 "cannot open mesh file" -- info "$T/nothere.off"
+expect huge_element 2 "element 'junk' declares 1000000000000 entries" -- info "$T/huge.ply"
+expect validate_non_manifold 2 "non-manifold edge \(0, 2\).*meshtool repair" -- info "$T/fin.off" --validate
+expect subdivide_non_manifold 2 "meshtool repair" -- subdivide "$T/fin.off" "$T/out.off" 1
+expect repair_nothing_left 2 "no face is left" -- repair "$T/flat.off" "$T/out.off"
+
+# Over the memory budget (4), at once.
+expect subdivide_20_levels 4 "subdivided 20 times would have .* vertices" -- subdivide "$T/good.off" "$T/out.off" 20
+expect plane_1e10 4 "generated plane would have 1e\+10 vertices" -- generate plane "$T/out.off" nx=100000 ny=100000
+expect plane_over_budget 4 "over the memory budget of 1 MB" -- generate plane "$T/out.off" nx=400 ny=400 --memory-budget-mb 1
+expect subdivide_over_budget 4 "over the memory budget of 1 MB" -- subdivide "$T/good.off" "$T/out.off" 6 --memory-budget-mb 1
+
+# Work (0).
+expect info 0 "vertices=6 faces=8.*topology: manifold" -- info "$T/good.off" --validate
+expect info_non_manifold 0 "topology: 3 non-manifold edges" -- info "$T/fin.off"
+expect repair_fin 0 "dropped 1 duplicate faces; split 2 vertices.*dropped face 9: duplicate of face 0.*split vertex 0 into" \
+  -- repair "$T/fin.off" "$T/out.off"
+"$BIN" info "$T/out.off" --validate >/dev/null 2>&1 || { echo "FAIL repaired mesh does not validate"; fails=$((fails + 1)); }
+expect repair_clean 0 "no change" -- repair "$T/good.off" "$T/out.ply"
+expect generate_plane 0 "wrote .*out.off \(121 vertices, 200 faces\); peak memory predicted 16.* MB, peak RSS" -- generate plane "$T/out.off" nx=10 ny=10
+expect subdivide 0 "wrote .*out.obj \(18 vertices, 32 faces\)" -- subdivide "$T/good.off" "$T/out.obj" 1
+expect help 0 "repair" -- --help
+expect subcommand_help 0 "--memory-budget-mb" -- generate --help
+
+echo "meshtool_cli: $passes passed, $fails failed"
+[ "$fails" -eq 0 ]
