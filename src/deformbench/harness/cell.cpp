@@ -178,7 +178,7 @@ CellResult measure_cell(const CellSpec& spec) {
   o.method = spec.system;
   o.constraints = ConstraintMode::Soft;  // thesis eq. 2-4: handle and anchors stay unknowns
   o.build = parse_build(spec.build);
-  o.solver = spec.backend;
+  o.solver = spec.build == "dense" ? "" : spec.backend;  // the dense build's default dense backend (backend_label)
   o.solver_options.ordering = spec.ordering;
   o.solver_options.factor_dir = spec.factor_dir;
   o.memory_budget = spec.memory_budget_bytes;
