@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/error.h"
 #include "core/resources.h"
 #include "core/timer.h"
 #include "systems/vertex_ordering.h"
@@ -126,6 +127,7 @@ Points LaplacianDeformer::deform(const Mat4& handle_transform) {
   t.reset();
   mqwf_.solve(x_);
   times_.solve = base_seconds + t.seconds();
+  if (!x_.allFinite()) throw SolverError("the solve produced non-finite positions");
 
   t.reset();
   Points Vn(Vn_.rows(), 3);

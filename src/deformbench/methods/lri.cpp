@@ -107,10 +107,12 @@ Points LriDeformer::deform(const Mat4& handle_transform) {
   Timer t;
   frames_mqwf_.solve(xf_);
   double solve_s = t.seconds();
+  if (!xf_.allFinite()) throw SolverError("LRI: the frame solve produced non-finite values");
   rhs_s += position_rhs(T);
   t.reset();
   positions_mqwf_.solve(xp_);
   solve_s += t.seconds();
+  if (!xp_.allFinite()) throw SolverError("LRI: the position solve produced non-finite positions");
 
   t.reset();
   const int n = static_cast<int>(Vn_.rows());

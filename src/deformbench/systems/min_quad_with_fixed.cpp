@@ -111,7 +111,6 @@ void MinQuadWithFixed::form_rhs(const DenseMat& xh, const DenseMat& soft, DenseM
 void MinQuadWithFixed::solve(DenseMat& xu) {
   if (varying_) solver_->solve_changed(rhs_, xu);
   else solver_->solve(rhs_, xu);
-  if (!xu.allFinite()) throw SolverError(fmt::format("the {} solve produced non-finite values", report_.name));
 }
 
 }  // namespace db

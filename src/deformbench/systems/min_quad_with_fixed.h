@@ -63,7 +63,8 @@ class MinQuadWithFixed {
   //! Unknowns::soft_vertices. `linear`: when given, this frame's linear term in place of g0, taken over (it is
   //! left holding scratch values).
   void form_rhs(const DenseMat& xh, const DenseMat& soft, DenseMat* linear = nullptr);
-  //! x_u (b#unknowns x cols) of the last form_rhs. \throw SolverError for a non-finite result.
+  //! x_u (b#unknowns x cols) of the last form_rhs (the fast path's solve_changed once set_base was given).
+  //! \throw SolverError from the backend, e.g. for a non-finite result (LinearSolver::solve).
   void solve(DenseMat& xu);
 
   //! The system as built; with consume_matrix its K is empty (the solver took it), and so is a dense K_dense.

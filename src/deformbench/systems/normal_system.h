@@ -63,9 +63,9 @@ struct NormalSystem {
   //! A_u^T b, block*#unknowns x rhs_cols; empty for an energy without a constant term (LRI's: zero targets, or
   //! targets that change every frame)
   DenseMat g0;
-  //! Naive build only: what the thesis' first version kept for the frames (section 2.4.1: the factorization
-  //! and the back-substitution held A^T beside the factor), its right-hand side formed each frame as
-  //! A_u^T (b - A_h x_h) instead of from g0 and C. Empty for the other builds.
+  //! LAP / TF naive build only: what the thesis' first version kept for the frames (section 2.4.1: the
+  //! factorization and the back-substitution held A^T beside the factor), its right-hand side formed each frame as
+  //! A_u^T (b - A_h x_h) instead of from g0 and C. Empty for the other builds (LRI's naive build included).
   SpMat At;          //!< A_u^T, block*#unknowns x block*#vertices
   SpMat Ah;          //!< A_h, block*#vertices x block*#hard
   DenseMat targets;  //!< b, the operator's targets, block*#vertices x rhs_cols
