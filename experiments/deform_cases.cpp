@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
                  {"method", method},
                  {"constraints", db::to_string(o.constraints)},
                  {"build", db::to_string(o.build)},
-                 {"backend", o.solver},
+                 {"backend", s.backend},
                  {"ordering", s.factor.ordering_used},
                  {"n", std::to_string(s.n)},
                  {"nnz", std::to_string(s.nnz)},

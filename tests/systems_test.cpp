@@ -70,6 +70,7 @@ TEST(MinQuadWithFixed, SolvesAsTheDenseReferenceForEveryBuild) {
         MinQuadWithFixed q;
         q.precompute(std::move(got.sys), got.unk, "test", "", SolverOptions{}, true);
         EXPECT_EQ(q.report().n, static_cast<std::size_t>(want.rows())) << what;
+        EXPECT_EQ(q.report().backend, bd == Build::Dense ? "dense_llt" : "multifrontal") << what;
         EXPECT_GT(q.report().factor.nnz_factor, 0u) << what;
         q.form_rhs(xh, soft);
         DenseMat x;

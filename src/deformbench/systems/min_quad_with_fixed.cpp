@@ -28,6 +28,7 @@ void MinQuadWithFixed::precompute(NormalSystem sys, const Unknowns& unk, const s
   varying_ = base_set_ = false;
   report_ = SystemReport{};
   report_.name = name;
+  report_.backend = backend;
   report_.held_bytes = sys_.held_bytes;
   if (sys_.build == Build::Dense) {
     SolverOptions dense = options;

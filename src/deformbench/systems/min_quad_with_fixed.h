@@ -28,6 +28,7 @@ namespace db {
 //! One factored system as the deformers report it.
 struct SystemReport {
   std::string name;  //!< e.g. "positions" or "frames"
+  std::string backend;  //!< the solver backend that factored it (resolve_solver: never empty)
   std::size_t n = 0, nnz = 0;
   std::size_t matrix_bytes = 0;  //!< the system matrix handed to the solver
   FactorStats factor;
