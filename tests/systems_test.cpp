@@ -106,8 +106,7 @@ TEST(MinQuadWithFixed, FastPathAndGivenLinearTermAgreeWithAFullSolve) {
   // A linear term given for the frame replaces g0.
   MinQuadWithFixed plain;
   plain.precompute(NormalSystem(a.sys), a.unk, "tf", "cholmod_supernodal", SolverOptions{}, true);
-  DenseMat g = a.sys.g0;
-  plain.form_rhs(xh, soft, &g);
+  plain.form_rhs(xh, soft, [&](DenseMat& g) { g += a.sys.g0; });
   plain.solve(full);
   EXPECT_LT((fast - full).norm(), 1e-9 * full.norm());
 }

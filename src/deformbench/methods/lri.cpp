@@ -40,8 +40,10 @@ LriDeformer::LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions
   SolverOptions fo = options.solver_options, po = options.solver_options;
   fo.block_size = 3;  // (b1, b2, N) components of one vertex share their pattern
   po.block_size = 1;
-  frames_mqwf_.precompute(std::move(fsys), unk_, "frames", solver, fo, /*consume_matrix=*/false);
-  positions_mqwf_.precompute(std::move(psys), unk_, "positions", solver, po, /*consume_matrix=*/false);
+  frames_mqwf_.analyze(std::move(fsys), unk_, "frames", solver, fo);
+  positions_mqwf_.analyze(std::move(psys), unk_, "positions", solver, po);
+  frames_mqwf_.factorize(/*consume_matrix=*/false);  // K is kept (frame_system())
+  positions_mqwf_.factorize(/*consume_matrix=*/false);
   times_.analyze = frames_mqwf_.analyze_seconds() + positions_mqwf_.analyze_seconds();
   times_.factorize = frames_mqwf_.factorize_seconds() + positions_mqwf_.factorize_seconds();
   systems_.push_back(frames_mqwf_.report());
@@ -93,9 +95,8 @@ double LriDeformer::position_rhs(const Mat4& T) {
   };
   fill(unk_.hard_vertices, xhp_);
   fill(unk_.soft_vertices, softp_);
-  gp_.setZero(unk_.num_unknowns(), 3);
-  add_At_targets(adj_, unk_, lri_position_rows(), tpos_, gp_);
-  positions_mqwf_.form_rhs(xhp_, softp_, &gp_);
+  const EdgeRows rows = lri_position_rows();
+  positions_mqwf_.form_rhs(xhp_, softp_, [&](DenseMat& g) { add_At_targets(adj_, unk_, rows, tpos_, g); });
   return t.seconds();
 }
 

@@ -62,7 +62,7 @@ class LriDeformer : public Deformer {
   std::vector<Vec3> forms_;
   MinQuadWithFixed frames_mqwf_, positions_mqwf_;
   std::vector<Mat3> raw_, solved_;
-  DenseMat xhf_, softf_, xf_, tpos_, gp_, xhp_, softp_, xp_;  // per-frame buffers, reused
+  DenseMat xhf_, softf_, xf_, tpos_, xhp_, softp_, xp_;  // per-frame buffers, reused
 
   //! The frame system's right-hand side for the handle rotation Rh (normalized coordinates); returns its time.
   double frame_rhs(const Mat3& Rh);

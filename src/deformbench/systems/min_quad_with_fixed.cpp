@@ -17,8 +17,8 @@ std::string resolve_solver(const std::string& name, Build build) {
   return name;
 }
 
-void MinQuadWithFixed::precompute(NormalSystem sys, const Unknowns& unk, const std::string& name,
-                                  const std::string& solver, const SolverOptions& options, bool consume_matrix) {
+void MinQuadWithFixed::analyze(NormalSystem sys, const Unknowns& unk, const std::string& name,
+                               const std::string& solver, const SolverOptions& options) {
   const std::string backend = resolve_solver(solver, sys.build);
   sys_ = std::move(sys);
   soft_unknowns_.clear();
@@ -26,43 +26,36 @@ void MinQuadWithFixed::precompute(NormalSystem sys, const Unknowns& unk, const s
   num_hard_ = unk.num_hard();
   w2_ = unk.soft_weight * unk.soft_weight;
   varying_ = base_set_ = false;
+  analyze_seconds_ = factorize_seconds_ = 0;
   report_ = SystemReport{};
   report_.name = name;
   report_.backend = backend;
   report_.held_bytes = sys_.held_bytes;
   if (sys_.build == Build::Dense) {
+    report_.n = static_cast<std::size_t>(sys_.K_dense.rows());
+    report_.nnz = static_cast<std::size_t>(sys_.K_dense.size());
+    report_.matrix_bytes = report_.nnz * sizeof(double);
     SolverOptions dense = options;
     dense.ordering = "default";  // nothing to order
     solver_ = make_solver(backend, dense);
-    factor_dense();
-  } else {
-    solver_ = make_solver(backend, options);
-    factor_sparse(consume_matrix);
+    return;  // factorize_dense replaces analyze + factorize
   }
-  report_.factor = solver_->stats();
-}
-
-void MinQuadWithFixed::factor_sparse(bool consume_matrix) {
   report_.n = static_cast<std::size_t>(sys_.K.rows());
   report_.nnz = static_cast<std::size_t>(sys_.K.nonZeros());
   report_.matrix_bytes = sparse_bytes(sys_.K);
+  solver_ = make_solver(backend, options);
   Timer t;
   solver_->analyze(sys_.K);
   analyze_seconds_ = t.seconds();
-  t.reset();
-  if (consume_matrix) solver_->factorize_consuming(sys_.K);
-  else solver_->factorize(sys_.K);
-  factorize_seconds_ = t.seconds();
 }
 
-void MinQuadWithFixed::factor_dense() {
-  report_.n = static_cast<std::size_t>(sys_.K_dense.rows());
-  report_.nnz = static_cast<std::size_t>(sys_.K_dense.size());
-  report_.matrix_bytes = report_.nnz * sizeof(double);
-  analyze_seconds_ = 0;  // factorize_dense replaces analyze + factorize
+void MinQuadWithFixed::factorize(bool consume_matrix) {
   Timer t;
-  solver_->factorize_dense(sys_.K_dense);
+  if (sys_.build == Build::Dense) solver_->factorize_dense(sys_.K_dense);
+  else if (consume_matrix) solver_->factorize_consuming(sys_.K);
+  else solver_->factorize(sys_.K);
   factorize_seconds_ = t.seconds();
+  report_.factor = solver_->stats();
 }
 
 void MinQuadWithFixed::set_varying(const std::vector<int>& moving_hard, const std::vector<int>& moving_unknowns) {
@@ -87,16 +80,20 @@ void MinQuadWithFixed::set_base(const DenseMat& xh, const DenseMat& soft) {
   base_set_ = true;
 }
 
-void MinQuadWithFixed::form_rhs(const DenseMat& xh, const DenseMat& soft, DenseMat* linear) {
+void MinQuadWithFixed::form_rhs(const DenseMat& xh, const DenseMat& soft,
+                                const std::function<void(DenseMat&)>& linear) {
   const bool hard = num_hard_ > 0;
   if (linear && sys_.At.size() > 0) throw Error("form_rhs: a system that keeps A^T forms its linear term itself");
   if (sys_.At.size() > 0) {  // the naive build's kept A^T: a product with A^T per frame
     if (hard) rhs_.noalias() = sys_.At * DenseMat(sys_.targets - sys_.Ah * xh);
     else rhs_.noalias() = sys_.At * sys_.targets;
   } else {
-    if (linear) rhs_.swap(*linear);
-    else if (sys_.g0.size() > 0) rhs_ = sys_.g0;
-    else rhs_.setZero(static_cast<Eigen::Index>(report_.n), sys_.rhs_cols);
+    if (sys_.g0.size() > 0 && !linear) {
+      rhs_ = sys_.g0;
+    } else {
+      rhs_.setZero(static_cast<Eigen::Index>(report_.n), sys_.rhs_cols);
+      if (linear) linear(rhs_);
+    }
     if (hard) {
       if (sys_.build == Build::Dense) rhs_.noalias() -= sys_.C_dense * xh;
       else rhs_.noalias() -= sys_.C * xh;

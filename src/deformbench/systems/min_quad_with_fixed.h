@@ -14,6 +14,7 @@
 //! frames and the base right-hand side go to the solver (LinearSolver::set_base_rhs), which may redo only their
 //! part of the forward substitution.
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -49,7 +50,15 @@ class MinQuadWithFixed {
   //! the solver (factorize_consuming), leaving system().K empty; the dense build's K always goes. `name` names
   //! the report. \throw InputError (resolve_solver), SolverError for a failed factorization, BudgetError.
   void precompute(NormalSystem sys, const Unknowns& unk, const std::string& name, const std::string& solver,
-                  const SolverOptions& options, bool consume_matrix);
+                  const SolverOptions& options, bool consume_matrix) {
+    analyze(std::move(sys), unk, name, solver, options);
+    factorize(consume_matrix);
+  }
+  //! precompute in its two steps, for a caller that analyzes several systems before it factors any (LRI: its
+  //! allocations, and so its peak memory, keep that order). The dense build's analyze only takes the system.
+  void analyze(NormalSystem sys, const Unknowns& unk, const std::string& name, const std::string& solver,
+               const SolverOptions& options);
+  void factorize(bool consume_matrix);
 
   //! Turns on the per-frame fast path (sparse builds; the dense backends solve in full): the right-hand side
   //! may change between frames only in the rows of the unknowns `moving_unknowns` and in those coupled through
@@ -61,9 +70,9 @@ class MinQuadWithFixed {
 
   //! The right-hand side of one frame. `xh`: the hard values, b#hard x cols (hard index h in rows
   //! b*h .. b*h+b-1, as in Unknowns); `soft`: the soft targets, b#soft x cols, in the order of
-  //! Unknowns::soft_vertices. `linear`: when given, this frame's linear term in place of g0, taken over (it is
-  //! left holding scratch values).
-  void form_rhs(const DenseMat& xh, const DenseMat& soft, DenseMat* linear = nullptr);
+  //! Unknowns::soft_vertices. `linear`: when given, adds this frame's linear term, in place of g0, to the zeroed
+  //! right-hand side it is handed (LRI's positions: A_u^T t for this frame's targets t).
+  void form_rhs(const DenseMat& xh, const DenseMat& soft, const std::function<void(DenseMat&)>& linear = {});
   //! x_u (b#unknowns x cols) of the last form_rhs (the fast path's solve_changed once set_base was given).
   //! \throw SolverError from the backend, e.g. for a non-finite result (LinearSolver::solve).
   void solve(DenseMat& xu);
@@ -87,8 +96,6 @@ class MinQuadWithFixed {
   bool varying_ = false, base_set_ = false;
   DenseMat rhs_;
 
-  void factor_sparse(bool consume_matrix);
-  void factor_dense();
 };
 
 }  // namespace db
