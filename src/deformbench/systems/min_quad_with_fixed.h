@@ -77,7 +77,7 @@ class MinQuadWithFixed {
   //! \throw SolverError from the backend, e.g. for a non-finite result (LinearSolver::solve).
   void solve(DenseMat& xu);
 
-  //! The system as built; with consume_matrix its K is empty (the solver took it), and so is a dense K_dense.
+  //! The system as built; after factorize(true) its K is empty (the solver took it), and a dense K_dense always.
   const NormalSystem& system() const { return sys_; }
   const SystemReport& report() const { return report_; }
   SystemReport& report() { return report_; }
@@ -95,7 +95,6 @@ class MinQuadWithFixed {
   std::vector<int> varying_rows_;
   bool varying_ = false, base_set_ = false;
   DenseMat rhs_;
-
 };
 
 }  // namespace db
