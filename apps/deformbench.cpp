@@ -24,6 +24,7 @@
 #include "methods/deformer.h"
 #include "methods/drag.h"
 #include "operators/frames.h"
+#include "systems/min_quad_with_fixed.h"
 
 namespace {
 
@@ -133,8 +134,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
 
 // The backend this run uses: --solver, or the build's default.
 std::string backend(const DeformArgs& a) {
-  if (!a.solver.empty()) return a.solver;
-  return a.build == "dense" ? "dense_llt" : "multifrontal";
+  return a.solver.empty() ? resolve_solver("", parse_build(a.build)) : a.solver;
 }
 
 // Options the chosen method, constraints or build do not use are refused, not ignored.

@@ -16,35 +16,10 @@
 #include "solvers/linear_solver.h"
 #include "systems/normal_system.h"
 #include "systems/vertex_ordering.h"
+#include "test_util.h"
 
 namespace db {
 namespace {
-
-Mesh tube() { return make_cylinder(12, 16, 1.0, 4.0); }
-
-// Bottom ring(s) fixed, top ring(s) handle, the rest free; `all_handle` turns the fixed part into handle too.
-Edit tube_edit(const Mesh& m, bool all_handle = false) {
-  Edit e;
-  e.name = "tube";
-  e.roles.assign(m.num_vertices(), Role::Free);
-  const double zmax = m.V.col(2).maxCoeff(), zmin = m.V.col(2).minCoeff();
-  for (int v = 0; v < m.num_vertices(); ++v) {
-    const double z = m.V(v, 2);
-    if (z < zmin + 0.5) e.roles[v] = all_handle ? Role::Handle : Role::Fixed;
-    if (z > zmax - 0.5) e.roles[v] = Role::Handle;
-  }
-  return e;
-}
-
-double rel_rms(const Points& a, const Points& b) {
-  return std::sqrt((a - b).rowwise().squaredNorm().mean()) / bbox_diagonal(b);
-}
-
-Points transformed(const Points& V, const Mat4& T) {
-  Points out(V.rows(), 3);
-  for (int i = 0; i < V.rows(); ++i) out.row(i) = apply(T, V.row(i).transpose()).transpose();
-  return out;
-}
 
 DeformOptions opts(const std::string& method, ConstraintMode mode = ConstraintMode::Hard, double w = 1.0) {
   DeformOptions o;
@@ -332,7 +307,7 @@ TEST(Deform, TfPinnedOnOneLineIsRejectedAsSingular) {
 }
 
 // The BS08 survey cases (data/bs08).
-const std::filesystem::path kBs08 = std::filesystem::path(DEFORMBENCH_SOURCE_DIR) / "data" / "bs08";
+const std::filesystem::path kBs08 = bs08_dir();
 
 class Bs08 : public ::testing::TestWithParam<std::string> {};
 
@@ -350,7 +325,7 @@ TEST_P(Bs08, LapAndTfRunAndHonourTheHandle) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, Bs08, ::testing::Values("plane", "cylinder", "bar", "cactus"));
+INSTANTIATE_TEST_SUITE_P(Cases, Bs08, ::testing::ValuesIn(kBs08Cases));
 
 TEST(Bs08Cactus, TfFactorsOnceCoordinatesAreNormalized) {
   // Known case: in raw coordinates a straightforward TF normal matrix of this edit is reported indefinite by

@@ -18,40 +18,16 @@
 #include "edit/transform.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"
+#include "test_util.h"
 
 namespace {
 
 using namespace db;
 namespace fs = std::filesystem;
 
-const std::string kBs08 = DEFORMBENCH_SOURCE_DIR "/data/bs08";
-const char* kBs08Cases[] = {"plane", "cylinder", "bar", "cactus"};
+const std::string kBs08 = bs08_dir().string();
 
-template <class F>
-void expect_input_error(F&& f, const std::string& substr) {
-  try {
-    f();
-    ADD_FAILURE() << "expected InputError containing '" << substr << "'";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(substr), std::string::npos) << "message: " << e.what();
-  }
-}
-
-class EditFiles : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("deformbench_edit_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& content) const {
-    std::ofstream(path(name)) << content;
-    return path(name);
-  }
-  fs::path dir_;
-};
+class EditFiles : public TempDirTest {};
 
 // 5x5 vertex grid in the z = 0 plane, vertex (i, j) at (i, j, 0) with index 5 j + i.
 Mesh grid5() {
@@ -103,7 +79,7 @@ TEST(ValidateEdit, AcceptsAndRejects) {
 
 TEST(Bs08, ReadSelDefAndLoadEveryCase) {
   if (!fs::exists(kBs08)) GTEST_SKIP() << kBs08 << " not present";
-  for (const char* name : kBs08Cases) {
+  for (const std::string& name : kBs08Cases) {
     SCOPED_TRACE(name);
     const std::string stem = kBs08 + "/" + name;
     const Mesh m = read_mesh(stem + ".off");

@@ -7,11 +7,10 @@
 #include "mesh/mesh.h"
 #include "mesh/procedural.h"
 #include "operators/frames.h"
+#include "test_util.h"
 
 namespace db {
 namespace {
-
-Mesh tube() { return make_cylinder(12, 16, 1.0, 4.0); }
 
 bool interior_ring(const Mesh& m, int v) {
   const double z = m.V(v, 2);

@@ -14,33 +14,12 @@
 #include "methods/deformer.h"
 #include "methods/lri.h"
 #include "methods/quality_metrics.h"
+#include "test_util.h"
 
 namespace db {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-Mesh tube() { return make_cylinder(12, 16, 1.0, 4.0); }
-
-// Bottom rings fixed, top rings handle; `all_handle` makes every constrained vertex a handle vertex.
-Edit tube_edit(const Mesh& m, bool all_handle = false) {
-  Edit e;
-  e.name = "tube";
-  e.roles.assign(m.num_vertices(), Role::Free);
-  for (int v = 0; v < m.num_vertices(); ++v) {
-    if (m.V(v, 2) < 0.5) e.roles[v] = all_handle ? Role::Handle : Role::Fixed;
-    if (m.V(v, 2) > 3.5) e.roles[v] = Role::Handle;
-  }
-  return e;
-}
-
-double rel_max(const Points& a, const Points& b) { return distance_between(a, b, bbox_diagonal(b)).max; }
-
-Points transformed(const Points& V, const Mat4& T) {
-  Points out(V.rows(), 3);
-  for (int i = 0; i < V.rows(); ++i) out.row(i) = apply(T, V.row(i).transpose()).transpose();
-  return out;
-}
 
 DeformOptions lri(const std::string& frames, const std::string& ortho, ConstraintMode mode = ConstraintMode::Hard) {
   DeformOptions o;

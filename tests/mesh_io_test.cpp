@@ -16,29 +16,14 @@
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"
+#include "test_util.h"
 
 namespace {
 
 using namespace db;
 namespace fs = std::filesystem;
 
-class MeshIo : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("deformbench_mesh_io_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& content) const {
-    std::ofstream(path(name), std::ios::binary) << content;
-    return path(name);
-  }
-  fs::path dir_;
-};
+class MeshIo : public TempDirTest {};
 
 // Coordinates that a lossy writer would change: thirds, tiny and huge magnitudes, negative zero.
 Mesh awkward_mesh() {
@@ -65,16 +50,6 @@ void expect_same(const Mesh& a, const Mesh& b) {
     EXPECT_EQ(std::memcmp(a.V.data() + i, b.V.data() + i, sizeof(double)), 0) << "coordinate " << i;
   }
   EXPECT_TRUE((a.F.array() == b.F.array()).all());
-}
-
-template <class F>
-void expect_input_error(F&& f, const std::string& substr) {
-  try {
-    f();
-    ADD_FAILURE() << "expected InputError containing '" << substr << "'";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(substr), std::string::npos) << "message: " << e.what();
-  }
 }
 
 TEST_F(MeshIo, RoundTripIsExactInEveryFormat) {

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "mesh/mesh.h"
 #include "mesh/procedural.h"
+#include "test_util.h"
 
 namespace {
 
@@ -70,16 +71,6 @@ void expect_adjacency_consistent(const Mesh& m) {
   }
   EXPECT_EQ(seen, edge_set(m));
   EXPECT_EQ(adj.nbr.size(), 2 * edge_set(m).size());
-}
-
-template <class F>
-void expect_input_error(F&& f, const std::string& substr) {
-  try {
-    f();
-    ADD_FAILURE() << "expected InputError containing '" << substr << "'";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(substr), std::string::npos) << "message: " << e.what();
-  }
 }
 
 TEST(Adjacency, SymmetricSortedAndMatchesEdges) {

@@ -52,6 +52,7 @@ void add_system(CellResult& r, const Deformer& d) {
   r.set("factor_flops", s.factor.flops, "flop");
   r.set("min_pivot_ratio", s.factor.min_pivot_ratio, "ratio");
   r.set_text("ordering_used", s.factor.ordering_used);
+  r.set_text("backend", s.backend);  // what factored it (resolve_solver), not what was asked
   const PhaseTimes& t = d.times();
   r.set("build_s", t.build, "s");
   r.set("analyze_s", t.analyze, "s");
@@ -131,7 +132,6 @@ CellResult measure_deform_cell(const CellSpec& spec) {
   r.set_text("mesh_name", ec.mesh.name);
   r.set_text("constraints", to_string(o.constraints));
   r.set_text("build", to_string(o.build));
-  r.set_text("backend", o.solver);
 
   auto d = make_deformer(ec.mesh, ec.edit, o);
   const Drag g = drag(*d, ec.edit.transform, c.frames);

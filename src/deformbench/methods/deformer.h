@@ -12,6 +12,7 @@
 #include "mesh/mesh.h"
 #include "operators/laplacian.h"
 #include "solvers/linear_solver.h"
+#include "systems/min_quad_with_fixed.h"
 #include "systems/normal_system.h"
 
 namespace db {
@@ -29,7 +30,11 @@ struct DeformOptions {
   ConstraintMode constraints = ConstraintMode::Hard;
   double soft_weight = 1.0;
   Build build = Build::Structured;
-  std::string solver = "multifrontal";
+  //! Linear-solver backend (solvers/, `deformbench solvers`). Empty: the build's default, multifrontal for the
+  //! sparse builds and dense_llt for the dense one (systems/min_quad_with_fixed.h, resolve_solver). The dense
+  //! build takes only dense backends (InputError otherwise) and orders nothing (solver_options.ordering does not
+  //! reach them); the sparse builds take any backend, dense ones included (they expand K: small systems only).
+  std::string solver;
   SolverOptions solver_options;
   bool normalize = true;             //!< center and scale before building (see normalization.h)
   std::size_t memory_budget = 0;     //!< bytes; 0 = unlimited. Checked on predictions before allocating.
@@ -44,14 +49,6 @@ struct PhaseTimes {
   double rhs = 0, solve = 0, write = 0;          //!< seconds, last frame
   double init() const { return build + analyze + factorize; }
   double frame() const { return rhs + solve + write; }
-};
-
-struct SystemReport {
-  std::string name;  //!< e.g. "positions" or "frames"
-  std::size_t n = 0, nnz = 0;
-  std::size_t matrix_bytes = 0;  //!< the system matrix handed to the solver
-  FactorStats factor;
-  std::vector<std::pair<std::string, std::size_t>> held_bytes;  //!< matrices held by the build
 };
 
 class Deformer {

@@ -23,7 +23,9 @@
 #include "methods/deformer.h"
 #include "methods/normalization.h"
 #include "operators/frames.h"
+#include "operators/lri_rows.h"
 #include "systems/lri_system.h"
+#include "systems/min_quad_with_fixed.h"
 
 namespace db {
 
@@ -44,8 +46,9 @@ class LriDeformer : public Deformer {
   //! Last deform(): solved frames before orthonormalization (hard vertices: their targets), and after.
   const std::vector<Mat3>& solved_frames_raw() const { return raw_; }
   const std::vector<Mat3>& solved_frames() const { return solved_; }
-  const EdgeSystem& frame_system() const { return fsys_; }
-  const EdgeSystem& position_system() const { return psys_; }
+  //! The two systems as built (their K is kept: factored, not consumed).
+  const NormalSystem& frame_system() const { return frames_mqwf_.system(); }
+  const NormalSystem& position_system() const { return positions_mqwf_.system(); }
 
  private:
   Edit edit_;
@@ -57,10 +60,15 @@ class LriDeformer : public Deformer {
   Unknowns unk_;
   FrameField frames_;
   std::vector<Vec3> forms_;
-  EdgeSystem fsys_, psys_;
-  std::unique_ptr<LinearSolver> fsolver_, psolver_;
+  MinQuadWithFixed frames_mqwf_, positions_mqwf_;
   std::vector<Mat3> raw_, solved_;
-  DenseMat xhf_, rhsf_, xf_, tpos_, xhp_, rhsp_, xp_;  // per-frame buffers, reused
+  DenseMat xhf_, softf_, xf_, tpos_, xhp_, softp_, xp_;  // per-frame buffers, reused
+
+  //! The frame system's right-hand side for the handle rotation Rh (normalized coordinates); returns its time.
+  double frame_rhs(const Mat3& Rh);
+  //! From the solved frames xf_: raw_, solved_ and the position system's right-hand side for the handle
+  //! transform T; returns its time.
+  double position_rhs(const Mat4& T);
 };
 
 //! The `lri` branch of make_deformer.

@@ -2,6 +2,7 @@
 // Internal to systems/: the pieces every build shares, so the three builds differ only in what they store.
 #include <vector>
 
+#include "operators/lri_rows.h"
 #include "systems/normal_system.h"
 
 namespace db::detail {
@@ -24,6 +25,16 @@ inline void block_AtB(const double* X, const double* Y, double* out) {
     }
 }
 
+//! out(c1, c2) = sum_r X(r, c1) Y(r, c2) for b x b row-major blocks of a size known at run time only.
+inline void block_AtB(int b, const double* X, const double* Y, double* out) {
+  for (int c1 = 0; c1 < b; ++c1)
+    for (int c2 = 0; c2 < b; ++c2) {
+      double s = 0;
+      for (int r = 0; r < b; ++r) s += X[r * b + c1] * Y[r * b + c2];
+      out[c1 * b + c2] = s;
+    }
+}
+
 //! `pattern`: interaction_pattern(adj, unk) when the caller has it already; `threads`: 0 = worker_threads().
 NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk, const InteractionPattern* pattern = nullptr,
                               int threads = 0);
@@ -38,5 +49,36 @@ struct StencilCounts {
   std::size_t nnz_C = 0;
 };
 StencilCounts count_stencil(const EnergyOperator& op, const Unknowns& unk);
+
+// LRI's edge energies (systems/lri_system.h).
+NormalSystem build_edge_structured(const Adjacency& adj, const Unknowns& unk, const EdgeRows& rows);
+NormalSystem build_edge_naive(const Adjacency& adj, const Unknowns& unk, const EdgeRows& rows);
+
+//! Sizes of an edge energy's matrices, counted over the directed edges that touch an unknown.
+struct EdgeCounts {
+  std::size_t rows = 0;  // active directed edges
+  std::size_t nnz_Au = 0, nnz_Ah = 0;
+  std::size_t blocks_K_upper = 0, blocks_K_full = 0, blocks_C = 0;
+};
+EdgeCounts count_edges(const Adjacency& adj, const Unknowns& unk, int b);
+
+//! \throw InputError naming the edge when P_ij or Q_ij holds a NaN or Inf.
+void check_blocks_finite(int b, const double* P, const double* Q, int i, int j);
+
+//! Calls f(i, j, slot, P, Q) for every directed edge (i, j) that touches an unknown (edges between hard vertices
+//! do not enter the system), in the order of adj.nbr, with its blocks from `rows`, checked finite on request.
+template <class F>
+void for_each_edge_block(const Adjacency& adj, const Unknowns& unk, const EdgeRows& rows, bool check_finite, F&& f) {
+  const int b = rows.block;
+  std::vector<double> P(b * b), Q(b * b);
+  for (int i = 0; i < adj.num_vertices(); ++i)
+    for (int s = adj.off[i]; s < adj.off[i + 1]; ++s) {
+      const int j = adj.nbr[s];
+      if (unk.unknown_of[i] < 0 && unk.unknown_of[j] < 0) continue;
+      rows.blocks(i, j, s, P.data(), Q.data());
+      if (check_finite) check_blocks_finite(b, P.data(), Q.data(), i, j);
+      f(i, j, s, P.data(), Q.data());
+    }
+}
 
 }  // namespace db::detail

@@ -55,7 +55,7 @@ int InteractionPattern::find(int col, int row) const {
 InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk, int rings) {
   const int nu = unk.num_unknowns();
   // Column ranges on the worker threads, concatenated afterwards: the pattern is computed once for the
-  // vertex ordering and once for the build, ~70 ms each on one thread at 104k vertices.
+  // vertex ordering and once for the build, a visible share of the build on large meshes.
   const int T = std::max(1, std::min(worker_threads(), nu / 8192 + 1));
   std::vector<std::vector<int>> rows(T), counts(T);
   auto work = [&](int t) {
@@ -120,8 +120,8 @@ SpMat expand_upper(const InteractionPattern& p, int b) {
   double* val = K.valuePtr();
   advise_huge_pages(ri, std::size_t(nnz) * sizeof(int));
   advise_huge_pages(val, std::size_t(nnz) * sizeof(double));
-  // Row indices and zero values written by column ranges on the worker threads: ~100 MB at 104k vertices (TF),
-  // most of it first-touch page faults that parallelize.
+  // Row indices and zero values written by column ranges on the worker threads: K is the build's largest array,
+  // and writing it is mostly first-touch page faults, which parallelize.
   const int T = std::max(1, std::min(worker_threads(), nu / 4096 + 1));
   run_on_threads(T, [&](int t) {
     const int k0 = static_cast<int>(static_cast<long long>(nu) * t / T);

@@ -11,6 +11,8 @@
 //!  - structured: K from the 2-ring stencil of the adjacency, A never stored;
 //!  - naive sparse: A assembled from triplets, A^T formed explicitly, A^T A by a sparse product;
 //!  - dense: A and A^T A as dense matrices.
+//! LRI's edge energies give systems of the same form (systems/lri_system.h); systems/min_quad_with_fixed.h
+//! factors any of them and solves it per frame.
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -44,7 +46,7 @@ Unknowns make_unknowns(const std::vector<Constraint>& kind, double soft_weight);
 
 struct NormalSystem {
   // Moves swap the sparse matrices: Eigen 3.4's SparseMatrix has no move operations, so the implicit ones
-  // copied K (110 MB, ~0.1 s for the 104k TF system) wherever a built system was assigned.
+  // copied K, the build's largest matrix, wherever a built system was assigned.
   NormalSystem() = default;
   NormalSystem(const NormalSystem&) = default;
   NormalSystem& operator=(const NormalSystem&) = default;
@@ -58,10 +60,12 @@ struct NormalSystem {
   SpMat C;           //!< A_u^T A_h, block*#unknowns x block*#hard; sparse builds
   DenseMat K_dense;  //!< dense build: full A_u^T A_u + W
   DenseMat C_dense;  //!< dense build
-  DenseMat g0;       //!< A_u^T b, block*#unknowns x rhs_cols
-  //! Naive build only: what the thesis' first version kept for the frames (section 2.4.1: the factorization
-  //! and the back-substitution held A^T beside the factor), its right-hand side formed each frame as
-  //! A_u^T (b - A_h x_h) instead of from g0 and C. Empty for the other builds.
+  //! A_u^T b, block*#unknowns x rhs_cols; empty for an energy without a constant term (LRI's: zero targets, or
+  //! targets that change every frame)
+  DenseMat g0;
+  //! LAP / TF naive build only: what the thesis' first version kept for the frames (section 2.4.1: the
+  //! factorization and the back-substitution held A^T beside the factor), its right-hand side formed each frame as
+  //! A_u^T (b - A_h x_h) instead of from g0 and C. Empty for the other builds (LRI's naive build included).
   SpMat At;          //!< A_u^T, block*#unknowns x block*#vertices
   SpMat Ah;          //!< A_h, block*#vertices x block*#hard
   DenseMat targets;  //!< b, the operator's targets, block*#vertices x rhs_cols
@@ -70,8 +74,8 @@ struct NormalSystem {
   std::vector<std::pair<std::string, std::size_t>> held_bytes;
   double build_seconds = 0;
 
-  //! Unknowns (scalar): g0's rows, which outlive K when a solver consumed it.
-  std::size_t n() const { return static_cast<std::size_t>(g0.rows()); }
+  //! Unknowns (scalar): g0's rows, which outlive K when a solver consumed it, or K's order when g0 is empty.
+  std::size_t n() const { return static_cast<std::size_t>(g0.rows() > 0 ? g0.rows() : K.rows()); }
   //! Sum of held_bytes.
   std::size_t total_held_bytes() const;
 };

@@ -1,7 +1,7 @@
 #pragma once
 //! Fill-reducing ordering computed on the vertex graph of a structured system, before assembly.
 //! Why: the TF system is the vertex pattern expanded to 3x3 blocks, so ordering the n-vertex graph instead of
-//! the 3n-unknown matrix makes the ordering ~3-9x cheaper, and numbering the unknowns in that order while
+//! the 3n-unknown matrix makes the ordering several times cheaper, and numbering the unknowns in that order while
 //! assembling lets the solver use the natural ordering, with no permuted copy of the matrix.
 #include <string>
 
@@ -10,10 +10,10 @@
 
 namespace db {
 
-//! The vertex ordering structured builds use unless told otherwise, by block size. METIS finds 5-15% less fill
-//! than AMD on the 2-ring graphs of surface meshes, i.e. about a third fewer flops (armadillo Loop 1:
-//! 74 against 109 GFlop for TF). With 3x3 blocks (TF) that saves seconds of factorization for a fraction of
-//! a second of ordering; for scalar systems (LAP) the ordering time would eat the saving.
+//! The vertex ordering structured builds use unless told otherwise, by block size. METIS finds less fill than
+//! AMD on the 2-ring graphs of surface meshes, and markedly fewer flops (the solver study, results/solvers.md,
+//! compares them). With 3x3 blocks (TF) that saves more factorization time than the ordering costs; for scalar
+//! systems (LAP) the ordering time would eat the saving.
 inline const char* default_vertex_ordering(int block_size) { return block_size > 1 ? "metis" : "amd"; }
 
 //! Renumbers the unknowns of `unk` in a fill-reducing, postordered order of their interaction graph
@@ -28,8 +28,8 @@ void order_unknowns(const InteractionPattern& pattern, Unknowns& unk, const std:
 //! The structured build and its vertex ordering at once, for an ordering that runs on one core (AMD, the scalar
 //! LAP system's): the ordering on a second thread while this one builds in `unk`'s present numbering, both
 //! from one interaction pattern; then the system is renumbered into the ordering's (renumber_unknowns) and so
-//! is `unk`. Why: on the 104k LAP system the serial AMD and the build are each ~0.1-0.2 s, and the
-//! renumbering costs a third of either. K is held twice while it is renumbered ("K_upper_renumbering" in
+//! is `unk`. Why: the serial AMD and the scalar LAP build take comparable time, and the renumbering
+//! costs less than either (README, "Performance knobs", has the measurement). K is held twice while it is renumbered ("K_upper_renumbering" in
 //! held_bytes).
 //! `ordering_seconds`: the ordering thread's own time. Checks as build_normal_system (check_build).
 NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,
