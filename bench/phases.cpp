@@ -15,15 +15,7 @@
 // solver for analyze, freeing the previous build) runs with the timer paused. No manual time, so the names carry
 // no "/manual_time" suffix.
 //
-// Own flags (before the Google Benchmark ones):
-//   --data DIR        data folder (default: $DEFORMBENCH_SOURCE_DIR/data, else ./data)
-//   --tiers a,b       hand, man, armadillo, armadillo_loop1 (default: hand,armadillo)
-//   --full            adds man and armadillo_loop1 (104k vertices)
-//   --systems a,b     lap,tf
-//   --builds a,b      structured (default); naive and dense also time their build (dense: hand tier only)
-//   --backends a,b    default: multifrontal,cholmod_supernodal,cholmod_simplicial_ldlt,eigen_simplicial_llt,umfpack
-//   --simplicial-max-n N  simplicial backends (cholmod_simplicial_ldlt, eigen_simplicial_*) only on systems with
-//                     at most N unknowns (default 30000: armadillo tf, 78k, takes them 10-20 s a factorization)
+// Own options: `bench_phases --help`; Google Benchmark's flags pass through to it.
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -37,7 +29,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
-#include "core/args.h"
+#include "core/cli.h"
 #include "core/error.h"
 #include "core/provenance.h"
 #include "harness/thesis_edit.h"
@@ -209,31 +201,25 @@ struct Options {
   double simplicial_max_n = 30000;
 };
 
-// Takes our own flags out of argv (Google Benchmark rejects flags it does not know).
-Options parse_own_flags(int& argc, char** argv) {
-  Options o;
+void define_options(CLI::App& app, Options& o) {
   const char* src = std::getenv("DEFORMBENCH_SOURCE_DIR");
   o.data = src ? (fs::path(src) / "data").string() : "data";
-  bool full = false, tiers_given = false;
-  int w = 1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw Error(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--data") o.data = value();
-    else if (a == "--tiers") o.tiers = split_list(value()), tiers_given = true;
-    else if (a == "--systems") o.systems = split_list(value());
-    else if (a == "--builds") o.builds = split_list(value());
-    else if (a == "--backends") o.backends = split_list(value());
-    else if (a == "--simplicial-max-n") o.simplicial_max_n = std::stod(value());
-    else if (a == "--full") full = true;
-    else argv[w++] = argv[i];
-  }
-  argc = w;
-  if (full && !tiers_given) o.tiers = {"hand", "man", "armadillo", "armadillo_loop1"};
-  return o;
+  app.add_option("--data", o.data, "data folder")->capture_default_str();
+  const std::vector<std::string> tiers = {"hand", "man", "armadillo", "armadillo_loop1"};
+  auto* t = app.add_option("--tiers", o.tiers, "meshes")->delimiter(',')->check(cli::OneOf(tiers));
+  t->capture_default_str();
+  app.add_flag("--full", "all four tiers (adds man and the 104k armadillo_loop1)")->excludes(t);
+  app.add_option("--systems", o.systems, "systems")->delimiter(',')->check(cli::OneOf({"lap", "tf"}))
+      ->capture_default_str();
+  app.add_option("--builds", o.builds, "builds (naive and dense time their build too; dense: hand tier only)")
+      ->delimiter(',')->check(cli::OneOf({"structured", "naive", "dense"}))->capture_default_str();
+  app.add_option("--backends", o.backends, "backends")->delimiter(',')->check(cli::OneOf(solver_names()))
+      ->capture_default_str();
+  app.add_option("--simplicial-max-n", o.simplicial_max_n, "simplicial backends only up to this many unknowns")
+      ->check(cli::Integer(1, 1000000000))->capture_default_str();
+  // Google Benchmark rejects flags it does not know, and we do not know its: they pass through to it.
+  app.allow_extras();
+  app.footer("Google Benchmark flags (--benchmark_filter=REGEX, --benchmark_repetitions=N, ...) pass through.");
 }
 
 std::string mesh_path(const std::string& data, const std::string& tier) {
@@ -276,17 +262,25 @@ void register_all(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const Options o = parse_own_flags(argc, argv);
+  CLI::App app("Google Benchmark suite of the build, analyze, factorize and solve phases", "bench_phases");
+  Options o;
+  define_options(app, o);
+  return cli::run(app, argc, argv, [&] {
+    if (app.count("--full") > 0) o.tiers = {"hand", "man", "armadillo", "armadillo_loop1"};
     register_all(o);
-  } catch (const std::exception& e) {
-    std::cerr << "bench_phases: error: " << e.what() << "\n";
-    return exit_code(e);
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  for (const auto& [k, v] : provenance().columns()) benchmark::AddCustomContext("deformbench_" + k, v);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+    std::vector<std::string> rest = app.remaining();  // Google Benchmark's flags, in order
+    for (const std::string& r : rest)
+      if (r.rfind("--benchmark_", 0) != 0)
+        throw UsageError(fmt::format("unknown option '{}' (bench_phases --help; Google Benchmark's flags start "
+                                     "with --benchmark_)", r));
+    std::vector<char*> args{argv[0]};
+    for (std::string& r : rest) args.push_back(r.data());
+    int n = static_cast<int>(args.size());
+    benchmark::Initialize(&n, args.data());
+    if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
+    for (const auto& [k, v] : provenance().columns()) benchmark::AddCustomContext("deformbench_" + k, v);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+  });
 }

@@ -230,9 +230,9 @@ TEST_F(MeshIo, ErrorsNameTheFile) {
   expect_input_error([&] { read_mesh(p); }, p + ": line 3:");
 }
 
-TEST_F(MeshIo, RealCgalColouredOffWhenPresent) {
+TEST_F(MeshIo, RealCgalColouredOff) {
   const std::string p = DEFORMBENCH_SOURCE_DIR "/data/meshes/cactus.off";
-  if (!fs::exists(p)) GTEST_SKIP() << p << " not present (run scripts/data.sh)";
+  ASSERT_TRUE(fs::exists(p)) << p << " is missing: run scripts/data.sh (./run test does)";
   const Mesh m = read_mesh(p);
   EXPECT_NO_THROW(validate_mesh(m));
   write_mesh(path("cactus.ply"), m);
