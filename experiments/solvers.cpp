@@ -1093,6 +1093,7 @@ int driver_main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ::unsetenv("DEFORMBENCH_ORDERING_CACHE");  // cold analyses: a cached ordering would skip METIS in the cells
   if (argc > 1 && std::string(argv[1]) == "--cell") return cell_main(argc, argv);
   try {
     return driver_main(argc, argv);
