@@ -21,8 +21,9 @@ FrontColumn front_column(const FactorBlock& L, int j) {
 
 }  // namespace
 
-FrontFactorization::FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots)
-    : S_(S), values_(values), pivots_(pivots), updates_(std::size_t(S.nsuper())) {}
+FrontFactorization::FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots,
+                                       std::size_t pool_bytes)
+    : S_(S), values_(values), pivots_(pivots), pool_(pool_bytes / sizeof(double)), updates_(std::size_t(S.nsuper())) {}
 
 void FrontFactorization::assemble_child(int c, int p, Workspace& ws, Part part) {
   const int nc = S_.ncols(p), m = S_.nrows(p), nr = m - nc;
@@ -47,7 +48,7 @@ void FrontFactorization::assemble_child(int c, int p, Workspace& ws, Part part) 
     }
   if ((part & kUpdate) && jsplit < nrc) {
     UpdateBlock& U = updates_[std::size_t(p)];
-    if (!U) U = UpdateBlock(nr, true);
+    if (!U) U = UpdateBlock(nr, true, &pool_);
     for (int jj = jsplit; jj < nrc; ++jj) {
       const int lj = rel[jj] - nc;
       const double* src = Uc.col(jj) - jj;
@@ -143,7 +144,7 @@ bool FrontFactorization::factor_panels(int s, const FactorBlock& L, Workspace& w
 //! is written by the first panel's product (beta = 0).
 void FrontFactorization::form_update(int s, const FactorBlock& L, bool fresh_heap) {
   const int nc = S_.ncols(s), nr = S_.nrows(s) - nc;
-  UpdateBlock U = updates_[std::size_t(s)] ? std::move(updates_[std::size_t(s)]) : UpdateBlock(nr, !fresh_heap);
+  UpdateBlock U = updates_[std::size_t(s)] ? std::move(updates_[std::size_t(s)]) : UpdateBlock(nr, !fresh_heap, &pool_);
   for (int p = 0; p < L.panels(); ++p) {
     const int wp = L.width(p), ldp = L.height(p);
     const double* B = L.rect(p) + (nc - L.c0(p) - wp);

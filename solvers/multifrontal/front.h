@@ -29,8 +29,9 @@ enum Part { kPivot = 1, kUpdate = 2, kBoth = 3 };
 //! caller runs each supernode after its children, and no two threads on the same supernode.
 class FrontFactorization {
  public:
-  //! `values`: S.xptr.back() zeroed doubles; `pivots`: S.n entries, L_jj^2 per column once factored.
-  FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots);
+  //! `values`: S.xptr.back() zeroed doubles; `pivots`: S.n entries, L_jj^2 per column once factored;
+  //! `pool_bytes`: room for the update matrices in a recycled pool (UpdatePool; the bound of update_peak).
+  FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots, std::size_t pool_bytes = 0);
 
   //! Assembles and factors the front of supernode s and forms its update matrix; false (and failed_column()
   //! set) when a pivot is not positive.
@@ -39,6 +40,9 @@ class FrontFactorization {
   //! kUpdate, p's update matrix is allocated zeroed here if it has none yet); frees the child's matrix once
   //! nothing of it is left to move. The caller makes sure no other thread works on p meanwhile.
   void assemble_child(int c, int p, Workspace& ws, Part part = kBoth);
+  //! The update matrices' pool takes no more blocks and hands its free pages back (the top phase: its few large
+  //! matrices are mapped each, and the pool's pages would stay resident beside the finished factor).
+  void close_pool() { pool_.close(); }
   //! The first column found not positive definite (factor order), or -1.
   std::int64_t failed_column() const { return failed_column_; }
 
@@ -51,6 +55,7 @@ class FrontFactorization {
   const Symbolic& S_;
   double* values_;
   std::vector<double>& pivots_;
+  UpdatePool pool_;  // before updates_: the blocks go back to it when they die
   std::vector<UpdateBlock> updates_;  //!< update matrix of each supernode until its parent takes it
   std::atomic<std::int64_t> failed_column_{-1};
 };

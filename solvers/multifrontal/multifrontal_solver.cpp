@@ -153,7 +153,7 @@ void MultifrontalSolver::factorize_impl(const SpMat& upper_in, SpMat* consumed) 
   pivots_.assign(std::size_t(S_.n), 0.0);
   std::int64_t failed = -1;
   {
-    FrontFactorization fronts(S_, values_.get(), pivots_);  // its update matrices die with it
+    FrontFactorization fronts(S_, values_.get(), pivots_, stats_.workspace_bytes);  // its update matrices die with it
     if (!factor_tree(A, may_release, fronts)) failed = fronts.failed_column();
   }
   if (failed >= 0) {
@@ -209,6 +209,7 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
     }
   });
   if (!ok) return false;
+  fronts.close_pool();
   Workspace ws(S_.n);
   ColumnRelease release(A, may_release);
   for (int s : factor_plan_.top) {

@@ -64,16 +64,73 @@ Mapping Mapping::on_file(std::size_t count, const char* what, const std::string&
   return m;
 }
 
-UpdateBlock::UpdateBlock(int r, bool zeroed) : r_(r) {
+UpdatePool::UpdatePool(std::size_t count) : units_((count + kUnit - 1) / kUnit) {
+  if (units_ == 0) return;
+  memory_ = Mapping(units_ * kUnit, "the update matrices");
+  free_.emplace(0, units_);
+}
+
+double* UpdatePool::take(std::size_t count) {
+  const std::size_t want = std::max<std::size_t>(1, (count + kUnit - 1) / kUnit);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (closed_) return nullptr;
+  // First fit: the lowest addresses are reused first, so the pages touched stay near the peak in use.
+  for (auto it = free_.begin(); it != free_.end(); ++it)
+    if (it->second >= want) {
+      const std::size_t at = it->first, left = it->second - want;
+      free_.erase(it);
+      if (left > 0) free_.emplace(at + want, left);
+      return memory_.get() + at * kUnit;
+    }
+  return nullptr;
+}
+
+void UpdatePool::give(double* p, std::size_t count) {
+  std::size_t at = std::size_t(p - memory_.get()) / kUnit, len = std::max<std::size_t>(1, (count + kUnit - 1) / kUnit);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  auto next = free_.lower_bound(at);
+  if (next != free_.begin()) {  // merge with the free range before
+    auto prev = std::prev(next);
+    if (prev->first + prev->second == at) {
+      at = prev->first;
+      len += prev->second;
+      free_.erase(prev);
+    }
+  }
+  if (next != free_.end() && at + len == next->first) {  // and the one after
+    len += next->second;
+    free_.erase(next);
+  }
+  free_.emplace(at, len);
+  if (closed_) release(at, len);
+}
+
+void UpdatePool::close() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  closed_ = true;
+  for (const auto& [at, len] : free_) release(at, len);
+}
+
+void UpdatePool::release(std::size_t at, std::size_t len) const {
+  const std::uintptr_t a = page_up(reinterpret_cast<std::uintptr_t>(memory_.get() + at * kUnit)),
+                       e = page_down(reinterpret_cast<std::uintptr_t>(memory_.get() + (at + len) * kUnit));
+  if (e > a) ::madvise(reinterpret_cast<void*>(a), e - a, MADV_DONTNEED);
+}
+
+UpdateBlock::UpdateBlock(int r, bool zeroed, UpdatePool* pool) : r_(r) {
   const std::size_t total = entries(r);
   if (mapped(r)) {
     mapped_ = Mapping(total, "an update matrix");  // zero-filled by the kernel
     data_ = mapped_.get();
+    return;
+  }
+  if (pool && (data_ = pool->take(total)) != nullptr) {
+    pool_ = pool;
   } else {
     heap_.reset(new double[std::max<std::size_t>(total, 1)]);
     data_ = heap_.get();
-    if (zeroed) std::fill(data_, data_ + total, 0.0);
   }
+  if (zeroed) std::fill(data_, data_ + total, 0.0);
 }
 
 ColumnRelease::ColumnRelease(const SpMat& A, bool enabled)

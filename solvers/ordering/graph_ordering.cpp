@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/resources.h"
 #include "solvers/ordering/cholmod_views.h"
+#include "solvers/ordering/ordering_cache.h"
 
 namespace db {
 namespace {
@@ -178,8 +179,11 @@ std::vector<int> dissected_metis_order(const GraphPattern& pat, cholmod_common& 
 constexpr int kDissectVertices = 20000;
 
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc) {
-  const std::vector<int> given =
-      method == "metis" && g.n >= kDissectVertices ? dissected_metis_order(g, cc) : std::vector<int>{};
+  const OrderingCache cache = OrderingCache::from_environment();
+  const bool cacheable = cache.enabled() && method != "natural";
+  std::vector<int> given = cacheable ? cache.find(g, method) : std::vector<int>{};
+  const bool cached = !given.empty();  // postordered already: the analysis keeps it as it is
+  if (!cached && method == "metis" && g.n >= kDissectVertices) given = dissected_metis_order(g, cc);
   cc.nmethods = 1;
   cc.method[0].ordering = given.empty() ? cholmod_ordering_code(method) : CHOLMOD_GIVEN;
   cc.postorder = true;
@@ -190,6 +194,14 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
     if (L) cholmod_free_factor(&L, &cc);
     throw SolverError(fmt::format("symbolic analysis ({} ordering) of a {}-vertex graph failed, CHOLMOD status {}",
                                   method, g.n, cc.status));
+  }
+  if (cacheable && !cached) {
+    try {
+      cache.store(g, method, static_cast<const int*>(L->Perm));
+    } catch (...) {
+      cholmod_free_factor(&L, &cc);
+      throw;
+    }
   }
   return L;
 }

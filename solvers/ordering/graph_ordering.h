@@ -21,8 +21,9 @@ struct GraphPattern {
 //! or supernodal (and its amalgamation) as the caller set `cc`. METIS on 20000 vertices or more is dissected
 //! here: a METIS separator splits the graph and the two sides are ordered at once, one in a forked child
 //! process (METIS draws from the C library's shared random generator, so threads would make the ordering vary
-//! between runs); the result does not depend on the thread count. The caller frees the factor.
-//! \throw SolverError when CHOLMOD fails.
+//! between runs); the result does not depend on the thread count. With DEFORMBENCH_ORDERING_CACHE set, the
+//! ordering comes from (or goes to) that cache (ordering_cache.h). The caller frees the factor.
+//! \throw SolverError when CHOLMOD fails; Error when the cache directory cannot be written.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc);
 
 //! METIS's fill-reducing order of `g` (perm[new] = old), not postordered; on 20000 vertices or more dissected
