@@ -22,6 +22,7 @@ Environment: DEFORMBENCH_BUILD_DIR (default build/), JOBS (default 2), DEFORMBEN
 """
 import argparse
 import csv
+import datetime
 import os
 import shlex
 import subprocess
@@ -77,7 +78,8 @@ class Context:
         self.repo = Path(a.repo).resolve() if a.repo else Path(__file__).resolve().parent.parent
         self.build = Path(os.environ.get("DEFORMBENCH_BUILD_DIR") or self.repo / "build").resolve()
         self.work = Path(a.work_dir).resolve() if a.work_dir else self.build / "track"
-        self.history = self.repo / "results" / "history"
+        self.history = Path(a.history_dir).resolve() if a.history_dir else self.repo / "results" / "history"
+        self.report = Path(a.report).resolve() if a.report else self.repo / "results" / "track.md"
         self.config = Path(a.config).resolve() if a.config else self.repo / "data" / "experiments" / "track.toml"
         self.data = self.repo / "data"
         self.jobs = os.environ.get("JOBS", "2")
@@ -146,16 +148,22 @@ def worktree(ctx, name, sha):
     return wt
 
 
-def run_name(commit_label, machine):
-    stamp = subprocess.run(["date", "-u", "+%Y%m%dT%H%M%SZ"], text=True, stdout=subprocess.PIPE).stdout.strip()
-    return f"{stamp}_{commit_label.replace('+', '_')}_{machine}.csv"
+def run_path(ctx, commit_label, machine):
+    """RESULTS/history/runs/<UTC>_<commit>_<machine>.csv, a name no run has taken."""
+    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+    base = f"{stamp}_{commit_label.replace('+', '_')}_{machine}"
+    path, k = ctx.history / "runs" / f"{base}.csv", 1
+    while path.exists():
+        k += 1
+        path = ctx.history / "runs" / f"{base}-{k}.csv"
+    return path
 
 
 def measure_commit(ctx, sha, machine, only, tree="rev"):
     """Builds `sha` in a worktree and measures it (no overrides) into results/history/runs."""
     wt = worktree(ctx, tree if tree == "bisect" else f"rev-{sha[:12]}", sha)
     build(ctx, wt, wt / "build")
-    return measure(ctx, wt, wt / "build", ctx.history / "runs" / run_name(sha[:12], machine), sha, only, [])
+    return measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, only, [])
 
 
 # ------------------------------------------------------------------------------------------------ histories
@@ -172,29 +180,45 @@ def read_meta(path):
                 dirty=row.get("git_sha", "").endswith("+dirty") or row["commit"].endswith("+dirty"))
 
 
-def histories(ctx, exclude=None):
+def histories(ctx):
     files = sorted((ctx.history / "runs").glob("*.csv")) + sorted((ctx.history / "reference").glob("*.csv"))
-    metas = [read_meta(p) for p in files if exclude is None or p.resolve() != Path(exclude).resolve()]
-    return [m for m in metas if m]
+    return [m for m in map(read_meta, files) if m]
 
 
 def newest(metas):
     return max(metas, key=lambda m: (m["date"], m["path"].name)) if metas else None
 
 
-def has_cells(path, globs):
-    if not globs:
-        return True
-    import fnmatch
+def cells_of(path):
     with open(path, newline="") as f:
-        cells = {r["cell"] for r in csv.DictReader(f)}
-    return all(any(fnmatch.fnmatchcase(c, g) for c in cells) for g in globs.split(","))
+        return {r["cell"] for r in csv.DictReader(f)}
 
 
-def choose_baseline(ctx, machine, head, exclude):
-    """(history path, why) for the default baseline, or (None, why)."""
-    clean = [m for m in histories(ctx, exclude) if not m["dirty"] and not m.get("overrides") and
-             has_cells(m["path"], ctx.only)]
+def suite_cells(ctx):
+    """The names of the cells the suite runs (with --only), from the driver's --dry-run."""
+    if ctx.hook:
+        out = sh(ctx.hook + ["cells", ctx.only or ""]).stdout
+    else:
+        cmd = [str(ctx.build / "exp_track"), "--config", str(ctx.config), "--data", str(ctx.data), "--dry-run"]
+        out = sh(cmd + (["--only", ctx.only] if ctx.only else [])).stdout
+    return {line.split()[0] for line in out.splitlines() if line.strip()}
+
+
+def candidates(ctx, machine=None, commit=None, cells=()):
+    """Clean histories without overrides that hold every cell of `cells` (of `machine` and `commit` when given)."""
+    out = []
+    for m in histories(ctx):
+        if m["dirty"] or m.get("overrides") or (machine and m["machine_id"] != machine) or \
+                (commit and m["commit"] != commit):
+            continue
+        if set(cells) <= cells_of(m["path"]):
+            out.append(m)
+    return out
+
+
+def choose_baseline(ctx, machine, head, now):
+    """(history path, why) for the default baseline of the run `now`, or (None, why)."""
+    clean = [m for m in candidates(ctx, cells=cells_of(now)) if m["path"].resolve() != Path(now).resolve()]
     same = [m for m in clean if m["machine_id"] == machine]
     anc = [m for m in same if is_ancestor(ctx.repo, m["commit"], head)]
     for pick, why in ((anc, "the newest history of an ancestor commit on this machine"),
@@ -208,8 +232,7 @@ def choose_baseline(ctx, machine, head, exclude):
 
 def baseline_of_rev(ctx, sha, machine):
     """The newest history of `sha` on this machine, else `sha` built and measured now."""
-    mine = [m for m in histories(ctx) if m["commit"] == sha and m["machine_id"] == machine and not m["dirty"]
-            and not m.get("overrides") and has_cells(m["path"], ctx.only)]
+    mine = candidates(ctx, machine, sha, suite_cells(ctx))
     if mine:
         return newest(mine)["path"], f"the newest history of {sha[:12]} on this machine"
     log(f"{sha[:12]} has no history on this machine: building it in a worktree")
@@ -257,11 +280,15 @@ def cmd_run(ctx, a):
     if ctx.build_current:
         build(ctx, ctx.repo, ctx.build)
     machine, head = machine_id(ctx), rev(ctx.repo, "HEAD")
-    base, why = (baseline_of_rev(ctx, rev(ctx.repo, a.baseline), machine) if a.baseline else (None, ""))
+    base, why = None, ""
+    if a.baseline:
+        base, why = baseline_of_rev(ctx, rev(ctx.repo, a.baseline), machine)
+    elif a.baseline_file:
+        base, why = Path(a.baseline_file), "the history file given"
     label = short_sha(ctx.repo)
-    now = measure(ctx, ctx.repo, ctx.build, ctx.history / "runs" / run_name(label, machine), head, ctx.only,
+    now = measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only,
                   ctx.overrides)
-    if not a.baseline:
+    if base is None:
         base, why = choose_baseline(ctx, machine, head, now)
     ok = True
     if base is None:
@@ -270,9 +297,8 @@ def cmd_run(ctx, a):
         log(f"recorded {now} ({nxt}); {why}: nothing to compare")
     else:
         log(f"baseline: {why}: {base}")
-        md = ctx.repo / "results" / "track.md"
-        ok = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=md)
-        log(f"report: {md}")
+        ok = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=ctx.report)
+        log(f"report: {ctx.report}")
     if a.save_reference:
         save_reference(ctx, now, machine)
     if not a.no_plots:
@@ -283,8 +309,7 @@ def cmd_run(ctx, a):
 # ------------------------------------------------------------------------------------------------ bisect
 def measured(ctx, sha, machine, cell):
     """A history of `sha` on this machine holding `cell` (an existing one, else measured in the bisect tree)."""
-    mine = [m for m in histories(ctx) if m["commit"] == sha and m["machine_id"] == machine and not m["dirty"]
-            and not m.get("overrides") and has_cells(m["path"], cell)]
+    mine = candidates(ctx, machine, sha, [cell])
     if mine:
         return newest(mine)["path"]
     return measure_commit(ctx, sha, machine, cell, tree="bisect")
@@ -302,8 +327,9 @@ def cmd_bisect(ctx, a):
     if gate(ctx, good_h, bad_h, [a.cell], [a.measure]):
         print(f"{a.bisect[1]} does not regress {a.cell} {a.measure} against {a.bisect[0]}: nothing to bisect")
         return 1
-    wt = ctx.work / "bisect"
+    wt = worktree(ctx, "bisect", bad)
     step = [PY, str(Path(__file__).resolve()), "--repo", str(ctx.repo), "--work-dir", str(ctx.work),
+            "--history-dir", str(ctx.history), "--config", str(ctx.config),
             "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure,
             "--threshold", str(ctx.threshold), "--alpha", str(ctx.alpha)]
     step += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
@@ -315,7 +341,7 @@ def cmd_bisect(ctx, a):
         found = [line for line in p.stdout.splitlines() if line.endswith("is the first bad commit")]
         log_text = git(wt, "bisect", "log", check=False)
     finally:
-        git(wt, "bisect", "reset", "--quiet", check=False)
+        git(wt, "bisect", "reset", check=False)
     if not found:
         raise Failure(f"git bisect run found no first bad commit:\n{p.stdout}\n{p.stderr}")
     sha = found[0].split()[0]
@@ -331,7 +357,7 @@ def cmd_bisect_step(ctx, a):
     try:
         machine = machine_id(ctx)
         build(ctx, wt, wt / "build")
-        now = measure(ctx, wt, wt / "build", ctx.history / "runs" / run_name(sha[:12], machine), sha, a.cell, [])
+        now = measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, a.cell, [])
         h = track_gate.load_history(now)
         if a.cell in h.failed:
             log(f"{sha[:12]}: the cell failed ({h.failed[a.cell]}): skipped")
@@ -351,9 +377,10 @@ class Parser(argparse.ArgumentParser):
 
 
 def parse_args(argv):
-    ap = Parser(prog="./run track", description=__doc__.split("\n")[0],
+    ap = Parser(prog="./run track", description=__doc__.split("\n")[0], allow_abbrev=False,
                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog="\n".join(__doc__.split("\n")[2:]))
     ap.add_argument("--baseline", metavar="REV", help="compare with this commit (measured now when it has no history)")
+    ap.add_argument("--baseline-file", metavar="CSV", help="compare with this history file")
     ap.add_argument("--bisect", nargs=2, metavar=("GOOD", "BAD"), help="find the first commit where --measure of "
                     "--cell regressed")
     ap.add_argument("--cell", help="bisect: the cell (its name in the history, e.g. deform/armadillo/tf/structured/"
@@ -370,14 +397,16 @@ def parse_args(argv):
     ap.add_argument("--save-reference", action="store_true", help="make this run the machine's committed reference")
     ap.add_argument("--no-plots", action="store_true", help="skip plots/history.py")
     ap.add_argument("--no-build", action="store_true", help="use the existing build of this tree")
+    ap.add_argument("--history-dir", help="histories: runs/ and reference/ (default results/history)")
+    ap.add_argument("--report", help="the Markdown report of the comparison (default results/track.md)")
     ap.add_argument("--repo", help=argparse.SUPPRESS)       # tests: the repository measured
     ap.add_argument("--work-dir", help="worktrees for other commits (default BUILD/track)")
     ap.add_argument("--bisect-step", help=argparse.SUPPRESS)  # internal: one step of git bisect run
     a = ap.parse_args(argv)
     if (a.bisect or a.bisect_step) and not (a.cell and a.measure):
         ap.error("--bisect needs --cell and --measure")
-    if a.bisect and a.baseline:
-        ap.error("--bisect and --baseline do not go together")
+    if sum(map(bool, (a.bisect, a.baseline, a.baseline_file))) > 1:
+        ap.error("--bisect, --baseline and --baseline-file do not go together")
     if a.repeats is not None and a.repeats < 1:
         ap.error("--repeats must be >= 1")
     return a

@@ -299,7 +299,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def parse_args(argv):
-    ap = _Parser(description=__doc__.split("\n")[0])
+    ap = _Parser(description=__doc__.split("\n")[0], allow_abbrev=False)
     ap.add_argument("baseline")
     ap.add_argument("now")
     ap.add_argument("--threshold", type=float, default=15, help="time: allowed slowdown, percent (15)")
