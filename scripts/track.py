@@ -16,6 +16,8 @@ against it (scripts/track_gate.py), writing results/track.md and plots/history_*
 bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: measures
   GOOD and BAD (that cell only, each built in the worktree WORK/bisect), then `git bisect run` with this script's
   bisect-step (build, measure, gate against GOOD; a commit that does not build or cannot run the cell is skipped).
+  WORK (default BUILD/track, git-ignored) holds only the worktrees of a command under way: each is removed when
+  its commit is measured (--baseline) or the bisection ends.
 Exit codes: 0 pass / found; 1 regression, usage, or (bisect) BAD not regressed; 2 could not build, measure or read.
 Environment: DEFORMBENCH_BUILD_DIR (default build/), JOBS (default 2), DEFORMBENCH_TRACK_MEASURE (tests: a command
 `CMD machine-id` / `CMD measure SRC OUT COMMIT ONLY` used instead of building and running exp_track).
@@ -148,6 +150,14 @@ def worktree(ctx, name, sha):
     return wt
 
 
+def drop_worktree(ctx, wt):
+    """Removes a worktree made by worktree() (its build folder with it): a commit's history, once recorded, is what
+    later runs reuse."""
+    if wt.exists():
+        git(ctx.repo, "worktree", "remove", "--force", str(wt), check=False)
+    git(ctx.repo, "worktree", "prune", check=False)
+
+
 def run_path(ctx, commit_label, machine):
     """RESULTS/history/runs/<UTC>_<commit>_<machine>.csv, a name no run has taken."""
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
@@ -160,10 +170,15 @@ def run_path(ctx, commit_label, machine):
 
 
 def measure_commit(ctx, sha, machine, only, tree="rev"):
-    """Builds `sha` in a worktree and measures it (no overrides) into results/history/runs."""
+    """Builds `sha` in a worktree and measures it (no overrides) into results/history/runs. The worktree WORK/rev-*
+    is removed afterwards; WORK/bisect stays until the bisection ends."""
     wt = worktree(ctx, tree if tree == "bisect" else f"rev-{sha[:12]}", sha)
-    build(ctx, wt, wt / "build")
-    return measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, only, [])
+    try:
+        build(ctx, wt, wt / "build")
+        return measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, only, [])
+    finally:
+        if tree != "bisect":
+            drop_worktree(ctx, wt)
 
 
 # ------------------------------------------------------------------------------------------------ histories
@@ -322,6 +337,13 @@ def cmd_bisect(ctx, a):
     if ctx.build_current:
         build(ctx, ctx.repo, ctx.build)
     machine = machine_id(ctx)
+    try:
+        return bisect(ctx, a, good, bad, machine)
+    finally:
+        drop_worktree(ctx, ctx.work / "bisect")
+
+
+def bisect(ctx, a, good, bad, machine):
     good_h = measured(ctx, good, machine, a.cell)
     bad_h = measured(ctx, bad, machine, a.cell)
     if gate(ctx, good_h, bad_h, [a.cell], [a.measure]):

@@ -23,6 +23,10 @@ step() {  # step SUBJECT NNZ TIME: a commit whose suite measures these
 step c1 1000 1.0; step c2 1000 1.0; step "c3 slower factorization" 1000 1.5; step c4 1000 1.5
 step "c5 more fill" 1300 1.5; step c6 1300 1.5; step c7 1300 1.5
 sha() { git -C "$R" rev-parse "$1"; }
+no_worktrees() {  # the worktrees of other commits are removed once measured
+  [ "$(git -C "$R" worktree list | wc -l)" -eq 1 ] && [ -z "$(ls -A "$T/work" 2>/dev/null)" ] &&
+    ok "$1: no worktree left" || fail "$1: worktrees left: $(git -C "$R" worktree list; ls -A "$T/work")"
+}
 
 TRACK=(/usr/bin/python3 "$SRC/scripts/track.py" --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
   --report "$T/track.md" --no-plots)
@@ -50,6 +54,7 @@ expect "--baseline REV without history: measured in a worktree" 1 \
 grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/out" &&
   grep -Eq "fake/cell +factorize_s +time +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/out" &&
   ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/out")"
+no_worktrees "--baseline c1"
 expect "--baseline REV with history: reused" 1 "the newest history of $(sha c1 | cut -c1-12) on this machine" -- \
   --baseline c1
 expect "--baseline-file" 0 "the history file given" -- --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
@@ -59,7 +64,8 @@ expect "bisect a deterministic measure" 0 "first bad commit for fake/cell nnz_fa
 expect "bisect a timed measure" 0 "first bad commit for fake/cell factorize_s: $(sha c3) c3 slower factorization" -- \
   --bisect c2 HEAD --cell fake/cell --measure factorize_s
 expect "bisect: BAD not regressed" 1 "does not regress" -- --bisect c5 c7 --cell fake/cell --measure nnz_factor
-git -C "$T/work/bisect" bisect log >/dev/null 2>&1 && fail "bisect left running" || ok "bisect state reset"
+no_worktrees "bisect"
+git -C "$R" bisect log >/dev/null 2>&1 && fail "bisect left running" || ok "bisect state reset"
 expect "bisect: GOOD after BAD" 1 "not an ancestor" -- --bisect c7 c1 --cell fake/cell --measure nnz_factor
 expect "bisect without --cell" 1 "needs --cell and --measure" -- --bisect c1 c7
 expect "unknown revision" 1 "nosuch: not a commit" -- --baseline nosuch
