@@ -1,11 +1,11 @@
 #!/usr/bin/python3
 """Regression tracking of init time and memory across commits (`./run track`; README "Regression tracking").
 
-  track.py [run] [--baseline REV] [--repeats N] [--only GLOBS] [--override RULE]... [--threshold PCT]
-                 [--save-reference] [--no-plots]
-  track.py bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
+  track.py [--baseline REV | --baseline-file CSV] [--repeats N] [--only GLOBS] [--override RULE]...
+           [--threshold PCT] [--save-reference] [--no-plots]
+  track.py --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
 
-run (the default): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
+run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
 new history file results/history/runs/<UTC>_<commit>_<machine>.csv, picks a baseline history and gates the run
 against it (scripts/track_gate.py), writing results/track.md and plots/history_*.png.
   baseline: --baseline REV: the newest history of REV on this machine, else REV built in a git worktree
@@ -13,7 +13,7 @@ against it (scripts/track_gate.py), writing results/track.md and plots/history_*
             on this machine id, clean and without overrides, in results/history/runs or results/history/reference;
             else the newest committed reference of this machine, else of another machine (deterministic measures
             only); none at all: the run is recorded, nothing gated.
-bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: measures
+--bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: measures
   GOOD and BAD (that cell only, each built in the worktree WORK/bisect), then `git bisect run` with this script's
   bisect-step (build, measure, gate against GOOD; a commit that does not build or cannot run the cell is skipped).
   WORK (default BUILD/track, git-ignored) holds only the worktrees of a command under way: each is removed when
@@ -391,15 +391,8 @@ def cmd_bisect_step(ctx, a):
 
 
 # ------------------------------------------------------------------------------------------------ main
-class Parser(argparse.ArgumentParser):
-    def error(self, message):  # usage errors exit 1, as every command of the project
-        self.print_usage(sys.stderr)
-        print(f"track: error: {message}", file=sys.stderr)
-        sys.exit(1)
-
-
 def parse_args(argv):
-    ap = Parser(prog="./run track", description=__doc__.split("\n")[0], allow_abbrev=False,
+    ap = track_gate.UsageParser(prog="./run track", description=__doc__.split("\n")[0], allow_abbrev=False,
                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog="\n".join(__doc__.split("\n")[2:]))
     ap.add_argument("--baseline", metavar="REV", help="compare with this commit (measured now when it has no history)")
     ap.add_argument("--baseline-file", metavar="CSV", help="compare with this history file")

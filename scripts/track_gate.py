@@ -291,15 +291,17 @@ def write_atomically(path, text):
     os.replace(tmp, path)
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # usage errors exit 1, as every command of the project
+class UsageParser(argparse.ArgumentParser):
+    """argparse whose usage errors exit 1, as every command of the project (argparse's own is 2: bad input here)."""
+
+    def error(self, message):
         self.print_usage(sys.stderr)
-        print(f"track_gate: error: {message}", file=sys.stderr)
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
         sys.exit(1)
 
 
 def parse_args(argv):
-    ap = _Parser(description=__doc__.split("\n")[0], allow_abbrev=False)
+    ap = UsageParser(prog="track_gate", description=__doc__.split("\n")[0], allow_abbrev=False)
     ap.add_argument("baseline")
     ap.add_argument("now")
     ap.add_argument("--threshold", type=float, default=15, help="time: allowed slowdown, percent (15)")
