@@ -74,5 +74,16 @@ grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic
   ok "Markdown report names it" || fail "track.md: $(head -20 "$T/track.md")"
 [ "$(ls "$T/history/runs" | wc -l)" -eq 2 ] && ok "one history file per run" || fail "histories: $(ls "$T/history/runs")"
 
+# The trend view of these histories: the run with overrides is left out, the other gives every figure.
+expect "trend view" 0 "1 run\(s\) of machine [0-9a-f]{12} -> $T/plots/history_\*.png" -- \
+  /usr/bin/python3 "$SRC/plots/history.py" --results "$T" --out "$T/plots"
+for f in init frame factor_bytes peak_rss; do
+  [ -s "$T/plots/history_$f.png" ] && ok "history_$f.png" || fail "no history_$f.png"
+done
+expect "trend view: unknown machine" 1 "no history of machine nosuch" -- \
+  /usr/bin/python3 "$SRC/plots/history.py" --results "$T" --out "$T/plots" --machine nosuch
+expect "trend view: no history" 0 "no history under" -- \
+  /usr/bin/python3 "$SRC/plots/history.py" --results "$T/none" --out "$T/plots"
+
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi
 echo "all passed"
