@@ -78,23 +78,24 @@ def deform_cells(runs):
 def figure(runs, meds, measure, ylabel, scale, path):
     tiers = deform_cells(runs)
     x = list(range(len(runs)))
-    fig, axes = plt.subplots(len(tiers) + 1, 1, figsize=(max(7, 1.1 * len(runs) + 4), 2.6 * (len(tiers) + 1)),
+    fig, axes = plt.subplots(len(tiers) + 1, 1, figsize=(max(8.5, 1.1 * len(runs) + 5.5), 2.6 * (len(tiers) + 1)),
                              sharex=True, squeeze=False)
     for ax, (tier, cells) in zip(axes[:, 0], tiers.items()):
         for cell in cells:
             _, _, method, build, _ = cell.split("/")
             y = [m.get((cell, measure), float("nan")) * scale for m in meds]
-            ax.plot(x, y, marker="o", color=STYLE.get(method, "k"), ls="-" if build == "structured" else "--",
-                    label=f"{method} {build}")
+            structured = build == "structured"
+            ax.plot(x, y, marker="o" if structured else "x", ls="-" if structured else "--",
+                    color=STYLE.get(method, "k"), label=f"{method} {build}")
         ax.set_title(tier, fontsize=9, loc="left")
         ax.set_ylabel(ylabel)
-        ax.legend(fontsize=7, ncol=3)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
         ax.grid(alpha=0.3)
     ax = axes[-1, 0]
     ax.plot(x, [m.get("dgemm", float("nan")) for m in meds], marker="s", color="k", label="dgemm GFlop/s")
     ax.plot(x, [m.get("read", float("nan")) for m in meds], marker="^", color="gray", label="memory read GB/s")
     ax.set_title("machine rates around the cells (medians)", fontsize=9, loc="left")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
     ax.grid(alpha=0.3)
     ax.set_xticks(x)
     ax.set_xticklabels([label(r) for r in runs], fontsize=7, rotation=45, ha="right")
