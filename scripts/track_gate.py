@@ -11,7 +11,9 @@ By measure class (the `class` column the driver writes):
                  the memory read rate for builds, analyses and solves, the BLAS dgemm rate for factorizations,
                  both for init = build + analyze + factorize), scaled to the baseline cell's median rates; fails
                  only when the median is more than --threshold (15%) slower AND a one-sided Mann-Whitney U test
-                 (scipy, exact for small samples without ties) gives p < --alpha (0.05); needs >= --min-repeats (5)
+                 (scipy, exact for small samples without ties) gives p < --alpha (0.05) AND the raw (unnormalized)
+                 median is also more than --threshold slower (the rate probes are themselves noisy under bursty
+                 load: normalization may excuse a slow window, never make a failure); needs >= --min-repeats (5)
                  runs on each side, and baseline medians under --min-time-s (5 ms) are reported, not gated
 A cell that failed in NOW fails the gate. Across machines (different machine_id) only deterministic measures are
 gated. Prints the comparisons that are not plain "ok" (all of them with --all) and writes the full report as
@@ -155,7 +157,8 @@ def _compare_time(c, base, now, key, rate, s, same_machine):
     raw_b, raw_n = (statistics.median(v for v in h.values[key].values() if not math.isnan(v)) for h in (base, now))
     c.base, c.now = statistics.median(b), statistics.median(n)
     c.ratio = c.now / c.base if c.base > 0 else math.nan
-    c.note = f"raw {raw_n / raw_b:.3f}" if raw_b > 0 else ""
+    raw = raw_n / raw_b if raw_b > 0 else math.nan
+    c.note = f"raw {raw:.3f}" if raw_b > 0 else ""
     if not same_machine:
         c.verdict, c.note = "not gated", "other machine"
     elif min(len(b), len(n)) < s.min_repeats:
@@ -165,7 +168,12 @@ def _compare_time(c, base, now, key, rate, s, same_machine):
     else:
         c.p = u_test_greater(n, b)
         if c.ratio > 1 + s.threshold and c.p < s.alpha:
-            c.verdict = "FAIL"
+            # The probes around a short cell are noisy under bursty load: a slowdown that only the normalization
+            # makes (raw time within the threshold) is reported, not failed.
+            if raw > 1 + s.threshold:
+                c.verdict = "FAIL"
+            else:
+                c.note += ": raw time within the threshold, not failed"
 
 
 def compare_one(base, now, key, s, same_machine):

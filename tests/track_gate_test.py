@@ -103,6 +103,16 @@ class TimeRule(unittest.TestCase):
         now = timed([3.0, 3.03, 2.0, 2.01, 1.99], dgemm=[20.0, 20.0, 30.0, 30.0, 30.0])
         self.assertAlmostEqual(verdicts(base, now)[(CELL, "factorize_s")].ratio, 1.0, delta=0.02)
 
+    def test_a_slowdown_made_by_the_normalization_alone_does_not_fail(self):
+        # Same raw times; the probes around the new runs read a machine twice as fast (a burst of load that ended
+        # before the short cell ran): normalized 2x slower, raw unchanged.
+        base = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=15.0)
+        now = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=30.0)
+        c = verdicts(base, now)[(CELL, "factorize_s")]
+        self.assertAlmostEqual(c.ratio, 2.0, delta=0.05)
+        self.assertEqual(c.verdict, "ok", c)
+        self.assertIn("not failed", c.note)
+
     def test_read_rate_for_solves_and_builds(self):
         base = timed([0.1] * 5, measure="frame_s", rate="read", read=20.0)
         now = timed([0.2] * 5, measure="frame_s", rate="read", read=10.0, dgemm=60.0)
