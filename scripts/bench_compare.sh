@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Reruns the Google Benchmark suite (bench/phases.cpp -> bench_phases) and compares it with the committed
 # baseline results/bench/baseline.json: prints Google Benchmark's compare.py report and FAILS (exit 1) when any
-# benchmark's median time is slower than the baseline by more than the threshold.
+# benchmark's median time is slower than the baseline by more than the threshold, or when its `bytes` or `nnz_L`
+# counter (deterministic: matrix / factor bytes, factor nonzeros) grew by more than 0.5%; every change of a counter
+# is reported.
 #
 #   scripts/bench_compare.sh [--threshold PCT] [--repetitions N] [--min-time S] [--threads N] [--full]
-#                            [--baseline FILE] [--update-baseline] [-- EXTRA bench_phases FLAGS]
+#                            [--baseline FILE] [--update-baseline] [--run FILE] [-- EXTRA bench_phases FLAGS]
 #
 #   --threshold PCT     allowed slowdown of the median over repetitions, percent (default 25)
 #   --repetitions N     repetitions per benchmark (default 5); --min-time S: seconds per repetition (default 0.1)
@@ -13,6 +15,7 @@
 #                       baseline was recorded with 1)
 #   --full              also the man and armadillo_loop1 tiers (not in the baseline: reported, never gated)
 #   --update-baseline   record this run as the new baseline instead of comparing
+#   --run FILE          compare this existing run (a bench_phases JSON) instead of running the suite
 #   after --             passed to bench_phases, e.g. -- --benchmark_filter='factorize/.*'
 #
 # Works from a fresh clone: configures and builds bench_phases in $DEFORMBENCH_BUILD_DIR (default build/) and runs
@@ -36,6 +39,7 @@ FULL=()
 UPDATE=0
 THREADS=1
 EXTRA=()
+RUN=
 
 die() { echo "bench_compare: error: $*" >&2; exit 2; }
 log() { echo "bench_compare: $*" >&2; }
@@ -49,44 +53,54 @@ while (($#)); do
     --threads) THREADS=${2:?}; shift 2 ;;
     --baseline) BASELINE=${2:?}; shift 2 ;;
     --update-baseline) UPDATE=1; shift ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    --run) RUN=${2:?--run needs a file}; shift 2 ;;
+    -h|--help) sed -n '2,28p' "$0"; exit 0 ;;
     --) shift; EXTRA=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
   esac
 done
 
+run_suite() {
+  # Build (configure when the build folder is new).
+  if [[ ! -f $BUILD/CMakeCache.txt ]]; then
+    log "configuring $BUILD"
+    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null || die "cmake configure failed"
+  fi
+  log "building bench_phases in $BUILD"
+  cmake --build "$BUILD" -j "$JOBS" --target bench_phases >/dev/null || die "build of bench_phases failed"
+
+  # Data (hand and armadillo; --full needs man and armadillo_loop1, also made by the default data step).
+  local need=("$ROOT/data/meshes/hand.off" "$ROOT/data/meshes/armadillo.off")
+  ((${#FULL[@]})) && need+=("$ROOT/data/meshes/man.off" "$ROOT/data/generated/armadillo_loop1.off")
+  local f
+  for f in "${need[@]}"; do
+    if [[ ! -f $f ]]; then
+      log "$f missing: running scripts/data.sh"
+      DEFORMBENCH_BUILD_DIR=$BUILD bash "$ROOT/scripts/data.sh" || die "data step failed"
+      break
+    fi
+  done
+
+  mkdir -p "$ROOT/results/bench"
+  STAMP=$(date -u +%Y%m%dT%H%M%SZ)
+  RUN=$ROOT/results/bench/run-$STAMP.json
+  export DEFORMBENCH_SOURCE_DIR=$ROOT OMP_NUM_THREADS=$THREADS OPENBLAS_NUM_THREADS=$THREADS DEFORMBENCH_THREADS=$THREADS
+  log "OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset: auto-detected>}; $THREADS thread(s); $REPS repetitions x ${MIN_TIME}s"
+  "$BUILD/bench_phases" --data "$ROOT/data" "${FULL[@]}" \
+    --benchmark_repetitions="$REPS" --benchmark_min_time="$MIN_TIME" \
+    --benchmark_display_aggregates_only=true --benchmark_enable_random_interleaving=true \
+    --benchmark_out="$RUN" --benchmark_out_format=json "${EXTRA[@]}" || die "bench_phases failed"
+  log "wrote $RUN"
+}
+
 [[ -x $PY ]] || die "$PY not found"
 [[ -f $COMPARE ]] || die "$COMPARE not found: install libbenchmark-tools (./run test installs it)"
 
-# Build (configure when the build folder is new).
-if [[ ! -f $BUILD/CMakeCache.txt ]]; then
-  log "configuring $BUILD"
-  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null || die "cmake configure failed"
+if [[ -n $RUN ]]; then
+  [[ -f $RUN ]] || die "--run $RUN: no such file"
+else
+  run_suite
 fi
-log "building bench_phases in $BUILD"
-cmake --build "$BUILD" -j "$JOBS" --target bench_phases >/dev/null || die "build of bench_phases failed"
-
-# Data (hand and armadillo; --full needs man and armadillo_loop1, also made by the default data step).
-need=("$ROOT/data/meshes/hand.off" "$ROOT/data/meshes/armadillo.off")
-((${#FULL[@]})) && need+=("$ROOT/data/meshes/man.off" "$ROOT/data/generated/armadillo_loop1.off")
-for f in "${need[@]}"; do
-  if [[ ! -f $f ]]; then
-    log "$f missing: running scripts/data.sh"
-    DEFORMBENCH_BUILD_DIR=$BUILD bash "$ROOT/scripts/data.sh" || die "data step failed"
-    break
-  fi
-done
-
-mkdir -p "$ROOT/results/bench"
-STAMP=$(date -u +%Y%m%dT%H%M%SZ)
-RUN=$ROOT/results/bench/run-$STAMP.json
-export DEFORMBENCH_SOURCE_DIR=$ROOT OMP_NUM_THREADS=$THREADS OPENBLAS_NUM_THREADS=$THREADS DEFORMBENCH_THREADS=$THREADS
-log "OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset: auto-detected>}; $THREADS thread(s); $REPS repetitions x ${MIN_TIME}s"
-"$BUILD/bench_phases" --data "$ROOT/data" "${FULL[@]}" \
-  --benchmark_repetitions="$REPS" --benchmark_min_time="$MIN_TIME" \
-  --benchmark_display_aggregates_only=true --benchmark_enable_random_interleaving=true \
-  --benchmark_out="$RUN" --benchmark_out_format=json "${EXTRA[@]}" || die "bench_phases failed"
-log "wrote $RUN"
 
 if ((UPDATE)); then
   cp "$RUN" "$BASELINE"
@@ -114,6 +128,22 @@ import json, statistics, sys
 
 UNIT = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
 
+COUNTERS = ("bytes", "nnz_L")  # deterministic: compared exactly, an increase over 0.5% fails
+COUNTER_LIMIT = 1.005
+
+def counters(runs):
+    """name -> {counter: value} from the repetitions (aggregates hold statistics of them: only the median serves,
+    when the file has no repetitions)."""
+    out = {}
+    for b in runs:
+        name = b.get("run_name", b["name"])
+        if b.get("error_occurred") or (b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median"):
+            continue
+        if b.get("run_type") == "aggregate" and name in out:
+            continue
+        out.setdefault(name, {}).update({k: b[k] for k in COUNTERS if k in b})
+    return out
+
 def medians(path):
     with open(path) as f:
         runs = json.load(f)["benchmarks"]
@@ -131,10 +161,10 @@ def medians(path):
             reps.setdefault(name, []).append(t)
     for name, ts in reps.items():
         med.setdefault(name, statistics.median(ts))
-    return med, errors
+    return med, errors, counters(runs)
 
-base, base_err = medians(sys.argv[1])
-new, new_err = medians(sys.argv[2])
+base, base_err, base_cnt = medians(sys.argv[1])
+new, new_err, new_cnt = medians(sys.argv[2])
 limit = 1.0 + float(sys.argv[3]) / 100.0
 allow_missing = sys.argv[4] == "1"
 bad = []
@@ -156,6 +186,21 @@ for name in sorted(set(base) | set(new) | set(new_err)):
         if r > limit:
             bad.append(name)
         print(f"  {tag:10s} {name}: {base[name]:.4g} s -> {new[name]:.4g} s ({(r - 1) * 100:+.1f}%)")
+print(f"\ngate: counters {', '.join(COUNTERS)} compared exactly, fail above {COUNTER_LIMIT:.3f} x the baseline")
+changed = 0
+for name in sorted(set(base_cnt) & set(new_cnt)):
+    for k in COUNTERS:
+        if k not in base_cnt[name] or k not in new_cnt[name] or base_cnt[name][k] == new_cnt[name][k]:
+            continue
+        b, n = base_cnt[name][k], new_cnt[name][k]
+        grew = n > b * COUNTER_LIMIT
+        changed += 1
+        if grew:
+            bad.append(f"{name} {k}")
+        print(f"  {'GREW' if grew else 'changed':10s} {name} {k}: {b:.0f} -> {n:.0f}" +
+              (f" ({(n / b - 1) * 100:+.2f}%)" if b else ""))
+if not changed:
+    print("  all equal")
 ratios = [new[n] / base[n] for n in new if n in base and base[n] > 0]
 if ratios:
     import math
@@ -163,8 +208,9 @@ if ratios:
     print(f"\nwhole suite: geometric mean new / baseline = {g:.2f} over {len(ratios)} benchmarks "
           "(a shift shared by every benchmark usually means machine load, not code)")
 if bad:
-    print(f"\nbench_compare: FAIL: {len(bad)} benchmark(s) regressed by more than {(limit - 1) * 100:.0f}% "
-          "or errored / disappeared")
+    print(f"\nbench_compare: FAIL: {len(bad)} regression(s): a median more than {(limit - 1) * 100:.0f}% slower, "
+          "a counter grown, or a benchmark errored / disappeared")
     sys.exit(1)
-print(f"\nbench_compare: OK: no benchmark slower than the baseline by more than {(limit - 1) * 100:.0f}%")
+print(f"\nbench_compare: OK: no benchmark slower than the baseline by more than {(limit - 1) * 100:.0f}%, "
+      "no counter grown")
 EOF

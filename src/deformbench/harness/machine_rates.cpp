@@ -73,8 +73,7 @@ MachineRates MachineRates::measure() {
   return r;
 }
 
-double MachineRates::blas_gemm() {
-  const int m = 1024;
+double MachineRates::blas_gemm(int m) {
   const DenseMat A = DenseMat::Random(m, m), B = DenseMat::Random(m, m);
   DenseMat C(m, m);
   auto gemm = [&] {
@@ -84,8 +83,8 @@ double MachineRates::blas_gemm() {
   return 2.0 * m * m * m / best_of(3, gemm);
 }
 
-double MachineRates::read_bandwidth() {
-  const std::size_t count = std::size_t(16) << 20;  // 128 MB, beyond the caches
+double MachineRates::read_bandwidth(std::size_t bytes) {
+  const std::size_t count = std::max<std::size_t>(bytes / sizeof(double), 1024);
   std::vector<double> a(count, 1.0);
   const int T = std::max(1, worker_threads());
   std::vector<double> sums(static_cast<std::size_t>(T));

@@ -1,0 +1,137 @@
+#!/usr/bin/python3
+"""Trend view of the tracking suite (experiments/track.cpp, `./run track`). Reads history files only.
+
+  history.py --results DIR --out DIR [--machine ID]
+
+Reads RESULTS/history/runs/*.csv and RESULTS/history/reference/*.csv (runs with --override rules left out), keeps
+one machine's (default: the newest run's), and writes for the deformation cells, one panel per tier and a line per
+method / build, over the runs in date order (labelled by commit), with the machine rates of each run below:
+  OUT/history_init.png          init (build + analyze + factorize), median over the run's repeats
+  OUT/history_frame.png         median frame time
+  OUT/history_factor_bytes.png  factor bytes
+  OUT/history_peak_rss.png      peak RSS of the cell's process
+Times are as measured; the rates panel (median dgemm GFlop/s and memory read GB/s around the run's cells) shows
+whether a step is the machine's. Run with Debian's /usr/bin/python3 (numpy + matplotlib).
+"""
+import argparse
+import csv
+import os
+import statistics
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+FIGURES = [("init_s", "init (s)", 1.0, "history_init.png"),
+           ("frame_s", "frame (ms)", 1e3, "history_frame.png"),
+           ("factor_bytes", "factor (MiB)", 1 / 1048576, "history_factor_bytes.png"),
+           ("peak_rss_bytes", "peak RSS (MiB)", 1 / 1048576, "history_peak_rss.png")]
+STYLE = {"lap": "tab:blue", "tf": "tab:red", "lri": "tab:green"}
+
+
+def read_runs(results):
+    """[(meta, rows)] of every history file, by file name (a reference copy of a run counts once)."""
+    runs = {}
+    for sub in ("runs", "reference"):
+        for p in sorted(Path(results, "history", sub).glob("*.csv")):
+            with open(p, newline="") as f:
+                rows = list(csv.DictReader(f))
+            if rows and "machine_id" in rows[0] and not rows[0].get("overrides"):
+                runs.setdefault(p.name, rows)
+    return sorted(runs.values(), key=lambda rows: rows[0]["date"])
+
+
+def medians(rows):
+    """(cell, measure) -> median value; 'dgemm' / 'read' -> median rate over the run."""
+    vals, rates = defaultdict(list), defaultdict(list)
+    for r in rows:
+        if r["value"] != "":
+            vals[(r["cell"], r["measure"])].append(float(r["value"]))
+        for k, a, b in (("dgemm", "blas_dgemm_before", "blas_dgemm_after"),
+                        ("read", "memory_read_before", "memory_read_after")):
+            if r.get(a) not in (None, "", "nan"):
+                rates[k].append((float(r[a]) + float(r[b])) / 2)
+    out = {k: statistics.median(v) for k, v in vals.items()}
+    out.update({k: statistics.median(v) for k, v in rates.items()})
+    return out
+
+
+def label(rows):
+    r = rows[0]
+    return f"{r.get('git_sha') or r['commit'][:12]}\n{r['date'][5:16].replace('T', ' ')}"
+
+
+def deform_cells(runs):
+    """tier -> sorted cell names of the deformation cells, tiers in the order they first appear."""
+    tiers = {}
+    for rows in runs:
+        for r in rows:
+            if r["kind"] == "deform":
+                tiers.setdefault(r["tier"], set()).add(r["cell"])
+    return {t: sorted(c) for t, c in tiers.items()}
+
+
+def figure(runs, meds, measure, ylabel, scale, path):
+    tiers = deform_cells(runs)
+    x = list(range(len(runs)))
+    fig, axes = plt.subplots(len(tiers) + 1, 1, figsize=(max(8.5, 1.1 * len(runs) + 5.5), 2.6 * (len(tiers) + 1)),
+                             sharex=True, squeeze=False)
+    for ax, (tier, cells) in zip(axes[:, 0], tiers.items()):
+        for cell in cells:
+            _, _, method, build, _ = cell.split("/")
+            y = [m.get((cell, measure), float("nan")) * scale for m in meds]
+            structured = build == "structured"
+            ax.plot(x, y, marker="o" if structured else "x", ls="-" if structured else "--",
+                    color=STYLE.get(method, "k"), label=f"{method} {build}")
+        ax.set_title(tier, fontsize=9, loc="left")
+        ax.set_ylabel(ylabel)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
+        ax.grid(alpha=0.3)
+    ax = axes[-1, 0]
+    ax.plot(x, [m.get("dgemm", float("nan")) for m in meds], marker="s", color="k", label="dgemm GFlop/s")
+    ax.plot(x, [m.get("read", float("nan")) for m in meds], marker="^", color="gray", label="memory read GB/s")
+    ax.set_title("machine rates around the cells (medians)", fontsize=9, loc="left")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
+    ax.grid(alpha=0.3)
+    ax.set_xticks(x)
+    ax.set_xticklabels([label(r) for r in runs], fontsize=7, rotation=45, ha="right")
+    fig.suptitle(f"tracking suite: {ylabel} per cell over runs (machine {runs[-1][0]['machine_id']})", fontsize=10)
+    fig.tight_layout()
+    tmp = f"{path}.tmp.{os.getpid()}.png"
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--results", default="results")
+    ap.add_argument("--out", default="plots")
+    ap.add_argument("--machine", help="machine id (default: the newest run's)")
+    try:
+        a = ap.parse_args()
+    except SystemExit as e:  # argparse's usage error is 2; the project's is 1
+        return 1 if e.code == 2 else e.code
+    runs = read_runs(a.results)
+    if not runs:
+        print(f"history.py: no history under {a.results}/history: skipped")
+        return 0
+    machine = a.machine or runs[-1][0]["machine_id"]
+    runs = [r for r in runs if r[0]["machine_id"] == machine]
+    if not runs:
+        print(f"history.py: no history of machine {machine}", file=sys.stderr)
+        return 1
+    meds = [medians(r) for r in runs]
+    os.makedirs(a.out, exist_ok=True)
+    for measure, ylabel, scale, name in FIGURES:
+        figure(runs, meds, measure, ylabel, scale, os.path.join(a.out, name))
+    print(f"history.py: {len(runs)} run(s) of machine {machine} -> {a.out}/history_*.png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

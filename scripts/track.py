@@ -1,0 +1,446 @@
+#!/usr/bin/python3
+"""Regression tracking of init time and memory across commits (`./run track`; README "Regression tracking").
+
+  track.py [--baseline REV | --baseline-file CSV] [--repeats N] [--only GLOBS] [--override RULE]...
+           [--threshold PCT] [--save-reference] [--no-plots]
+  track.py --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
+
+run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
+new history file results/history/runs/<UTC>_<commit>_<machine>.csv, picks a baseline history and gates the run
+against it (scripts/track_gate.py), writing results/track.md and plots/history_*.png.
+  baseline: --baseline REV: the newest history of REV on this machine, else REV built in a git worktree
+            (WORK/rev-<sha>) and measured now; default: the newest history of an ancestor commit (HEAD included)
+            on this machine id, clean and without overrides, in results/history/runs or results/history/reference;
+            else the newest committed reference of this machine, else of another machine (deterministic measures
+            only); none at all: the run is recorded, nothing gated.
+--bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: measures
+  GOOD and BAD (that cell only, each built in the worktree WORK/bisect), then `git bisect run` with this script's
+  bisect-step (build, measure, gate against GOOD; a commit that does not build or cannot run the cell is skipped).
+  WORK (default BUILD/track, git-ignored) holds only the worktrees of a command under way: each is removed when
+  its commit is measured (--baseline) or the bisection ends.
+Exit codes: 0 pass / found; 1 regression, usage, or (bisect) BAD not regressed; 2 could not build, measure or read.
+Environment: DEFORMBENCH_BUILD_DIR (default build/), JOBS (default 2), DEFORMBENCH_TRACK_MEASURE (tests: a command
+`CMD machine-id` / `CMD measure SRC OUT COMMIT ONLY` used instead of building and running exp_track).
+"""
+import argparse
+import csv
+import datetime
+import os
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import track_gate  # noqa: E402
+
+PY = "/usr/bin/python3"
+
+
+class Failure(Exception):
+    """Could not build, measure or read: exit 2."""
+
+
+def log(msg):
+    print(f"[track] {msg}", file=sys.stderr, flush=True)
+
+
+def sh(cmd, cwd=None, check=True, capture=True, env=None):
+    p = subprocess.run(cmd, cwd=cwd, text=True, env=env, stdout=subprocess.PIPE if capture else None,
+                       stderr=subprocess.PIPE if capture else None)
+    if check and p.returncode != 0:
+        err = (p.stderr or "").strip().splitlines()[-5:] if capture else []
+        raise Failure(f"{' '.join(map(str, cmd))}: exit {p.returncode}" + ("\n  " + "\n  ".join(err) if err else ""))
+    return p
+
+
+def git(repo, *args, check=True):
+    return sh(["git", "-C", str(repo), *args], check=check).stdout.strip()
+
+
+def rev(repo, name):
+    p = sh(["git", "-C", str(repo), "rev-parse", "--verify", "--quiet", f"{name}^{{commit}}"], check=False)
+    if p.returncode != 0:
+        raise UsageError(f"{name}: not a commit of {repo}")
+    return p.stdout.strip()
+
+
+class UsageError(Exception):
+    pass
+
+
+def is_ancestor(repo, a, b):
+    return sh(["git", "-C", str(repo), "merge-base", "--is-ancestor", a, b], check=False).returncode == 0
+
+
+class Context:
+    """Where things are: the repository measured, its build, the worktrees for other commits, the histories."""
+
+    def __init__(self, a):
+        self.repo = Path(a.repo).resolve() if a.repo else Path(__file__).resolve().parent.parent
+        self.build = Path(os.environ.get("DEFORMBENCH_BUILD_DIR") or self.repo / "build").resolve()
+        self.work = Path(a.work_dir).resolve() if a.work_dir else self.build / "track"
+        self.history = Path(a.history_dir).resolve() if a.history_dir else self.repo / "results" / "history"
+        self.report = Path(a.report).resolve() if a.report else self.repo / "results" / "track.md"
+        self.config = Path(a.config).resolve() if a.config else self.repo / "data" / "experiments" / "track.toml"
+        self.data = self.repo / "data"
+        self.jobs = os.environ.get("JOBS", "2")
+        hook = os.environ.get("DEFORMBENCH_TRACK_MEASURE")
+        self.hook = shlex.split(hook) if hook else None
+        self.threshold, self.alpha, self.repeats = a.threshold, a.alpha, a.repeats
+        self.only, self.overrides, self.build_current = a.only, a.override or [], not a.no_build
+
+
+# ------------------------------------------------------------------------------------------------ measuring
+def build(ctx, src, build_dir):
+    """Configures (when new) and builds exp_track of the tree at `src` in `build_dir`."""
+    if ctx.hook:
+        return
+    if not (build_dir / "CMakeCache.txt").exists():
+        log(f"configuring {build_dir}")
+        launcher = ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"] if sh(["which", "ccache"], check=False).returncode == 0 else []
+        sh(["cmake", "-S", str(src), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release", *launcher])
+    log(f"building exp_track in {build_dir}")
+    p = sh(["cmake", "--build", str(build_dir), "-j", ctx.jobs, "--target", "exp_track"], check=False)
+    if p.returncode != 0:
+        tail = "\n".join((p.stdout + p.stderr).strip().splitlines()[-15:])
+        raise Failure(f"build of exp_track in {build_dir} failed:\n{tail}")
+
+
+def machine_id(ctx):
+    cmd = ctx.hook + ["machine-id"] if ctx.hook else [str(ctx.build / "exp_track"), "--machine-id"]
+    return sh(cmd).stdout.split()[0]
+
+
+def short_sha(src):
+    sha = git(src, "rev-parse", "--short=12", "HEAD")
+    return sha + "+dirty" if git(src, "status", "--porcelain", "--untracked-files=no") else sha
+
+
+def measure(ctx, src, build_dir, out, commit, only, overrides):
+    """Runs the suite of the tree at `src` (built in `build_dir`) into the history `out`. The suite is always the
+    current tree's config and data, so a baseline measures the same cells."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    if ctx.hook:
+        cmd = ctx.hook + ["measure", str(src), str(out), commit, only or ""]
+    else:
+        cmd = [str(build_dir / "exp_track"), "--config", str(ctx.config), "--data", str(ctx.data), "--commit", commit,
+               "--out", str(out), "--mesh-cache", str(ctx.repo / "results" / "cells" / "meshes")]
+        cmd += ["--only", only] if only else []
+        cmd += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
+        for o in overrides:
+            cmd += ["--override", o]
+    env = dict(os.environ, DEFORMBENCH_SOURCE_DIR=str(src), DEFORMBENCH_GIT_SHA=short_sha(src))
+    log(f"measuring {commit[:12]} ({src}) -> {out}")
+    p = subprocess.run(cmd, cwd=str(ctx.repo), env=env, stdout=subprocess.DEVNULL)
+    if p.returncode not in (0, 3) or not out.exists():  # 3: a cell failed; the history says which
+        raise Failure(f"the suite of {commit[:12]} did not run (exit {p.returncode})")
+    return out
+
+
+def worktree(ctx, name, sha):
+    """A detached worktree of `sha` under WORK/name (created, or moved to `sha`)."""
+    wt = ctx.work / name
+    if (wt / ".git").exists():
+        git(wt, "checkout", "--quiet", "--detach", sha)
+    else:
+        ctx.work.mkdir(parents=True, exist_ok=True)
+        git(ctx.repo, "worktree", "prune")
+        git(ctx.repo, "worktree", "add", "--quiet", "--detach", str(wt), sha)
+    return wt
+
+
+def drop_worktree(ctx, wt):
+    """Removes a worktree made by worktree() (its build folder with it): a commit's history, once recorded, is what
+    later runs reuse."""
+    if wt.exists():
+        git(ctx.repo, "worktree", "remove", "--force", str(wt), check=False)
+    git(ctx.repo, "worktree", "prune", check=False)
+
+
+def run_path(ctx, commit_label, machine):
+    """RESULTS/history/runs/<UTC>_<commit>_<machine>.csv, a name no run has taken."""
+    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+    base = f"{stamp}_{commit_label.replace('+', '_')}_{machine}"
+    path, k = ctx.history / "runs" / f"{base}.csv", 1
+    while path.exists():
+        k += 1
+        path = ctx.history / "runs" / f"{base}-{k}.csv"
+    return path
+
+
+def measure_commit(ctx, sha, machine, only, tree="rev"):
+    """Builds `sha` in a worktree and measures it (no overrides) into results/history/runs. The worktree WORK/rev-*
+    is removed afterwards; WORK/bisect stays until the bisection ends."""
+    wt = worktree(ctx, tree if tree == "bisect" else f"rev-{sha[:12]}", sha)
+    try:
+        build(ctx, wt, wt / "build")
+        return measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, only, [])
+    finally:
+        if tree != "bisect":
+            drop_worktree(ctx, wt)
+
+
+# ------------------------------------------------------------------------------------------------ histories
+def read_meta(path):
+    """The first row of a history file (its metadata), or None when it is no history."""
+    try:
+        with open(path, newline="") as f:
+            row = next(csv.DictReader(f), None)
+    except (OSError, csv.Error, UnicodeDecodeError):
+        return None
+    if not row or not all(k in row for k in ("commit", "date", "machine_id", "cell")):
+        return None
+    return dict(row, path=Path(path), reference=Path(path).parent.name == "reference",
+                dirty=row.get("git_sha", "").endswith("+dirty") or row["commit"].endswith("+dirty"))
+
+
+def histories(ctx):
+    files = sorted((ctx.history / "runs").glob("*.csv")) + sorted((ctx.history / "reference").glob("*.csv"))
+    return [m for m in map(read_meta, files) if m]
+
+
+def newest(metas):
+    return max(metas, key=lambda m: (m["date"], m["path"].name)) if metas else None
+
+
+def cells_of(path):
+    with open(path, newline="") as f:
+        return {r["cell"] for r in csv.DictReader(f)}
+
+
+def suite_cells(ctx):
+    """The names of the cells the suite runs (with --only), from the driver's --dry-run."""
+    if ctx.hook:
+        out = sh(ctx.hook + ["cells", ctx.only or ""]).stdout
+    else:
+        cmd = [str(ctx.build / "exp_track"), "--config", str(ctx.config), "--data", str(ctx.data), "--dry-run"]
+        out = sh(cmd + (["--only", ctx.only] if ctx.only else [])).stdout
+    return {line.split()[0] for line in out.splitlines() if line.strip()}
+
+
+def candidates(ctx, machine=None, commit=None, cells=()):
+    """Clean histories without overrides that hold every cell of `cells` (of `machine` and `commit` when given)."""
+    out = []
+    for m in histories(ctx):
+        if m["dirty"] or m.get("overrides") or (machine and m["machine_id"] != machine) or \
+                (commit and m["commit"] != commit):
+            continue
+        if set(cells) <= cells_of(m["path"]):
+            out.append(m)
+    return out
+
+
+def choose_baseline(ctx, machine, head, now):
+    """(history path, why) for the default baseline of the run `now`, or (None, why)."""
+    clean = [m for m in candidates(ctx, cells=cells_of(now)) if m["path"].resolve() != Path(now).resolve()]
+    same = [m for m in clean if m["machine_id"] == machine]
+    anc = [m for m in same if is_ancestor(ctx.repo, m["commit"], head)]
+    for pick, why in ((anc, "the newest history of an ancestor commit on this machine"),
+                      ([m for m in same if m["reference"]], "this machine's committed reference (not an ancestor)"),
+                      ([m for m in clean if m["reference"]],
+                       "a committed reference of another machine: deterministic measures only")):
+        if pick:
+            return newest(pick)["path"], why
+    return None, "no history of an ancestor commit on this machine and no committed reference"
+
+
+def baseline_of_rev(ctx, sha, machine):
+    """The newest history of `sha` on this machine, else `sha` built and measured now."""
+    mine = candidates(ctx, machine, sha, suite_cells(ctx))
+    if mine:
+        return newest(mine)["path"], f"the newest history of {sha[:12]} on this machine"
+    log(f"{sha[:12]} has no history on this machine: building it in a worktree")
+    return measure_commit(ctx, sha, machine, ctx.only), f"{sha[:12]} built in a worktree and measured now"
+
+
+# ------------------------------------------------------------------------------------------------ gating
+def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=False):
+    """True when NOW passes against BASE (scripts/track_gate.py's rules)."""
+    try:
+        base, now = track_gate.load_history(base_path), track_gate.load_history(now_path)
+    except track_gate.InputError as e:
+        raise Failure(str(e))
+    s = track_gate.Settings(threshold=ctx.threshold / 100, alpha=ctx.alpha, cells=tuple(cells),
+                            measures=tuple(measures))
+    cmps = track_gate.compare(base, now, s)
+    if not quiet:
+        track_gate.print_report(base, now, cmps, s, False)
+    if markdown:
+        track_gate.write_atomically(markdown, track_gate.markdown(base, now, cmps, s))
+    return not any(c.verdict == "FAIL" for c in cmps)
+
+
+def plots(ctx):
+    script = ctx.repo / "plots" / "history.py"
+    if script.exists():
+        p = subprocess.run([PY, str(script), "--results", str(ctx.repo / "results"), "--out", str(ctx.repo / "plots")])
+        if p.returncode != 0:
+            log("plots/history.py failed (the gate's verdict stands)")
+
+
+def save_reference(ctx, path, machine):
+    """Makes `path` this machine's committed reference history (replacing the older one of this machine)."""
+    ref = ctx.history / "reference"
+    ref.mkdir(parents=True, exist_ok=True)
+    for m in histories(ctx):
+        if m["reference"] and m["machine_id"] == machine:
+            m["path"].unlink()
+    dest = ref / Path(path).name
+    dest.write_bytes(Path(path).read_bytes())
+    log(f"reference history of machine {machine}: {dest} (commit it)")
+
+
+def cmd_run(ctx, a):
+    if ctx.build_current:
+        build(ctx, ctx.repo, ctx.build)
+    machine, head = machine_id(ctx), rev(ctx.repo, "HEAD")
+    base, why = None, ""
+    if a.baseline:
+        base, why = baseline_of_rev(ctx, rev(ctx.repo, a.baseline), machine)
+    elif a.baseline_file:
+        base, why = Path(a.baseline_file), "the history file given"
+    label = short_sha(ctx.repo)
+    now = measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only,
+                  ctx.overrides)
+    if base is None:
+        base, why = choose_baseline(ctx, machine, head, now)
+    ok = True
+    if base is None:
+        nxt = "uncommitted changes: never a baseline" if label.endswith("+dirty") or ctx.overrides else \
+            "the baseline of the next run"
+        log(f"recorded {now} ({nxt}); {why}: nothing to compare")
+    else:
+        log(f"baseline: {why}: {base}")
+        ok = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=ctx.report)
+        log(f"report: {ctx.report}")
+    if a.save_reference:
+        save_reference(ctx, now, machine)
+    if not a.no_plots:
+        plots(ctx)
+    return 0 if ok else 1
+
+
+# ------------------------------------------------------------------------------------------------ bisect
+def measured(ctx, sha, machine, cell):
+    """A history of `sha` on this machine holding `cell` (an existing one, else measured in the bisect tree)."""
+    mine = candidates(ctx, machine, sha, [cell])
+    if mine:
+        return newest(mine)["path"]
+    return measure_commit(ctx, sha, machine, cell, tree="bisect")
+
+
+def cmd_bisect(ctx, a):
+    good, bad = rev(ctx.repo, a.bisect[0]), rev(ctx.repo, a.bisect[1])
+    if not is_ancestor(ctx.repo, good, bad) or good == bad:
+        raise UsageError(f"{a.bisect[0]} is not an ancestor of {a.bisect[1]}")
+    if ctx.build_current:
+        build(ctx, ctx.repo, ctx.build)
+    machine = machine_id(ctx)
+    try:
+        return bisect(ctx, a, good, bad, machine)
+    finally:
+        drop_worktree(ctx, ctx.work / "bisect")
+
+
+def bisect(ctx, a, good, bad, machine):
+    good_h = measured(ctx, good, machine, a.cell)
+    bad_h = measured(ctx, bad, machine, a.cell)
+    if gate(ctx, good_h, bad_h, [a.cell], [a.measure]):
+        print(f"{a.bisect[1]} does not regress {a.cell} {a.measure} against {a.bisect[0]}: nothing to bisect")
+        return 1
+    wt = worktree(ctx, "bisect", bad)
+    step = [PY, str(Path(__file__).resolve()), "--repo", str(ctx.repo), "--work-dir", str(ctx.work),
+            "--history-dir", str(ctx.history), "--config", str(ctx.config),
+            "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure,
+            "--threshold", str(ctx.threshold), "--alpha", str(ctx.alpha)]
+    step += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
+    git(wt, "bisect", "reset", check=False)
+    try:
+        git(wt, "bisect", "start", bad, good)
+        p = sh(["git", "-C", str(wt), "bisect", "run", *step], check=False)
+        print(p.stdout)
+        found = [line for line in p.stdout.splitlines() if line.endswith("is the first bad commit")]
+        log_text = git(wt, "bisect", "log", check=False)
+    finally:
+        git(wt, "bisect", "reset", check=False)
+    if not found:
+        raise Failure(f"git bisect run found no first bad commit:\n{p.stdout}\n{p.stderr}")
+    sha = found[0].split()[0]
+    print(f"first bad commit for {a.cell} {a.measure}: {sha} {git(ctx.repo, 'log', '-1', '--format=%s', sha)}")
+    print(log_text)
+    return 0
+
+
+def cmd_bisect_step(ctx, a):
+    """One step of `git bisect run` in the bisect worktree: 0 good, 1 bad, 125 cannot tell (skip)."""
+    wt = ctx.work / "bisect"
+    sha = rev(wt, "HEAD")
+    try:
+        machine = machine_id(ctx)
+        build(ctx, wt, wt / "build")
+        now = measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, a.cell, [])
+        h = track_gate.load_history(now)
+        if a.cell in h.failed:
+            log(f"{sha[:12]}: the cell failed ({h.failed[a.cell]}): skipped")
+            return 125
+        return 0 if gate(ctx, a.bisect_step, now, [a.cell], [a.measure]) else 1
+    except Failure as e:
+        log(f"{sha[:12]}: {e}: skipped")
+        return 125
+
+
+# ------------------------------------------------------------------------------------------------ main
+def parse_args(argv):
+    ap = track_gate.UsageParser(prog="./run track", description=__doc__.split("\n")[0], allow_abbrev=False,
+                formatter_class=argparse.RawDescriptionHelpFormatter, epilog="\n".join(__doc__.split("\n")[2:]))
+    ap.add_argument("--baseline", metavar="REV", help="compare with this commit (measured now when it has no history)")
+    ap.add_argument("--baseline-file", metavar="CSV", help="compare with this history file")
+    ap.add_argument("--bisect", nargs=2, metavar=("GOOD", "BAD"), help="find the first commit where --measure of "
+                    "--cell regressed")
+    ap.add_argument("--cell", help="bisect: the cell (its name in the history, e.g. deform/armadillo/tf/structured/"
+                    "multifrontal)")
+    ap.add_argument("--measure", help="bisect: the measure (e.g. nnz_factor, init_s, peak_rss_bytes)")
+    ap.add_argument("--repeats", type=int, help="rounds over the suite (default the config's, 5; timed measures "
+                    "need >= 5 to be gated)")
+    ap.add_argument("--only", help="only cells matching these globs (comma-separated)")
+    ap.add_argument("--override", action="append", help="a rule 'key=value ...: key=value ...' changing the cells "
+                    "it matches (e.g. 'kind=deform method=tf: ordering=natural'); such a run is never a baseline")
+    ap.add_argument("--threshold", type=float, default=15, help="time: allowed slowdown, percent (15)")
+    ap.add_argument("--alpha", type=float, default=0.05, help="time: significance of the U test (0.05)")
+    ap.add_argument("--config", help="the suite (default data/experiments/track.toml)")
+    ap.add_argument("--save-reference", action="store_true", help="make this run the machine's committed reference")
+    ap.add_argument("--no-plots", action="store_true", help="skip plots/history.py")
+    ap.add_argument("--no-build", action="store_true", help="use the existing build of this tree")
+    ap.add_argument("--history-dir", help="histories: runs/ and reference/ (default results/history)")
+    ap.add_argument("--report", help="the Markdown report of the comparison (default results/track.md)")
+    ap.add_argument("--repo", help=argparse.SUPPRESS)       # tests: the repository measured
+    ap.add_argument("--work-dir", help="worktrees for other commits (default BUILD/track)")
+    ap.add_argument("--bisect-step", help=argparse.SUPPRESS)  # internal: one step of git bisect run
+    a = ap.parse_args(argv)
+    if (a.bisect or a.bisect_step) and not (a.cell and a.measure):
+        ap.error("--bisect needs --cell and --measure")
+    if sum(map(bool, (a.bisect, a.baseline, a.baseline_file))) > 1:
+        ap.error("--bisect, --baseline and --baseline-file do not go together")
+    if a.repeats is not None and a.repeats < 1:
+        ap.error("--repeats must be >= 1")
+    return a
+
+
+def main(argv=None):
+    a = parse_args(sys.argv[1:] if argv is None else argv)
+    try:
+        ctx = Context(a)
+        if a.bisect_step:
+            return cmd_bisect_step(ctx, a)
+        return cmd_bisect(ctx, a) if a.bisect else cmd_run(ctx, a)
+    except UsageError as e:
+        print(f"track: error: {e}", file=sys.stderr)
+        return 1
+    except Failure as e:
+        print(f"track: error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

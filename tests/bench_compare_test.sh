@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# scripts/bench_compare.sh's counter gate on an existing run (--run, nothing benchmarked): the baseline against
+# itself passes; a run whose nnz_L grew by 1% fails naming it; a run whose bytes shrank is reported and passes.
+#   bench_compare_test.sh SOURCE_DIR
+set -u
+SRC=$(cd "$1" && pwd)
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+[ -f /usr/share/benchmark/compare.py ] || { echo "libbenchmark-tools missing: skipped"; exit 77; }
+fails=0
+fail() { echo "FAIL $*"; fails=$((fails + 1)); }
+ok() { echo "ok   $*"; }
+B=$SRC/results/bench/baseline.json
+NAME="factorize/mesh:armadillo/system:tf/build:structured/backend:multifrontal"
+# scaled COUNTER FACTOR OUT: the baseline with one benchmark's counter scaled in every entry
+scaled() {
+  /usr/bin/python3 - "$B" "$NAME" "$1" "$2" "$3" <<'PY'
+import json, sys
+src, name, counter, factor, out = sys.argv[1:]
+d = json.load(open(src))
+for b in d["benchmarks"]:
+    if b.get("run_name", b["name"]) == name:
+        b[counter] = round(b[counter] * float(factor))
+json.dump(d, open(out, "w"))
+PY
+}
+run() { bash "$SRC/scripts/bench_compare.sh" --baseline "$B" --run "$1" >"$T/out" 2>&1; }
+
+cp "$B" "$T/same.json"
+run "$T/same.json" && grep -q "all equal" "$T/out" && ok "baseline against itself" || fail "same: $(tail -5 "$T/out")"
+scaled nnz_L 1.01 "$T/grew.json"
+run "$T/grew.json"; code=$?
+[ $code -eq 1 ] && grep -Eq "GREW +$NAME nnz_L: [0-9]+ -> [0-9]+ \(\+1\.00%\)" "$T/out" && ok "nnz_L +1% fails" ||
+  fail "grew: exit $code $(tail -8 "$T/out")"
+scaled bytes 0.99 "$T/shrank.json"
+run "$T/shrank.json" && grep -Eq "changed +$NAME bytes" "$T/out" && ok "bytes -1% reported, passes" ||
+  fail "shrank: $(tail -8 "$T/out")"
+if ((fails)); then echo "$fails failure(s)"; exit 1; fi
+echo "all passed"

@@ -1,0 +1,219 @@
+#!/usr/bin/python3
+"""Unit tests of the tracking gate (scripts/track_gate.py) on synthetic histories: a 30% slowdown is flagged, a 5%
+one and pure noise pass, a machine that is slower as a whole passes (normalization by the rates), and the
+deterministic, memory and status rules.  Run: tests/track_gate_test.py (ctest `track_gate`)."""
+import math
+import os
+import random
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPTS = os.path.join(HERE, "..", "scripts")
+sys.path.insert(0, SCRIPTS)
+import track_gate as g  # noqa: E402
+
+CELL = "deform/armadillo/tf/structured/multifrontal"
+
+
+def row(measure, cls, rate, value, repeat, dgemm=30.0, read=20.0, cell=CELL, machine="m1", **extra):
+    r = {"commit": "c" * 40, "date": "2026-01-01T00:00:00Z", "machine_id": machine, "cell": cell,
+         "measure": measure, "class": cls, "rate": rate, "value": "" if value is None else repr(value),
+         "repeat": str(repeat), "blas_dgemm_before": repr(dgemm), "blas_dgemm_after": repr(dgemm),
+         "memory_read_before": repr(read), "memory_read_after": repr(read), "git_sha": "cccccccccccc",
+         "overrides": "", "message": ""}
+    r.update(extra)
+    return r
+
+
+def timed(times, measure="factorize_s", rate="dgemm", dgemm=30.0, read=20.0, **kw):
+    """A history with one time measure, one row per repeat; dgemm / read may be per-repeat lists."""
+    rows = []
+    for i, t in enumerate(times):
+        d = dgemm[i] if isinstance(dgemm, list) else dgemm
+        m = read[i] if isinstance(read, list) else read
+        rows.append(row(measure, "time", rate, t, i + 1, d, m, **kw))
+    return g.History.from_rows(rows)
+
+
+def noisy(center, n, sigma, rng):
+    return [center * (1 + rng.gauss(0, sigma)) for _ in range(n)]
+
+
+def verdicts(base, now, **settings):
+    return {(c.cell, c.measure): c for c in g.compare(base, now, g.Settings(**settings))}
+
+
+class TimeRule(unittest.TestCase):
+    def test_thirty_percent_slowdown_fails(self):
+        rng = random.Random(1)
+        for _ in range(20):
+            base = timed(noisy(2.0, 5, 0.05, rng))
+            now = timed(noisy(2.6, 5, 0.05, rng))
+            c = verdicts(base, now)[(CELL, "factorize_s")]
+            self.assertEqual(c.verdict, "FAIL", c)
+            self.assertLess(c.p, 0.05)
+            self.assertGreater(c.ratio, 1.15)
+
+    def test_five_percent_slowdown_passes(self):
+        rng = random.Random(2)
+        for _ in range(50):
+            base = timed(noisy(2.0, 5, 0.05, rng))
+            now = timed(noisy(2.1, 5, 0.05, rng))
+            self.assertNotEqual(verdicts(base, now)[(CELL, "factorize_s")].verdict, "FAIL")
+
+    def test_pure_noise_passes(self):
+        # Noise as between runs on this box (5% per run): the threshold alone keeps every comparison ok.
+        rng = random.Random(3)
+        for _ in range(200):
+            base, now = timed(noisy(2.0, 5, 0.05, rng)), timed(noisy(2.0, 5, 0.05, rng))
+            self.assertNotEqual(verdicts(base, now)[(CELL, "factorize_s")].verdict, "FAIL")
+
+    def test_heavy_noise_fails_at_most_alpha(self):
+        # Heavy noise (20% per run) often moves a median of five by 15%; the U test then bounds false alarms by
+        # alpha: an exact 5-vs-5 one-sided test has P(p < 0.05) = 12/252 under no change.
+        rng = random.Random(3)
+        fails = sum(verdicts(timed(noisy(2.0, 5, 0.2, rng)), timed(noisy(2.0, 5, 0.2, rng)))
+                    [(CELL, "factorize_s")].verdict == "FAIL" for _ in range(400))
+        self.assertLessEqual(fails, 0.05 * 400 + 3 * math.sqrt(400 * 0.05 * 0.95), f"{fails} of 400 failed")
+        strict = sum(verdicts(timed(noisy(2.0, 5, 0.2, rng)), timed(noisy(2.0, 5, 0.2, rng)), alpha=0.01)
+                     [(CELL, "factorize_s")].verdict == "FAIL" for _ in range(400))
+        self.assertLessEqual(strict, 0.01 * 400 + 3 * math.sqrt(400 * 0.01 * 0.99), f"{strict} of 400 at 0.01")
+
+    def test_one_slow_outlier_passes(self):
+        base = timed([2.0, 2.02, 1.98, 2.01, 1.99])
+        now = timed([2.0, 2.02, 1.98, 2.01, 4.5])  # one run in a slow window: median unmoved, not significant
+        self.assertEqual(verdicts(base, now)[(CELL, "factorize_s")].verdict, "ok")
+
+    def test_slower_machine_is_normalized_away(self):
+        # The whole machine at half speed: every time doubles and the dgemm rate around it halves.
+        rng = random.Random(4)
+        base = timed(noisy(2.0, 5, 0.03, rng), dgemm=30.0)
+        now = timed([2 * t for t in noisy(2.0, 5, 0.03, rng)], dgemm=15.0)
+        c = verdicts(base, now)[(CELL, "factorize_s")]
+        self.assertEqual(c.verdict, "ok", c)
+        self.assertAlmostEqual(c.ratio, 1.0, delta=0.1)
+        self.assertAlmostEqual(float(c.note.split()[1]), 2.0, delta=0.2)  # "raw 1.98": the unnormalized ratio
+
+    def test_per_run_rates_normalize_each_run(self):
+        # Two of five runs in a slow window (time x1.5, rate / 1.5): normalized, the runs agree again.
+        base = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=30.0)
+        now = timed([3.0, 3.03, 2.0, 2.01, 1.99], dgemm=[20.0, 20.0, 30.0, 30.0, 30.0])
+        self.assertAlmostEqual(verdicts(base, now)[(CELL, "factorize_s")].ratio, 1.0, delta=0.02)
+
+    def test_a_slowdown_made_by_the_normalization_alone_does_not_fail(self):
+        # Same raw times; the probes around the new runs read a machine twice as fast (a burst of load that ended
+        # before the short cell ran): normalized 2x slower, raw unchanged.
+        base = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=15.0)
+        now = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=30.0)
+        c = verdicts(base, now)[(CELL, "factorize_s")]
+        self.assertAlmostEqual(c.ratio, 2.0, delta=0.05)
+        self.assertEqual(c.verdict, "ok", c)
+        self.assertIn("not failed", c.note)
+
+    def test_read_rate_for_solves_and_builds(self):
+        base = timed([0.1] * 5, measure="frame_s", rate="read", read=20.0)
+        now = timed([0.2] * 5, measure="frame_s", rate="read", read=10.0, dgemm=60.0)
+        self.assertAlmostEqual(verdicts(base, now)[(CELL, "frame_s")].ratio, 1.0, delta=1e-9)
+
+    def test_init_is_normalized_by_its_parts(self):
+        def hist(build, factor, dgemm, read):
+            rows = []
+            for i in range(5):
+                for m, rate, t in (("build_s", "read", build), ("analyze_s", "read", 0.0),
+                                   ("factorize_s", "dgemm", factor), ("init_s", "mixed", build + factor)):
+                    rows.append(row(m, "time", rate, t, i + 1, dgemm, read))
+            return g.History.from_rows(rows)
+        # The build at half the read rate took twice as long; the factorization ran at the same dgemm rate.
+        base, now = hist(1.0, 2.0, 30.0, 20.0), hist(2.0, 2.0, 30.0, 10.0)
+        self.assertAlmostEqual(verdicts(base, now)[(CELL, "init_s")].ratio, 1.0, delta=1e-9)
+
+    def test_too_few_runs_and_tiny_times_are_not_gated(self):
+        v = verdicts(timed([1.0] * 3), timed([2.0] * 3))[(CELL, "factorize_s")]
+        self.assertEqual((v.verdict, v.note), ("not gated", "3 runs < 5"))
+        v = verdicts(timed([1e-4] * 5), timed([2e-4] * 5))[(CELL, "factorize_s")]
+        self.assertEqual(v.verdict, "not gated")
+
+    def test_other_machine_times_not_gated(self):
+        v = verdicts(timed([1.0] * 5), timed([2.0] * 5, machine="m2"))[(CELL, "factorize_s")]
+        self.assertEqual((v.verdict, v.note), ("not gated", "other machine"))
+
+
+def single(measure, cls, value, machine="m1"):
+    return g.History.from_rows([row(measure, cls, "", value, 1, machine=machine)])
+
+
+class OtherRules(unittest.TestCase):
+    def test_deterministic(self):
+        self.assertEqual(verdicts(single("nnz_factor", "deterministic", 1000),
+                                  single("nnz_factor", "deterministic", 1000))[(CELL, "nnz_factor")].verdict, "ok")
+        for now, want in ((1004, "changed"), (1006, "FAIL"), (990, "changed")):
+            c = verdicts(single("nnz_factor", "deterministic", 1000), single("nnz_factor", "deterministic", now))
+            self.assertEqual(c[(CELL, "nnz_factor")].verdict, want, now)
+
+    def test_deterministic_compares_across_machines(self):
+        c = verdicts(single("factor_bytes", "deterministic", 100), single("factor_bytes", "deterministic", 110, "m2"))
+        self.assertEqual(c[(CELL, "factor_bytes")].verdict, "FAIL")
+
+    def test_peak_rss(self):
+        for now, want in ((104, "ok"), (106, "FAIL")):
+            c = verdicts(single("peak_rss_bytes", "memory", 100), single("peak_rss_bytes", "memory", now))
+            self.assertEqual(c[(CELL, "peak_rss_bytes")].verdict, want)
+        c = verdicts(single("peak_rss_bytes", "memory", 100), single("peak_rss_bytes", "memory", 200, "m2"))
+        self.assertEqual(c[(CELL, "peak_rss_bytes")].verdict, "not gated")
+
+    def test_failed_cell_fails_new_and_missing_are_reported(self):
+        base = g.History.from_rows([row("nnz", "deterministic", "", 5, 1), row("nnz", "deterministic", "", 5, 1,
+                                                                                cell="solve/x")])
+        now = g.History.from_rows([row("status", "status", "", None, 1, message="error: boom"),
+                                   row("nnz", "deterministic", "", 5, 1, cell="solve/y")])
+        c = verdicts(base, now)
+        self.assertEqual(c[(CELL, "status")].verdict, "FAIL")
+        self.assertIn("boom", c[(CELL, "status")].note)
+        self.assertEqual(c[("solve/y", "nnz")].verdict, "new")
+        self.assertEqual(c[("solve/x", "nnz")].verdict, "missing")
+
+    def test_cell_and_measure_filters(self):
+        base = g.History.from_rows([row("nnz", "deterministic", "", 5, 1), row("n", "deterministic", "", 5, 1)])
+        now = g.History.from_rows([row("nnz", "deterministic", "", 9, 1), row("n", "deterministic", "", 9, 1)])
+        self.assertEqual([c.measure for c in g.compare(base, now, g.Settings(measures=("n",)))], ["n"])
+        self.assertEqual(g.compare(base, now, g.Settings(cells=("solve/*",))), [])
+
+
+class CommandLine(unittest.TestCase):
+    def write(self, d, name, rows):
+        import csv
+        path = os.path.join(d, name)
+        with open(path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+        return path
+
+    def run_gate(self, *args):
+        return subprocess.run([sys.executable, os.path.join(SCRIPTS, "track_gate.py"), *args], text=True,
+                              capture_output=True)
+
+    def test_exit_codes_and_report(self):
+        with tempfile.TemporaryDirectory() as d:
+            base = self.write(d, "b.csv", [row("nnz_factor", "deterministic", "", 1000, 1)])
+            same = self.write(d, "s.csv", [row("nnz_factor", "deterministic", "", 1000, 1)])
+            worse = self.write(d, "w.csv", [row("nnz_factor", "deterministic", "", 2000, 1)])
+            self.assertEqual(self.run_gate(base, same).returncode, 0)
+            md = os.path.join(d, "track.md")
+            p = self.run_gate(base, worse, "--markdown", md)
+            self.assertEqual(p.returncode, 1)
+            self.assertRegex(p.stdout, r"nnz_factor\s+deterministic\s+1000\s+2000\s+2\.000\s+FAIL")
+            with open(md) as f:
+                text = f.read()
+            self.assertIn("| " + CELL + " | nnz_factor | deterministic | 1000 | 2000 | 2.000 |  | FAIL |", text)
+            self.assertEqual(self.run_gate(base, os.path.join(d, "none.csv")).returncode, 2)
+            self.assertEqual(self.run_gate(base, md).returncode, 2)  # not a history
+            self.assertEqual(self.run_gate(base, same, "--alpha", "2").returncode, 1)
+            self.assertEqual(self.run_gate(base).returncode, 1)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# scripts/track.py (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
+# measure.txt as a history of one cell): the default baseline (the newest history of an ancestor, never a dirty
+# run), --baseline REV measured in a worktree and then reused, the committed reference as a fresh clone's
+# baseline, and --bisect finding planted regressions of a deterministic and of a timed measure. Seconds, no build.
+#   track_scripts_test.sh SOURCE_DIR
+set -u
+SRC=$(cd "$1" && pwd)
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+fails=0
+fail() { echo "FAIL $*"; fails=$((fails + 1)); }
+ok() { echo "ok   $*"; }
+export DEFORMBENCH_TRACK_MEASURE="/usr/bin/python3 $SRC/tests/track_fake_measure.py"
+
+R=$T/repo
+git init -q "$R" && cd "$R" || exit 1
+git config user.email test@example.com && git config user.name test
+step() {  # step SUBJECT NNZ TIME: a commit whose suite measures these
+  printf 'nnz_factor=%s\nfactorize_s=%s\n' "$2" "$3" >measure.txt
+  git add measure.txt && git commit -qm "$1" --allow-empty && git tag "${1%% *}"
+}
+step c1 1000 1.0; step c2 1000 1.0; step "c3 slower factorization" 1000 1.5; step c4 1000 1.5
+step "c5 more fill" 1300 1.5; step c6 1300 1.5; step c7 1300 1.5
+sha() { git -C "$R" rev-parse "$1"; }
+no_worktrees() {  # the worktrees of other commits are removed once measured
+  [ "$(git -C "$R" worktree list | wc -l)" -eq 1 ] && [ -z "$(ls -A "$T/work" 2>/dev/null)" ] &&
+    ok "$1: no worktree left" || fail "$1: worktrees left: $(git -C "$R" worktree list; ls -A "$T/work")"
+}
+
+TRACK=(/usr/bin/python3 "$SRC/scripts/track.py" --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
+  --report "$T/track.md" --no-plots)
+# expect NAME EXIT_CODE REGEX -- args...
+expect() {
+  local name=$1 code=$2 re=$3; shift 4
+  "${TRACK[@]}" "$@" >"$T/out" 2>&1
+  local got=$?
+  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(tail -c 600 "$T/out")"; return; fi
+  if ! grep -Eq -- "$re" "$T/out"; then fail "$name: output does not match /$re/: $(tail -c 600 "$T/out")"; return; fi
+  ok "$name"
+}
+
+expect "first run: recorded, nothing to compare" 0 "nothing to compare" --
+expect "second run: the first is its baseline" 0 "baseline: the newest history of an ancestor commit" --
+[ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" && ok "report written" || fail "no report"
+
+printf 'nnz_factor=5000\nfactorize_s=1.5\n' >measure.txt  # uncommitted: a dirty run
+expect "dirty run gated" 1 "nnz_factor +deterministic +1300 +5000" --
+git checkout -q measure.txt
+expect "a dirty run is never a baseline" 0 "verdict: pass" --
+
+expect "--baseline REV without history: measured in a worktree" 1 \
+  "$(sha c1 | cut -c1-12) built in a worktree and measured now" -- --baseline c1
+grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/out" &&
+  grep -Eq "fake/cell +factorize_s +time +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/out" &&
+  ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/out")"
+no_worktrees "--baseline c1"
+expect "--baseline REV with history: reused" 1 "the newest history of $(sha c1 | cut -c1-12) on this machine" -- \
+  --baseline c1
+expect "--baseline-file" 0 "the history file given" -- --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+
+expect "bisect a deterministic measure" 0 "first bad commit for fake/cell nnz_factor: $(sha c5) c5 more fill" -- \
+  --bisect c1 c7 --cell fake/cell --measure nnz_factor
+expect "bisect a timed measure" 0 "first bad commit for fake/cell factorize_s: $(sha c3) c3 slower factorization" -- \
+  --bisect c2 HEAD --cell fake/cell --measure factorize_s
+expect "bisect: BAD not regressed" 1 "does not regress" -- --bisect c5 c7 --cell fake/cell --measure nnz_factor
+no_worktrees "bisect"
+git -C "$R" bisect log >/dev/null 2>&1 && fail "bisect left running" || ok "bisect state reset"
+expect "bisect: GOOD after BAD" 1 "not an ancestor" -- --bisect c7 c1 --cell fake/cell --measure nnz_factor
+expect "bisect without --cell" 1 "needs --cell and --measure" -- --bisect c1 c7
+expect "unknown revision" 1 "nosuch: not a commit" -- --baseline nosuch
+expect "unknown option" 1 "unrecognized arguments" -- --baselin c1
+
+# A fresh clone: no runs of its own, only the committed reference (of a commit it does not have).
+mkdir -p "$T/history2/reference"
+sed "s/^$(sha c7)/$(printf 'f%.0s' {1..40})/" "$(ls "$T"/history/runs/*"$(sha c7 | cut -c1-12)"*.csv | head -1)" \
+  >"$T/history2/reference/ref.csv"
+TRACK+=(--history-dir "$T/history2")
+expect "fresh clone: the committed reference" 0 "this machine's committed reference" --
+
+if ((fails)); then echo "$fails failure(s)"; exit 1; fi
+echo "all passed"

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# The tracking suite end to end on the real driver (build/exp_track), reduced to small meshes (hand and the CGAL
+# cactus of the data step; that part is skipped without them): strict command line and config, the shipped suite's grid, and a planted regression:
+# the suite run again through scripts/track.py with a worse ordering for the TF cells (--override ordering=natural)
+# against a baseline with the default fails, naming nnz(L) and factor bytes of the TF cells and nothing of LAP's.
+#   track_test.sh SOURCE_DIR BUILD_DIR
+set -u
+SRC=$(cd "$1" && pwd)
+BIN=$(cd "$2" && pwd)
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+cd "$SRC" || exit 1
+fails=0
+fail() { echo "FAIL $*"; fails=$((fails + 1)); }
+ok() { echo "ok   $*"; }
+# expect NAME EXIT_CODE REGEX -- command...
+expect() {
+  local name=$1 code=$2 re=$3; shift 4
+  "$@" >"$T/out" 2>&1
+  local got=$?
+  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(tail -c 600 "$T/out")"; return; fi
+  if ! grep -Eq -- "$re" "$T/out"; then fail "$name: output does not match /$re/: $(tail -c 600 "$T/out")"; return; fi
+  ok "$name"
+}
+X="$BIN/exp_track"
+
+# ---------------------------------------------------------------- command line and the shipped suite
+expect "--help" 0 "Usage: exp_track" -- "$X" --help
+expect "misspelled option" 1 "did you mean --repeats" -- "$X" --repeat 3
+expect "the shipped suite" 0 "^solve/armadillo/tf/multifrontal/default " -- "$X" --dry-run
+[ "$(grep -c . "$T/out")" -eq 32 ] && ok "32 cells in the shipped suite" || fail "shipped suite: $(grep -c . "$T/out") cells"
+expect "--only" 0 "^deform/hand/tf/naive/multifrontal +kind=deform model=hand method=tf build=naive .*frames=10" -- \
+  "$X" --dry-run --only 'deform/hand/tf/*'
+expect "--only matching nothing" 1 "no cell to run" -- "$X" --dry-run --only 'nothing*'
+expect "override recorded in the spec" 0 "deform/hand/tf/structured/multifrontal .*ordering=natural" -- \
+  "$X" --dry-run --only 'deform/hand/tf/*' --override "kind=deform method=tf: ordering=natural"
+expect "malformed pattern" 1 "cell pattern 'deform hand method=lap': no ':'" -- "$X" --dry-run --cells "deform hand method=lap"
+expect "unknown tier" 1 "no tier 'horse'" -- "$X" --dry-run --cells "deform horse: method=lap"
+expect "misspelled cell key" 1 "methd" -- "$X" --dry-run --cells "deform hand: methd=lap"
+expect "unknown backend" 1 "cholmod" -- "$X" --dry-run --cells "solve hand: backend=cholmod"
+expect "a cell twice" 1 "listed twice" -- "$X" --dry-run --cells "deform hand: method=lap" --cells "deform hand: method=lap"
+printf 'bogus = 1\n' >"$T/bad.toml"
+expect "unknown config key" 1 "bogus" -- "$X" --config "$T/bad.toml" --dry-run
+expect "unwritable history" 1 "not a directory|does not exist" -- "$X" --out "$T/no/such/h.csv" --only 'deform/hand/lap/s*'
+expect "--machine-id" 0 "^[0-9a-f]{12}$" -- "$X" --machine-id
+
+# ---------------------------------------------------------------- a planted regression, end to end
+if [ ! -f data/meshes/hand.off ] || [ ! -f data/meshes/cactus.off ]; then
+  echo "data/meshes missing (scripts/data.sh): planted regression skipped"
+  ((fails)) && exit 1
+  exit 77
+fi
+cat >"$T/small.toml" <<'EOF'
+tier = ["hand=meshes/hand.off", "cactus=meshes/cactus.off"]
+cells = ["deform hand,cactus: method=lap,tf build=structured"]
+default = ["kind=deform: constraints=soft frames=2"]
+repeats = 1
+EOF
+expect "baseline run" 0 "wrote" -- "$X" --config "$T/small.toml" --data "$SRC/data" --out "$T/base.csv"
+[ "$(cut -d, -f4 "$T/base.csv" | sort -u | grep -c /)" -eq 4 ] && ok "four cells in the history" || fail "cells: $(cut -d, -f4 "$T/base.csv" | sort -u)"
+TRACK=(env DEFORMBENCH_BUILD_DIR="$BIN" /usr/bin/python3 "$SRC/scripts/track.py" --no-build --no-plots
+  --config "$T/small.toml" --history-dir "$T/history" --report "$T/track.md" --baseline-file "$T/base.csv")
+expect "same suite passes" 0 "verdict: pass" -- "${TRACK[@]}"
+expect "TF with the natural ordering fails" 1 "verdict: FAIL" -- "${TRACK[@]}" \
+  --override "kind=deform method=tf: ordering=natural"
+for tier in hand cactus; do
+  for m in nnz_factor factor_bytes; do
+    grep -Eq "^deform/$tier/tf/structured/multifrontal +$m +deterministic +[0-9]+ +[0-9]+ +[0-9.]+ +FAIL" "$T/out" &&
+      ok "names $tier tf $m" || fail "$tier tf $m not named: $(cat "$T/out")"
+  done
+done
+grep -E "^deform/[a-z]+/lap/.*FAIL" "$T/out" && fail "a lap cell failed" || ok "lap cells unchanged"
+grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic |" "$T/track.md" &&
+  ok "Markdown report names it" || fail "track.md: $(head -20 "$T/track.md")"
+[ "$(ls "$T/history/runs" | wc -l)" -eq 2 ] && ok "one history file per run" || fail "histories: $(ls "$T/history/runs")"
+
+# The trend view of these histories: the run with overrides is left out, the other gives every figure.
+expect "trend view" 0 "1 run\(s\) of machine [0-9a-f]{12} -> $T/plots/history_\*.png" -- \
+  /usr/bin/python3 "$SRC/plots/history.py" --results "$T" --out "$T/plots"
+for f in init frame factor_bytes peak_rss; do
+  [ -s "$T/plots/history_$f.png" ] && ok "history_$f.png" || fail "no history_$f.png"
+done
+expect "trend view: unknown machine" 1 "no history of machine nosuch" -- \
+  /usr/bin/python3 "$SRC/plots/history.py" --results "$T" --out "$T/plots" --machine nosuch
+expect "trend view: no history" 0 "no history under" -- \
+  /usr/bin/python3 "$SRC/plots/history.py" --results "$T/none" --out "$T/plots"
+
+if ((fails)); then echo "$fails failure(s)"; exit 1; fi
+echo "all passed"
