@@ -76,18 +76,18 @@ void LaplacianDeformer::precompute_rescale(const Faces& F, const DeformOptions& 
 }
 
 Points LaplacianDeformer::rescale(const Points& Vn1) {
-  // Targets R_i delta_i for every row of L, and their linear term A_u^T (R delta) in LAP's layout.
+  // The linear term A_u^T (R delta) in LAP's layout: the targets R_i delta_i of the rows of L that reach an
+  // unknown (a row among fixed vertices only adds nothing).
   const Points& delta = lap_op_->delta();
-  Points target(delta.rows(), 3);
-  for (int i = 0; i < delta.rows(); ++i)
-    target.row(i) = (lap_op_->fitted_rotation(i, Vn1) * delta.row(i).transpose()).transpose();
   const auto linear = [&](DenseMat& g) {
     std::vector<int> cols;
     std::vector<double> coeffs;
-    for (int i = 0; i < target.rows(); ++i) {
+    for (int i = 0; i < delta.rows(); ++i) {
       lap_op_->row(i, cols, coeffs);
+      if (std::none_of(cols.begin(), cols.end(), [&](int k) { return unk_.unknown_of[k] >= 0; })) continue;
+      const Eigen::RowVector3d target = (lap_op_->fitted_rotation(i, Vn1) * delta.row(i).transpose()).transpose();
       for (std::size_t k = 0; k < cols.size(); ++k)
-        if (const int u = unk_.unknown_of[cols[k]]; u >= 0) g.row(u) += coeffs[k] * target.row(i);
+        if (const int u = unk_.unknown_of[cols[k]]; u >= 0) g.row(u) += coeffs[k] * target;
     }
   };
   // The constraint values of the first pass, in LAP's layout (one row per vertex, x y z columns).
