@@ -200,21 +200,36 @@ def tf_scale_values(rows):
     wanted = dict(TF_SCALE_CONFIGS)
     for r in rows:
         if r["config"] in wanted and r["status"] == "ok":
-            out.setdefault(r["case"], {})[r["config"]] = {m: number(r.get(m, "")) for m, _ in TF_SCALE_MEASURES}
+            out.setdefault(r["case"], {})[r["config"]] = {m: number(r.get(m, "")) for m in
+                                                          [m for m, _ in TF_SCALE_MEASURES] + ["init_s", "frame_s"]}
     return out
 
 
 def tf_scale_verdict(vals, large):
     """Counts, over the cases that have both, of where TF normalized is better than TF and than LRI; `large`: the
     cases of large rotations (180 degrees and more, or chained twists)."""
+    def better(x, y):  # below, by more than round-off (ties such as the identity edit count for neither)
+        return x < y - 1e-9 * max(abs(x), abs(y)) - 1e-12
+
     def count(a, b, measure, key=lambda x: x, only=None):
         n = wins = 0
         for name, case in vals.items():
             if a in case and b in case and (only is None or name in only):
                 x, y = case[a].get(measure, NAN), case[b].get(measure, NAN)
                 if not isnan(x) and not isnan(y):
-                    n, wins = n + 1, wins + (key(x) < key(y))
+                    n, wins = n + 1, wins + better(key(x), key(y))
         return wins, n
+
+    def losses(a, b, measure, key=lambda x: x):
+        return [name for name, c in vals.items() if a in c and b in c and better(key(c[b][measure]), key(c[a][measure]))]
+
+    def ratio(measure):
+        rs = sorted(c["tf-normalized"][measure] / c["tf"][measure] for c in vals.values()
+                    if "tf" in c and "tf-normalized" in c and c["tf"][measure] > 0)
+        return rs[len(rs) // 2] if rs else NAN
+
+    def at(case, config, measure):
+        return vals.get(case, {}).get(config, {}).get(measure, NAN)
 
     def worst(config, measure):
         cands = [(c[config][measure], name) for name, c in vals.items() if config in c and not isnan(c[config][measure])]
@@ -238,8 +253,20 @@ def tf_scale_verdict(vals, large):
          "only for closed meshes; `max displacement` is the largest vertex move (the handle's own move is the floor).\n",
          f"- **Against plain TF:** lower edge-length distortion in {e[0]} of {e[1]} cases, a smaller volume change in "
          f"{v[0]} of {v[1]} closed cases, closer to the analytic ideal in {i[0]} of {i[1]} cases with one. Plain TF's "
-         f"largest vertex move is {f3(wt[0])} diagonals (`{wt[1]}`) and its largest volume change {f3(wv[0])} "
-         f"(`{wv[1]}`); normalized TF's largest move is {f3(wn[0])} (`{wn[1]}`).",
+         f"largest vertex move is {f3(wt[0])} diagonals (`{wt[1]}`), where normalized TF moves vertices by at most "
+         f"{f3(at(wt[1], 'tf-normalized', 'max_displacement'))} and LAP {f3(at(wt[1], 'lap', 'max_displacement'))}; "
+         f"its largest volume change is {f3(wv[0])} (`{wv[1]}`), normalized TF's there "
+         f"{f3(at(wv[1], 'tf-normalized', 'volume_change'))}. Normalized TF's largest move over all cases is "
+         f"{f3(wn[0])} (`{wn[1]}`, LAP's there {f3(at(wn[1], 'lap', 'max_displacement'))}).",
+         "- **Where it is worse than plain TF:** farther from the ideal in "
+         + (", ".join(f"`{c}`" for c in losses("tf-normalized", "tf", "ideal_rms")) or "no case")
+         + "; a larger volume change in "
+         + (", ".join(f"`{c}`" for c in losses("tf-normalized", "tf", "volume_change", abs)) or "no case")
+         + " (the chained twists lose volume as LRI polar does; plain TF's smaller volume change there comes with a larger "
+         "edge-length distortion, see the table).",
+         f"- **Cost:** a second, scalar factor and a second solve per frame: median over the cases of normalized TF's "
+         f"init time over plain TF's {f3(ratio('init_s'))}, of its frame time {f3(ratio('frame_s'))} (single runs on "
+         "a shared machine).",
          f"- **Against LAP and LRI:** closer to the ideal than LAP in {il[0]} of {il[1]} cases and than LRI polar in "
          f"{ir[0]} of {ir[1]}; lower edge-length distortion than LRI polar in {el[0]} of {el[1]} cases.",
          f"- **Large rotations** ({len(large)} cases of 180 degrees or more, or chained twists): closer to the ideal "
