@@ -98,7 +98,7 @@ void EnergyOperator::row(int i, std::vector<int>& cols, std::vector<double>& coe
   if (kind_ == EnergyKind::Lap) return;
 
   // TF: fit T_i = (s, h[, t]) to the 1-ring: minimize sum_k ||A_k (s,h,t) - v'_k||^2 (thesis eq. 2-11) with
-  // A_k the 3 x 7 matrix of v_k below. (s,h,t) = N^-1 sum_k A_k^T v'_k with N = sum_k A_k^T A_k, and
+  // A_k the 3 x 7 matrix of v_k (ring_row). (s,h,t) = N^-1 sum_k A_k^T v'_k with N = sum_k A_k^T A_k, and
   // T_i delta_i = G (s,h) with G = [delta, -[delta]x]. So the block of column k is
   // M_k = G (N^-1)[0:4, :] A_k^T, computed without forming the stacked 3m x 7 matrix.
   const Mat7 N = fit_normal(V_, cols, opt_.tf_translation);
