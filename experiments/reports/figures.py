@@ -30,10 +30,11 @@ FIGURES = [
              "fitted similarities scale up); TF with normalized scale turns it with less widening; LRI turns it and "
              "keeps it thin.",
      "ours": "CGAL's `bunny00` (data/meshes, the Stanford bunny rescaled into [-0.5, 0.5], +y up); "
-             "`data/edits/bunny_ear.edit`: the 60 vertices nearest the tip of the ear that reaches highest moved 0.15 along +x, a "
-             "sphere of radius 0.24 around the ear free, the rest fixed.",
+             "`data/edits/figures/bunny_ear.edit`: the 60 vertices nearest the tip of the ear that reaches highest "
+             "moved 0.15 along +x, a sphere of radius 0.24 around the ear free, the rest fixed.",
      "differs": "The thesis does not give its bunny's resolution, selection or drag vector; ours are chosen to match "
-                "the description (a pure translation of the ear tip). The render shows the whole bunny from +z, its side, where the drag lies in the image plane."},
+                "the description (a pure translation of the ear tip). The render shows the whole bunny from +z, its "
+                "side, where the drag lies in the image plane."},
     {"title": "The LSE report's example: the bunny's ear",
      "thesis": "The report (Laplacian Surface Editing, Sorkine et al. 2004, re-implemented in Python) deforms the "
                "ear of the Stanford bunny with the TF energy (fitted s, h, t per vertex), the handle and region "
@@ -52,7 +53,7 @@ FIGURES = [
      "seen": "Seen from behind (+z), the right arm (on the image's right) comes down in every method; at this scale "
              "the methods look alike (the table's edge-length distortion tells them apart), and the shell's detail "
              "outside the region is untouched.",
-     "ours": "CGAL's armadillo (26002 vertices): `data/edits/armadillo_arm.edit` lowers the right hand by a "
+     "ours": "CGAL's armadillo (26002 vertices): `data/edits/figures/armadillo_arm.edit` lowers the right hand by a "
              "40-degree turn about the shoulder, the arm free, the body fixed.",
      "differs": "Our bundled armadillo has about half the thesis' points (its Loop-subdivided 104k version is in "
                 "Table 2-1's timings, results/table_2_1.md); the thesis does not say which edit it made. Init and "
