@@ -6,8 +6,8 @@ reporting: nothing here measures, and a report can be rewritten after editing th
 
 Writes RESULTS/table_2_1.md, solvers.md, frames.md and figures.md, each only when its CSV exists (figures.md: the
 thesis' figures mapped to the frames study's renders under --plots, default the results directory's sibling
-plots/; ./run writes it after the plots). Standard library only; ./run
-runs it with /usr/bin/python3 like the plots.
+plots/; ./run writes it after the plots). Standard library only; ./run runs it with /usr/bin/python3 like the
+plots.
 """
 import argparse
 import os
@@ -21,6 +21,7 @@ import solvers  # noqa: E402
 import table_2_1  # noqa: E402
 
 REPORTS = {"table_2_1": table_2_1.write, "solvers": solvers.write, "frames": frames.write, "figures": figures.write}
+CSV_OF = {"figures": "frames"}  # a report named after no CSV of its own
 
 
 def main():
@@ -40,7 +41,7 @@ def main():
         return 1
     for n in names:
         wrote = figures.write(a.results, a.plots) if n == "figures" else REPORTS[n](a.results)
-        print(f"[report] {n}.md: " + ("written" if wrote else f"no {'frames' if n == 'figures' else n}.csv, skipped"), file=sys.stderr)
+        print(f"[report] {n}.md: " + ("written" if wrote else f"no {CSV_OF.get(n, n)}.csv, skipped"), file=sys.stderr)
     return 0
 
 
