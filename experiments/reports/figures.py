@@ -97,8 +97,10 @@ FIGURES = [
              "height-angle and principal-direction (curvature) frames.",
      "differs": "results/frames.md derives and measures why the frame choice cannot matter with polar "
                 "orthonormalization and matters only through Gram-Schmidt's first axis; at exactly 180 degrees the "
-                "linear frame solve collapses mid-bend for every frame choice, so the improvement the thesis shows is "
-                "not reproduced (see the table: the strategies' distances to the ideal)."},
+                "linear frame solve collapses mid-bend for every frame choice. The thesis' clear improvement is not "
+                "reproduced: against first-neighbour frames the principal-direction frames are closer to the ideal in "
+                "some cases and farther in others (the comparison above the tables).",
+     "compare": ("lri-curvature-gram_schmidt", "lri-first-gram_schmidt", "ideal_rms")},
     {"title": "Thesis fig. 4-5: more edits",
      "thesis": "Further LRI edits on scanned models (the dinosaur's head turned among them).",
      "cases": ["dino_head90", "bs08_cactus", "bs08_bar", "bs08_cylinder", "bs08_plane", "armadillo_arm"],
@@ -142,8 +144,22 @@ def metrics_table(by_config, configs):
     return "\n".join(o)
 
 
+def comparison(fig, cases):
+    """`a` against `b` on the figure's cases: 'case x vs y (+z%)' for the measure of fig['compare']."""
+    a, b, m = fig["compare"]
+    parts = []
+    for case in fig["cases"]:
+        x, y = (number(cases.get(case, {}).get(c, {}).get(m, "")) for c in (a, b))
+        if not isnan(x) and not isnan(y) and y > 0:
+            parts.append(f"`{case}` {fmt(x)} vs {fmt(y)} ({100 * (x / y - 1):+.0f}%)")
+    return (f"{LABELS.get(a, a)} against {LABELS.get(b, b)}, {dict(MEASURES)[m]}: " + "; ".join(parts) + ".\n"
+            if parts else "")
+
+
 def section(fig, cases, plots_dir):
     o = [f"## {fig['title']}\n", f"**Thesis / report:** {fig['thesis']}\n", f"**Ours:** {fig['ours']}\n"]
+    if "compare" in fig:
+        o.append(comparison(fig, cases))
     for case in fig["cases"]:
         render = os.path.join(plots_dir, f"render_{case}.png")
         rel = f"plots/render_{case}.png"
