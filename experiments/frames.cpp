@@ -1,6 +1,7 @@
 // Issue 5 / thesis 4.4: does the LRI frame choice change the result? Deforms the cases of a config
-// (data/experiments/frames.toml) with LAP, TF (free and normalized scale) and LRI (every frame strategy x orthonormalization), measures each
-// result against the rest mesh and, where one exists, the analytic ideal, and writes
+// (data/experiments/frames.toml) with LAP, TF (free and normalized scale) and LRI (every frame strategy x
+// orthonormalization), measures each result against the rest mesh and, where one exists, the analytic ideal, and
+// writes
 //   results/frames.csv                  one tidy row per case x method x strategy x orthonormalization
 //   results/frames_settings.csv         the run's settings, for the report
 //   results/meshes/frames/CASE__*.ply   rest, ideal, every result (binary PLY), CASE__roles.sel (0 fixed/1/2 handle)
@@ -351,8 +352,8 @@ struct Options {
   double twist_step = 30, cell_timeout_s = 600;
   std::string only;
   unsigned seed = 1;
-  std::vector<std::string> cases, methods = {"lap", "tf", "tf-normalized", "lri"}, lri_frames = {"first", "random", "height_angle",
-                                                                                 "curvature"},
+  std::vector<std::string> cases, methods = {"lap", "tf", "tf-normalized", "lri"},
+                                  lri_frames = {"first", "random", "height_angle", "curvature"},
                                   lri_ortho = {"gram_schmidt", "polar"};
 };
 
@@ -481,8 +482,8 @@ void add_rows(CsvTable& csv, const Case& c, const std::vector<Outcome>& runs) {
                          {"orthonormalize", x.config.ortho},
                          {"config", x.config.label()},
                          {"status", r.ok() ? "ok" : fmt::format("error ({}): {}", r.exit, r.message)}};
-    for (const char* m : {"ideal_rms", "ideal_max", "edge_distortion", "max_displacement", "arap_energy", "lri_detail_error",
-                          "normal_dev_ideal_mean_deg", "normal_dev_ideal_max_deg", "normal_dev_local_mean_deg",
+    for (const char* m : {"ideal_rms", "ideal_max", "edge_distortion", "max_displacement", "arap_energy",
+                          "lri_detail_error", "normal_dev_ideal_mean_deg", "normal_dev_ideal_max_deg", "normal_dev_local_mean_deg",
                           "volume_change", "diff_vs_first_max", "diff_vs_first_rms", "diff_vs_polar_max",
                           "frame_fallbacks", "frame_sigma_min", "n_frames_system", "n_positions_system",
                           "factor_bytes", "init_s", "frame_s", "peak_rss_bytes"})

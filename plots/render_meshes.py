@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Before/after renders of the frames experiment (exp_frames): one PNG per case, panels rest (coloured by role:
 fixed grey, free red, handle yellow, as in thesis fig. 4-4), the analytic ideal where there is one, and the results
-of LAP, TF (free and normalized scale) and LRI (every frame strategy with Gram-Schmidt, and first-neighbour frames with polar
-orthonormalization; the other polar results coincide with it, see results/frames.md).
+of LAP, TF (free and normalized scale) and LRI (every frame strategy with Gram-Schmidt, and first-neighbour frames
+with polar orthonormalization; the other polar results coincide with it, see results/frames.md).
 
 Reads results/meshes/frames/CASE__{rest,ideal,<config>}.ply (binary little-endian PLY as written by
 db::write_mesh) and CASE__roles.sel; writes OUT/render_CASE.png. Flat shading by face normal, Agg backend.
