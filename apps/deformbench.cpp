@@ -41,6 +41,7 @@ struct DeformArgs {
   std::string edit, out, csv, transform, factor_dir;
   std::string method = "lap", weights = "uniform", constraints = "hard", build = "structured", solver;
   std::string ordering = "default", lri_frames = "first", lri_orthonormalize = "gram_schmidt";
+  std::string tf_scale = "free";
   double soft_weight = 1.0;
   unsigned lri_seed = 1;
   bool tf_no_translation = false, no_normalize = false;
@@ -105,6 +106,10 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
       ->check(cli::OneOf(names({Weights::Uniform, Weights::Cotan})))->capture_default_str()->group(m);
   d.add_flag("--tf-no-translation", a.tf_no_translation, "TF without the translation fit, thesis eq. 2-12 (tf)")
       ->group(m);
+  d.add_option("--tf-scale", a.tf_scale,
+               "free: TF's fitted similarities as they are; normalized: their rotations only, by a second LAP pass "
+               "(tf)")
+      ->check(cli::OneOf({"free", "normalized"}))->capture_default_str()->group(m);
   d.add_flag("--no-normalize", a.no_normalize, "build in raw coordinates (diagnosis only: TF may fail)")->group(m);
   const std::string l = "LRI (--method lri)";
   d.add_option("--lri-frames", a.lri_frames, "local frame strategy")
@@ -144,7 +149,9 @@ void refuse_unused(const CLI::App& d, const DeformArgs& a) {
   };
   const bool lri = a.method == "lri";
   if (lri) refuse("--weights", "is not used by --method lri (its systems have no Laplacian weights)");
-  if (a.method != "tf") refuse("--tf-no-translation", fmt::format("is for --method tf only, not {}", a.method));
+  if (a.method != "tf")
+    for (const char* o : {"--tf-no-translation", "--tf-scale"})
+      refuse(o, fmt::format("is for --method tf only, not {}", a.method));
   if (!lri)
     for (const char* o : {"--lri-frames", "--lri-orthonormalize", "--lri-seed"})
       refuse(o, fmt::format("is for --method lri only, not {}", a.method));
@@ -183,6 +190,7 @@ DeformOptions deform_options(const DeformArgs& a) {
   o.constraints = parse_constraints(a.constraints);
   o.soft_weight = a.soft_weight;
   o.tf_translation = !a.tf_no_translation;
+  o.tf_normalize_scale = a.tf_scale == "normalized";
   o.lri_frames = a.lri_frames;
   o.lri_orthonormalize = a.lri_orthonormalize;
   o.lri_seed = a.lri_seed;

@@ -1,6 +1,7 @@
 // Issue 5 / thesis 4.4: does the LRI frame choice change the result? Deforms the cases of a config
-// (data/experiments/frames.toml) with LAP, TF and LRI (every frame strategy x orthonormalization), measures each
-// result against the rest mesh and, where one exists, the analytic ideal, and writes
+// (data/experiments/frames.toml) with LAP, TF (free and normalized scale) and LRI (every frame strategy x
+// orthonormalization), measures each result against the rest mesh and, where one exists, the analytic ideal, and
+// writes
 //   results/frames.csv                  one tidy row per case x method x strategy x orthonormalization
 //   results/frames_settings.csv         the run's settings, for the report
 //   results/meshes/frames/CASE__*.ply   rest, ideal, every result (binary PLY), CASE__roles.sel (0 fixed/1/2 handle)
@@ -263,7 +264,8 @@ void note(Run& r, const Deformer& d) {
 
 Run run_config(const Case& c, const Config& cfg, unsigned seed) {
   DeformOptions o;
-  o.method = cfg.method;
+  o.method = cfg.method == "tf-normalized" ? "tf" : cfg.method;
+  o.tf_normalize_scale = cfg.method == "tf-normalized";  // TF's rotations without its scale (issue 17)
   if (cfg.method == "lri") {
     o.lri_frames = cfg.frames;
     o.lri_orthonormalize = cfg.ortho;
@@ -299,6 +301,7 @@ void add_metrics(CellResult& res, const Case& c, const Points& V) {
     }
   };
   res.set("edge_distortion", edge_length_distortion(c.mesh.V, V, adj));
+  res.set("max_displacement", distance_between(V, c.mesh.V, bbox_diagonal(c.mesh.V)).max);
   res.set("arap_energy", arap_energy(c.mesh.V, V, adj));
   guarded("lri_detail_error", [&] { res.set("lri_detail_error", lri_detail_error(c.mesh.V, V, c.mesh.F, adj)); });
   guarded("normal_dev_local",
@@ -349,8 +352,8 @@ struct Options {
   double twist_step = 30, cell_timeout_s = 600;
   std::string only;
   unsigned seed = 1;
-  std::vector<std::string> cases, methods = {"lap", "tf", "lri"}, lri_frames = {"first", "random", "height_angle",
-                                                                                 "curvature"},
+  std::vector<std::string> cases, methods = {"lap", "tf", "tf-normalized", "lri"},
+                                  lri_frames = {"first", "random", "height_angle", "curvature"},
                                   lri_ortho = {"gram_schmidt", "polar"};
 };
 
@@ -363,7 +366,8 @@ void define_options(CLI::App& app, Options& o) {
   app.add_flag("--dry-run", o.dry_run, "print the grid's cells (one spec a line) and exit");
   app.add_option("--case", o.cases, "a case: \"NAME: bend|twist|edit key=value ...\" (see the source's header)");
   app.add_option("--only", o.only, "run only the cases whose name contains this");
-  app.add_option("--methods", o.methods, "methods")->delimiter(',')->check(cli::OneOf({"lap", "tf", "lri"}))
+  app.add_option("--methods", o.methods, "methods (tf-normalized: tf --tf-scale normalized)")->delimiter(',')
+      ->check(cli::OneOf({"lap", "tf", "tf-normalized", "lri"}))
       ->capture_default_str();
   app.add_option("--lri-frames", o.lri_frames, "LRI frame strategies")->delimiter(',')
       ->check(cli::OneOf({"first", "random", "height_angle", "curvature"}))->capture_default_str();
@@ -478,8 +482,8 @@ void add_rows(CsvTable& csv, const Case& c, const std::vector<Outcome>& runs) {
                          {"orthonormalize", x.config.ortho},
                          {"config", x.config.label()},
                          {"status", r.ok() ? "ok" : fmt::format("error ({}): {}", r.exit, r.message)}};
-    for (const char* m : {"ideal_rms", "ideal_max", "edge_distortion", "arap_energy", "lri_detail_error",
-                          "normal_dev_ideal_mean_deg", "normal_dev_ideal_max_deg", "normal_dev_local_mean_deg",
+    for (const char* m : {"ideal_rms", "ideal_max", "edge_distortion", "max_displacement", "arap_energy",
+                          "lri_detail_error", "normal_dev_ideal_mean_deg", "normal_dev_ideal_max_deg", "normal_dev_local_mean_deg",
                           "volume_change", "diff_vs_first_max", "diff_vs_first_rms", "diff_vs_polar_max",
                           "frame_fallbacks", "frame_sigma_min", "n_frames_system", "n_positions_system",
                           "factor_bytes", "init_s", "frame_s", "peak_rss_bytes"})

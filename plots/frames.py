@@ -23,6 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 MAIN = [  # (config, label, colour)
     ("lap", "LAP", "#5b8cd9"),
     ("tf", "TF", "#4fb583"),
+    ("tf-normalized", "TF normalized scale", "#9bcf4f"),
     ("lri-first-gram_schmidt", "LRI first / GS", "#e3a35a"),
     ("lri-random-gram_schmidt", "LRI random / GS", "#c97f3a"),
     ("lri-height_angle-gram_schmidt", "LRI height angle / GS", "#b0562a"),

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Before/after renders of the frames experiment (exp_frames): one PNG per case, panels rest (coloured by role:
 fixed grey, free red, handle yellow, as in thesis fig. 4-4), the analytic ideal where there is one, and the results
-of LAP, TF and LRI (every frame strategy with Gram-Schmidt, and first-neighbour frames with polar
-orthonormalization; the other polar results coincide with it, see results/frames.md).
+of LAP, TF (free and normalized scale) and LRI (every frame strategy with Gram-Schmidt, and first-neighbour frames
+with polar orthonormalization; the other polar results coincide with it, see results/frames.md).
 
 Reads results/meshes/frames/CASE__{rest,ideal,<config>}.ply (binary little-endian PLY as written by
 db::write_mesh) and CASE__roles.sel; writes OUT/render_CASE.png. Flat shading by face normal, Agg backend.
@@ -29,13 +29,15 @@ PANELS = [
     ("ideal", "analytic ideal"),
     ("lap", "LAP"),
     ("tf", "TF"),
+    ("tf-normalized", "TF, normalized scale"),
     ("lri-first-gram_schmidt", "LRI first, Gram-Schmidt"),
     ("lri-random-gram_schmidt", "LRI random, Gram-Schmidt"),
     ("lri-height_angle-gram_schmidt", "LRI height angle, Gram-Schmidt"),
     ("lri-curvature-gram_schmidt", "LRI curvature, Gram-Schmidt"),
     ("lri-first-polar", "LRI first, polar (= every strategy)"),
 ]
-COLORS = {"lap": (0.35, 0.55, 0.85), "tf": (0.35, 0.75, 0.55), "ideal": (0.75, 0.75, 0.75)}
+COLORS = {"lap": (0.35, 0.55, 0.85), "tf": (0.35, 0.75, 0.55), "tf-normalized": (0.55, 0.8, 0.35),
+          "ideal": (0.75, 0.75, 0.75)}
 LRI_COLOR = (0.85, 0.6, 0.35)
 ROLE_COLORS = np.array([[0.62, 0.66, 0.72], [0.86, 0.32, 0.30], [0.97, 0.85, 0.25]])  # fixed, free, handle
 
@@ -97,7 +99,8 @@ def shade(V, F, base, light):
     return np.clip(base * k, 0, 1)
 
 
-VIEWS = {"dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0)}  # (elev, azim) by prefix
+VIEWS = {"dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
+         "bunny": (90.0, -90.0), "armadillo": (90.0, -90.0)}  # (elev, azim) by prefix
 
 
 def view_for(case, Vs):

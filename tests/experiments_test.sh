@@ -57,13 +57,16 @@ expect "table_2_1 tiny run" 0 "wrote" -- "$BIN/exp_table_2_1" --tier cactus=bs08
 expect "solvers tiny run" 0 "wrote" -- "$BIN/exp_solvers" --tier cactus=bs08/cactus.off --systems lap \
   --backends cholmod_supernodal,multifrontal,spqr --orderings default --factor-reps 1 --solve-reps 1 --results "$R"
 expect "frames tiny run" 0 "wrote" -- "$BIN/exp_frames" --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" \
-  --methods lap,lri --lri-frames first,random --lri-orthonormalize polar --no-meshes --out "$R/frames.csv"
+  --methods lap,tf,tf-normalized,lri --lri-frames first,random --lri-orthonormalize polar --no-meshes --out "$R/frames.csv"
 expect "deform_cases tiny run" 0 "wrote" -- "$BIN/exp_deform_cases" --case bar=bs08/bar --methods lap --frames 2 \
   --out "$R/deform_cases.csv"
 expect "report step" 0 "frames.md: written" -- "$PY" experiments/reports/report.py --results "$R"
 grep -q "^| cactus | lap | naive |" "$R/table_2_1.md" && ok "table_2_1.md has the cells" || fail "table_2_1.md lacks the cells"
 grep -q "^| cactus | lap | .* | spqr |" "$R/solvers.md" && ok "solvers.md has the spqr row" || fail "solvers.md lacks spqr"
 grep -q "^| bar | single |" "$R/frames.md" && ok "frames.md has the case" || fail "frames.md lacks the case"
+grep -q "^| bar | TF normalized | " "$R/frames.md" && grep -q "## TF without the scale blow-up" "$R/frames.md" \
+  && ok "frames.md compares tf-normalized" || fail "frames.md lacks the tf-normalized comparison"
+grep -q "^## Thesis fig. 4-4" "$R/figures.md" && ok "figures.md written" || fail "figures.md lacks fig. 4-4"
 grep -q "error_vs_cholmod" "$R/solvers.csv" && ok "error_vs_cholmod measured" || fail "no error_vs_cholmod"
 grep -q ",peak_rss_bytes," "$R/frames.csv" || head -1 "$R/frames.csv" | grep -q "peak_rss_bytes" && ok "frames rows carry peak RSS" || fail "frames lacks peak_rss_bytes"
 expect "report unknown name" 1 "unknown report" -- "$PY" experiments/reports/report.py --results "$R" --only tables

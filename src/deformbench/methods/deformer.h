@@ -25,6 +25,10 @@ struct DeformOptions {
   std::string method = "lap";  //!< "lap", "tf" or "lri" (see make_deformer)
   Weights weights = Weights::Uniform;
   bool tf_translation = true;  //!< TF: fit t as well (false: thesis eq. 2-12)
+  //! TF: false ("free") keeps the linearized similarities T_i as fitted, scale included; true ("normalized")
+  //! keeps only their rotations: a second pass turns each rest delta_i by the rotation part of the T_i fitted to
+  //! the TF result and solves the LAP system to those (methods/laplacian_deformer.h).
+  bool tf_normalize_scale = false;
   //! Hard: handle and fixed vertices are eliminated. Soft: they stay unknowns with weighted rows w^2 ||v - u||^2
   //! (thesis eq. 2-4).
   ConstraintMode constraints = ConstraintMode::Hard;

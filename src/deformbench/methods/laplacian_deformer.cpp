@@ -12,6 +12,7 @@ namespace {
 // Vertex coordinate c of unknown (or hard, or soft) index u in the solver layout: LAP keeps x, y, z as three
 // right-hand-side columns; TF interleaves them in one column.
 inline double& at(DenseMat& M, int block, int u, int c) { return block == 1 ? M(u, c) : M(3 * u + c, 0); }
+inline double at(const DenseMat& M, int block, int u, int c) { return block == 1 ? M(u, c) : M(3 * u + c, 0); }
 inline int op_block(EnergyKind k) { return k == EnergyKind::Lap ? 1 : 3; }
 }  // namespace
 
@@ -22,9 +23,9 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   norm_ = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
   Vn_ = norm_.apply(mesh.V);
   Timer t;
-  const Adjacency adj = vertex_adjacency(mesh);
+  adj_ = vertex_adjacency(mesh);
   const auto kinds = classify(edit, options.constraints);
-  check_every_component_anchored(adj, kinds, kind == EnergyKind::Tf ? &Vn_ : nullptr);
+  check_every_component_anchored(adj_, kinds, kind == EnergyKind::Tf ? &Vn_ : nullptr);
   unk_ = make_unknowns(kinds, options.soft_weight);
   times_.build = t.seconds();
 
@@ -38,7 +39,7 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   EnergyOptions eo;
   eo.weights = options.weights;
   eo.tf_translation = options.tf_translation;
-  const EnergyOperator op(Vn_, mesh.F, adj, kind, eo);
+  const EnergyOperator op(Vn_, mesh.F, adj_, kind, eo);
   times_.build += t.seconds();
 
   std::string vertex_ordering;
@@ -51,6 +52,65 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   if (!vertex_ordering.empty()) mqwf_.report().factor.ordering_used = vertex_ordering + "-vertex-graph";
   set_varying();
   systems_.push_back(mqwf_.report());
+  if (options.tf_normalize_scale) precompute_rescale(mesh.F, options, so);
+}
+
+void LaplacianDeformer::precompute_rescale(const Faces& F, const DeformOptions& options, const SolverOptions& so) {
+  Timer t;
+  EnergyOptions eo;
+  eo.weights = options.weights;
+  eo.tf_translation = options.tf_translation;
+  lap_op_ = std::make_unique<EnergyOperator>(Vn_, F, adj_, EnergyKind::Lap, eo);
+  // The unknowns keep TF's numbering (a vertex-graph order when the structured build ordered them; `so` then says
+  // "natural"). The naive build's kept A^T cannot take the per-frame targets: the structured build, same K.
+  const Build build = options.build == Build::Naive ? Build::Structured : options.build;
+  NormalSystem sys = build_normal_system(*lap_op_, unk_, build, options.memory_budget);
+  times_.build += t.seconds();
+  SolverOptions lap_so = so;
+  lap_so.block_size = 1;
+  rescale_.precompute(std::move(sys), unk_, "lap (tf scale pass)", resolve_solver(options.solver, options.build),
+                      lap_so, /*consume_matrix=*/true);
+  times_.analyze += rescale_.analyze_seconds();
+  times_.factorize += rescale_.factorize_seconds();
+  systems_.push_back(rescale_.report());
+}
+
+Points LaplacianDeformer::rescale(const Points& Vn1) {
+  // The linear term A_u^T (R delta) in LAP's layout: the targets R_i delta_i of the rows of L that reach an
+  // unknown (a row among fixed vertices only adds nothing).
+  const Points& delta = lap_op_->delta();
+  const auto linear = [&](DenseMat& g) {
+    std::vector<int> cols;
+    std::vector<double> coeffs;
+    for (int i = 0; i < delta.rows(); ++i) {
+      lap_op_->row(i, cols, coeffs);
+      if (std::none_of(cols.begin(), cols.end(), [&](int k) { return unk_.unknown_of[k] >= 0; })) continue;
+      const Eigen::RowVector3d target = (lap_op_->fitted_rotation(i, Vn1) * delta.row(i).transpose()).transpose();
+      for (std::size_t k = 0; k < cols.size(); ++k)
+        if (const int u = unk_.unknown_of[cols[k]]; u >= 0) g.row(u) += coeffs[k] * target;
+    }
+  };
+  // The constraint values of the first pass, in LAP's layout (one row per vertex, x y z columns).
+  const auto scalar_layout = [](const DenseMat& M) {
+    DenseMat out(M.rows() / 3, 3);
+    for (Eigen::Index k = 0; k < out.rows(); ++k)
+      for (int c = 0; c < 3; ++c) out(k, c) = M(3 * k + c, 0);
+    return out;
+  };
+  DenseMat xh = scalar_layout(xh_), x;
+  rescale_.form_rhs(xh, scalar_layout(soft_), linear);
+  rescale_.solve(x);
+  if (!x.allFinite()) throw SolverError("the scale pass produced non-finite positions");
+  return positions(x, xh, 1);
+}
+
+Points LaplacianDeformer::positions(const DenseMat& x, const DenseMat& xh, int block) const {
+  Points Vn(Vn_.rows(), 3);
+  for (int v = 0; v < Vn.rows(); ++v) {
+    const int u = unk_.unknown_of[v];
+    for (int c = 0; c < 3; ++c) Vn(v, c) = u >= 0 ? at(x, block, u, c) : at(xh, block, unk_.hard_of[v], c);
+  }
+  return Vn;
 }
 
 NormalSystem LaplacianDeformer::build(const EnergyOperator& op, const DeformOptions& options,
@@ -130,13 +190,16 @@ Points LaplacianDeformer::deform(const Mat4& handle_transform) {
   if (!x_.allFinite()) throw SolverError("the solve produced non-finite positions");
 
   t.reset();
-  Points Vn(Vn_.rows(), 3);
-  for (int v = 0; v < Vn.rows(); ++v) {
-    const int u = unk_.unknown_of[v];
-    for (int c = 0; c < 3; ++c) Vn(v, c) = u >= 0 ? at(x_, b, u, c) : at(xh_, b, unk_.hard_of[v], c);
+  Points Vn = positions(x_, xh_, b);
+  double rescale_seconds = 0;
+  if (lap_op_) {
+    Timer tr;
+    Vn = rescale(Vn);
+    rescale_seconds = tr.seconds();
   }
   Points out = norm_.restore(Vn);
-  times_.write = t.seconds();
+  times_.solve += rescale_seconds;  // the second pass's right-hand side and solve
+  times_.write = t.seconds() - rescale_seconds;
   return out;
 }
 

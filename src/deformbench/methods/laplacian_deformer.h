@@ -1,6 +1,15 @@
 #pragma once
 //! LAP (uniform/cotan Laplacian editing, thesis eqs. 2-1..2-8) and TF (transform-fitted Laplacian editing,
 //! Sorkine et al. 2004, thesis 2.3): one normal system each, factored once per edit (systems/min_quad_with_fixed.h).
+//!
+//! TF with normalized scale (DeformOptions::tf_normalize_scale): TF's linearized similarities s I + [h]x grow and
+//! shrink the surface under large rotations. A second pass keeps their rotations only (the two-pass remedy of
+//! Lipman et al. 2004 and Sorkine et al. 2004): the rotation R_i of the T_i fitted to the TF result (the polar
+//! factor of s I + [h]x), then min ||L x - R delta||^2 under the same constraints, the LAP system. That needs the
+//! LAP factor beside TF's: TF's own normal matrix cannot serve, as its energy is blind to local similarities,
+//! the scale included, which is exactly what the second pass must correct. The LAP matrix is scalar (one ninth
+//! of TF's entries) and factored once per edit like TF's; each frame solves both.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,11 +30,15 @@ class LaplacianDeformer : public Deformer {
 
  private:
   Edit edit_;
+  Adjacency adj_;
   Normalization norm_;
   Points Vn_;  // normalized rest positions
   Unknowns unk_;
   MinQuadWithFixed mqwf_;
   DenseMat xh_, soft_, x_;  // per-frame buffers, reused
+  // TF with normalized scale: the LAP operator (its rows and TF's 1-ring fit) and system of the second pass.
+  std::unique_ptr<EnergyOperator> lap_op_;
+  MinQuadWithFixed rescale_;
 
   //! Orders the unknowns (structured builds) and builds the system; `vertex_ordering` is the ordering used
   //! ("" when the solver orders), `ordering_seconds` its time.
@@ -35,6 +48,12 @@ class LaplacianDeformer : public Deformer {
   void constraint_values(const Mat4& T);
   //! Fast path: the hard and soft handle vertices are the constraints that move between frames.
   void set_varying();
+  //! Builds and factors the second pass's LAP system on the unknowns of the first (tf_normalize_scale).
+  void precompute_rescale(const Faces& F, const DeformOptions& options, const SolverOptions& so);
+  //! The second pass: positions (normalized) from the TF result `Vn1`.
+  Points rescale(const Points& Vn1);
+  //! Normalized positions of all vertices from a solve's unknowns `x` and the hard values `xh` in layout `block`.
+  Points positions(const DenseMat& x, const DenseMat& xh, int block) const;
 };
 
 }  // namespace db

@@ -40,6 +40,13 @@ class EnergyOperator {
   void row(int i, std::vector<int>& cols, std::vector<double>& coeffs) const;
   //! Target of row block i as block x rhs_cols values (row-major): delta_i for LAP, zeros for TF.
   void target(int i, double* out) const;
+  //! The rest Laplacian coordinates delta (#V by 3), with this operator's weights.
+  const Points& delta() const { return delta_; }
+  //! The rotation part of T_i = s I + [h]x fitted to the 1-ring of i in `deformed` (#V by 3, the coordinates of
+  //! V): the rotation by atan2(|h|, s) about h, so that T_i = R_i S_i with S_i symmetric and eigenvalues
+  //! |(s, h)|, |(s, h)| and s (the polar decomposition where s > 0; defined up to 180 degrees). Identity for h = 0.
+  //! Any kind: the fit is TF's (with or without translation, as the options say).
+  Mat3 fitted_rotation(int i, const Points& deformed) const;
 
  private:
   const Points& V_;
