@@ -95,7 +95,8 @@ TEST(CoatingTransfer, PutsTheBumpsOnAFlatPatch) {
   // Heights appear inside the region only, about as high as the source's bumps, and the solve meets the mapped
   // Laplacian coordinates up to what the fixed boundary allows.
   double detail_h = 0;  // the source's bumps above its smooth version
-  for (int l = 0; l < c.patch.num_vertices(); ++l) detail_h = std::max(detail_h, std::abs(c.patch.mesh.V(l, 2) - c.smooth(l, 2)));
+  for (int l = 0; l < c.patch.num_vertices(); ++l)
+    detail_h = std::max(detail_h, std::abs(c.patch.mesh.V(l, 2) - c.smooth(l, 2)));
   const double h = t.result.V.col(2).cwiseAbs().maxCoeff(), source_h = t.sigma * detail_h;
   std::cout << "height " << h << " of the scaled source's " << source_h << ", detail error " << t.detail_error << "\n";
   EXPECT_GT(h, 0.4 * source_h);
@@ -127,6 +128,13 @@ TEST(Transplant, GraftsTheSourceShapeAndKeepsTheRest) {
       EXPECT_EQ(t.result.V.row(v), dst.V.row(v));
     }
   EXPECT_LT(t.detail_error, 0.2);
+}
+
+TEST(CoatingTransfer, RefusesACoatingWhoseArraysDisagree) {
+  const Mesh m = flat();
+  Coating c = extract_coating(m, all_vertices(m), CoatingOptions{});
+  c.detail.conservativeResize(c.detail.rows() - 1, 3);
+  expect_input_error([&] { transfer_coating(c, m, all_vertices(m), CoatingOptions{}); }, "detail vectors");
 }
 
 TEST(LseSolve, RefusesMismatchedSizes) {

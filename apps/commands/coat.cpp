@@ -27,10 +27,7 @@ Command add_coat(CLI::App& tool) {
             const Coating c = extract_coating(in.source, in.source_region, *o);
             const CoatedTarget r = transfer_coating(c, in.target, in.target_region, *o);
             const double total = t.seconds();
-            write_outputs(*a, r.result,
-                          {{"app", "coat"}, {"source", in.source.name}, {"target", in.target.name},
-                           {"source_region", a->source_region}, {"target_region", a->target_region},
-                           {"backend", r.solve.system.backend}},
+            write_outputs(*a, "coat", in, r.solve.system.backend, r.result,
                           coat_measures(c, r, in.target, total));
             return 0;
           }};

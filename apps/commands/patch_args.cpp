@@ -64,11 +64,16 @@ PatchInputs load_patch_inputs(const CLI::App& app, const PatchArgs& a) {
   return in;
 }
 
-void write_outputs(const PatchArgs& a, const Mesh& result, const std::vector<std::pair<std::string, std::string>>& texts,
-                   const NamedValues& values) {
+void write_outputs(const PatchArgs& a, const std::string& command, const PatchInputs& in, const std::string& backend,
+                   const Mesh& result, const NamedValues& values) {
   StagedOutputs outputs;
   write_mesh(outputs.stage(a.out), result);
-  CsvTable::Row row = texts;
+  CsvTable::Row row = {{"app", command},
+                       {"source", in.source.name},
+                       {"target", in.target.name},
+                       {"source_region", a.source_region},
+                       {"target_region", a.target_region},
+                       {"backend", backend}};
   for (const auto& [name, value] : values) {
     row.emplace_back(name, num(value));
     fmt::print("{} {}\n", name, num(value));

@@ -27,9 +27,9 @@ struct PatchInputs {
 //! disks) and selects the regions (exit 2 naming the problem).
 PatchInputs load_patch_inputs(const CLI::App& app, const PatchArgs& a);
 
-//! Writes `result` to --out and, with --csv, one row (`texts` then `values`, provenance appended), all or nothing;
-//! prints `values`.
-void write_outputs(const PatchArgs& a, const Mesh& result, const std::vector<std::pair<std::string, std::string>>& texts,
-                   const NamedValues& values);
+//! Writes `result` to --out and, with --csv, one row (the command, the meshes, the regions and the backend, then
+//! `values`, provenance appended), all or nothing; prints `values`.
+void write_outputs(const PatchArgs& a, const std::string& command, const PatchInputs& in, const std::string& backend,
+                   const Mesh& result, const NamedValues& values);
 
 }  // namespace db::commands

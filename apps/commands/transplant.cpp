@@ -23,10 +23,7 @@ Command add_transplant(CLI::App& tool) {
             Timer t;
             const Transplant r = transplant_patch(in.source, in.source_region, in.target, in.target_region, *o);
             const double total = t.seconds();
-            write_outputs(*a, r.result,
-                          {{"app", "transplant"}, {"source", in.source.name}, {"target", in.target.name},
-                           {"source_region", a->source_region}, {"target_region", a->target_region},
-                           {"backend", r.solve.system.backend}},
+            write_outputs(*a, "transplant", in, r.solve.system.backend, r.result,
                           transplant_measures(r, in.target, total));
             return 0;
           }};
