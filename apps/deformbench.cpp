@@ -2,6 +2,7 @@
 //   deformbench deform <edit> --out FILE [options]   one edit, its phase times and bytes
 //   deformbench solvers                              the linear-solver backends, with what each accepts
 //   deformbench provenance                           what result rows record about this machine and build
+//   deformbench coat|transplant SOURCE TARGET --out FILE   the applications (apps/commands/)
 // Options are checked before any work: a value out of range, an option the chosen method or backend does not use,
 // or an output that could not be written is a usage error (exit 1) before a mesh is read.
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "commands/commands.h"
 #include "core/atomic_file.h"
 #include "core/cli.h"
 #include "core/csv.h"
@@ -346,7 +348,10 @@ int main(int argc, char** argv) {
   add_deform_options(*deform, a);
   CLI::App* solvers = app.add_subcommand("solvers", "list the linear-solver backends and the orderings each accepts");
   CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");
+  const std::vector<commands::Command> apps = {commands::add_coat(app), commands::add_transplant(app)};
   return cli::run(app, argc, argv, [&] {
+    for (const commands::Command& c : apps)
+      if (c.app->parsed()) return c.run();
     if (deform->parsed()) return cmd_deform(*deform, a);
     if (solvers->parsed()) return cmd_solvers();
     if (prov->parsed()) return cmd_provenance();

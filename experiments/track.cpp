@@ -9,10 +9,10 @@
 // repeat) with the commit, date, machine id, the measure's class (deterministic: compared exactly; memory: peak
 // RSS; time: normalized by `rate`) and the rates around that run. Deterministic measures are recorded once.
 // scripts/track.py runs this, picks a baseline history and gates. Options: --help.
-#include <cstdlib>
 #include <fnmatch.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>

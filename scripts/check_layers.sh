@@ -8,7 +8,7 @@ ROOT=${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}
 cd "$ROOT"
 
 # Lowest first. src/deformbench/<layer>/ and solvers/ordering/, solvers/ hold the library layers.
-LAYERS=(core solvers/ordering solvers mesh edit operators systems methods harness)
+LAYERS=(core solvers/ordering solvers mesh edit operators systems methods applications harness)
 rank_of() {  # layer name -> rank, or empty
   local i
   for i in "${!LAYERS[@]}"; do [[ ${LAYERS[$i]} == "$1" ]] && { echo "$i"; return; }; done

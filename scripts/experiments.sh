@@ -47,3 +47,9 @@ log "solver choice, full grid (OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset>})"
 log "frames (LRI frame strategies against lap and tf)"
 "$BUILD/exp_frames" --config "$CONF/frames.toml" --data "$ROOT/data" --out "$ROOT/results/frames.csv" \
   --meshes "$ROOT/results/meshes/frames"
+
+# The LSE report's other applications: coating transfer and transplanting on the BS08 plane, the CGAL bunny and a
+# procedural plane; meshes for plots/render_app.py.
+log "applications (coating transfer, transplanting)"
+"$BUILD/exp_applications" --config "$CONF/applications.toml" --data "$ROOT/data" \
+  --out "$ROOT/results/applications.csv" --meshes "$ROOT/results/meshes/applications"

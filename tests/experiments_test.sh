@@ -47,6 +47,10 @@ expect "solvers results not a directory" 1 "not a directory" -- "$BIN/exp_solver
 expect "frames malformed case" 1 "kind 'bnd'" -- "$BIN/exp_frames" --case "x: bnd mesh=a" --dry-run
 expect "frames out into a missing directory" 1 "does not exist" -- "$BIN/exp_frames" --out "$T/no/frames.csv"
 expect "deform_cases csv extension" 1 "extension" -- "$BIN/exp_deform_cases" --out "$T/cases.txt"
+expect "applications --help" 0 "Usage: exp_applications" -- "$BIN/exp_applications" --help
+expect "applications config parses, grid listed" 0 "^kind=application" -- "$BIN/exp_applications" --dry-run
+expect "applications malformed case" 1 "not coat or transplant" -- "$BIN/exp_applications" --case "x: cot source=a target=b" --dry-run
+expect "applications unknown case key" 1 "unknown key zon" -- "$BIN/exp_applications" --case "x: transplant source=bs08/plane.off target=bs08/plane.off zon=1" --dry-run
 [ -z "$(ls "$T" | grep -v -e stdout -e stderr -e bad.toml -e afile)" ] && ok "nothing written by the failures" || fail "files left: $(ls "$T")"
 
 # ---------------------------------------------------------------- tiny runs and the report step
@@ -60,6 +64,9 @@ expect "frames tiny run" 0 "wrote" -- "$BIN/exp_frames" --case "bar: twist mesh=
   --methods lap,tf,tf-normalized,lri --lri-frames first,random --lri-orthonormalize polar --no-meshes --out "$R/frames.csv"
 expect "deform_cases tiny run" 0 "wrote" -- "$BIN/exp_deform_cases" --case bar=bs08/bar --methods lap --frames 2 \
   --out "$R/deform_cases.csv"
+expect "applications tiny run" 0 "wrote" -- "$BIN/exp_applications" --meshes "$R/meshes/applications" \
+  --case "flat: coat source=bs08/plane.off target=plane:20:20:1:0:1 target_region=sphere:0,0,0,0.4" --out "$R/applications.csv"
+expect "applications render" 0 "render_app_flat.png" -- "$PY" plots/render_app.py --results "$R" --out "$R/plots"
 expect "report step" 0 "frames.md: written" -- "$PY" experiments/reports/report.py --results "$R"
 grep -q "^| cactus | lap | naive |" "$R/table_2_1.md" && ok "table_2_1.md has the cells" || fail "table_2_1.md lacks the cells"
 grep -q "^| cactus | lap | .* | spqr |" "$R/solvers.md" && ok "solvers.md has the spqr row" || fail "solvers.md lacks spqr"

@@ -1,0 +1,214 @@
+// The LSE report's two other applications on bundled data (data/experiments/applications.toml): coating transfer
+// (the BS08 plane's bumps onto the CGAL bunny and a procedural plane) and transplanting (a bump of the BS08 plane
+// grafted onto the bunny; a patch grafted back where it was cut, which must leave the surface as it was). One row
+// per case: sizes, phase times, detail preservation, boundary continuity (applications/application_measures.h)
+// and the cell's peak RSS; each case is a cell (kind "application") in a fresh child process. With --meshes the
+// cells write CASE__{source,target,result}.ply and CASE__{source_patch,patch}.txt (the vertex ids of the source
+// and target patches) for plots/render_app.py.
+//
+// Cases, "NAME: APP key=value ..." with APP coat or transplant; keys source=, target= (a mesh path relative to
+// --data, or plane:NX:NY:SIZE:HEIGHT:BUMPS), source_region=, target_region= (the selection forms of .edit files,
+// default all), smooth_weight=, amplitude= (coat), zone= (transplant). A case whose mesh is absent is skipped.
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "applications/application_measures.h"
+#include "core/cli.h"
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/provenance.h"
+#include "core/resources.h"
+#include "core/timer.h"
+#include "edit/selection.h"
+#include "harness/driver.h"
+#include "harness/runner.h"
+#include "harness/subprocess.h"
+#include "mesh/mesh_io.h"
+#include "mesh/procedural.h"
+
+namespace fs = std::filesystem;
+using namespace db;
+using namespace db::harness;
+
+namespace {
+
+const std::vector<std::string> kCaseKeys = {"source", "target", "source_region", "target_region", "smooth_weight",
+                                            "amplitude", "zone"};
+
+struct Options {
+  std::string data = "data", out = "results/applications.csv", meshes;
+  std::vector<std::string> cases;
+  double cell_timeout_s = 600;
+  bool dry_run = false;
+};
+
+void define_options(CLI::App& app, Options& o) {
+  add_config_option(app, "data/experiments/applications.toml");
+  app.add_option("--data", o.data, "data directory; mesh paths of the cases are inside it")->capture_default_str();
+  app.add_option("--out", o.out, "the CSV")->capture_default_str();
+  app.add_option("--meshes", o.meshes, "write each case's source, target and result here (for the renders)");
+  app.add_option("--case", o.cases, "a case: \"NAME: coat|transplant source=... target=... [key=value ...]\"");
+  app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))
+      ->capture_default_str();
+  app.add_flag("--dry-run", o.dry_run, "print the grid's cells (one spec a line) and exit");
+}
+
+// "NAME: APP key=value ..." -> the cell's spec (paths resolved against --data); "" name when a mesh is absent.
+CellSpec parse_case(const std::string& text, const std::string& data, std::string& name) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos || colon == 0) throw UsageError(fmt::format("case '{}': expected NAME: APP ...", text));
+  name = text.substr(0, colon);
+  std::istringstream in(text.substr(colon + 1));
+  std::string app;
+  in >> app;
+  if (app != "coat" && app != "transplant")
+    throw UsageError(fmt::format("case '{}': '{}' is not coat or transplant", text, app));
+  CellSpec s("application");
+  s.set("name", name).set("app", app);
+  for (std::string kv; in >> kv;) {
+    const std::size_t eq = kv.find('=');
+    if (eq == std::string::npos) throw UsageError(fmt::format("case '{}': '{}' is not key=value", text, kv));
+    std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
+    if (std::find(kCaseKeys.begin(), kCaseKeys.end(), key) == kCaseKeys.end())
+      throw UsageError(fmt::format("case '{}': unknown key {} (known: {})", text, key, fmt::join(kCaseKeys, ", ")));
+    if ((key == "source" || key == "target") && value.rfind("plane:", 0) != 0) {
+      value = (fs::path(data) / value).string();
+      if (!fs::exists(value)) {
+        std::cerr << fmt::format("[applications] skipping {}: {} not found (run scripts/data.sh)\n", name, value);
+        name.clear();
+      }
+    }
+    s.set(key, value);
+  }
+  if (!s.has("source") || !s.has("target")) throw UsageError(fmt::format("case '{}': needs source= and target=", text));
+  return s;
+}
+
+// A mesh file, or plane:NX:NY:SIZE:HEIGHT:BUMPS (mesh/procedural.h), validated as a manifold.
+Mesh load_mesh(const std::string& spec) {
+  Mesh m;
+  if (spec.rfind("plane:", 0) == 0) {
+    std::vector<double> a;
+    std::istringstream in(spec.substr(6));
+    for (std::string t; std::getline(in, t, ':');) a.push_back(std::stod(t));
+    if (a.size() != 5) throw UsageError(fmt::format("{}: expected plane:NX:NY:SIZE:HEIGHT:BUMPS", spec));
+    m = make_bumpy_plane(static_cast<int>(a[0]), static_cast<int>(a[1]), a[2], a[3], static_cast<int>(a[4]));
+  } else {
+    m = read_mesh(spec);
+  }
+  validate_mesh(m, Manifold::Required);
+  return m;
+}
+
+void write_ids(const std::string& path, const std::vector<int>& ids) {
+  std::ofstream out(path);
+  for (int v : ids) out << v << "\n";
+  if (!out) throw Error("cannot write " + path);
+}
+
+void write_meshes(const CellSpec& s, const Mesh& source, const Mesh& target, const Mesh& result, const DiskPatch& sp,
+                  const DiskPatch& p) {
+  const fs::path dir = s.get("meshes");
+  const std::string stem = (dir / s.get("name")).string() + "__";
+  write_mesh(stem + "source.ply", source);
+  write_mesh(stem + "target.ply", target);
+  write_mesh(stem + "result.ply", result);
+  write_ids(stem + "patch.txt", p.parent);
+  write_ids(stem + "source_patch.txt", sp.parent);
+}
+
+CellResult measure_application(const CellSpec& s) {
+  s.check_keys({"name", "app", "meshes", "source", "target", "source_region", "target_region", "smooth_weight",
+                "amplitude", "zone"});
+  const Mesh source = load_mesh(s.get("source")), target = load_mesh(s.get("target"));
+  const std::vector<int> sr = select_by_spec(source, s.get("source_region", "all"));
+  const std::vector<int> tr = select_by_spec(target, s.get("target_region", "all"));
+  CellResult r;
+  Timer t;
+  if (s.get("app") == "coat") {
+    CoatingOptions o;
+    o.smooth_weight = s.real("smooth_weight", o.smooth_weight, 1e-6, 1e3);
+    o.amplitude = s.real("amplitude", o.amplitude, -1e3, 1e3);
+    const Coating c = extract_coating(source, sr, o);
+    const CoatedTarget res = transfer_coating(c, target, tr, o);
+    for (const auto& [k, v] : coat_measures(c, res, target, t.seconds())) r.set(k, v);
+    r.set_text("backend", res.solve.system.backend);
+    if (s.has("meshes")) write_meshes(s, source, target, res.result, c.patch, res.patch);
+  } else {
+    TransplantOptions o;
+    o.zone = s.real("zone", o.zone, 0.01, 1);
+    const Transplant res = transplant_patch(source, sr, target, tr, o);
+    for (const auto& [k, v] : transplant_measures(res, target, t.seconds())) r.set(k, v);
+    r.set_text("backend", res.solve.system.backend);
+    if (s.has("meshes")) write_meshes(s, source, target, res.result, res.source_patch, res.patch);
+  }
+  r.set("source_vertices", source.num_vertices());
+  r.set("peak_rss_bytes", static_cast<double>(peak_rss_bytes()), "bytes");
+  return r;
+}
+
+void add_row(CsvTable& csv, const CellSpec& s, const CellResult& r) {
+  CsvTable::Row row = {{"case", s.get("name")},
+                       {"app", s.get("app")},
+                       {"source", fs::path(s.get("source")).filename().string()},
+                       {"target", fs::path(s.get("target")).filename().string()},
+                       {"source_region", s.get("source_region", "all")},
+                       {"target_region", s.get("target_region", "all")},
+                       {"backend", r.text("backend")}};
+  for (const Measure& m : r.measures)
+    if (m.name != "peak_rss_bytes" && m.name != "cell_wall_s" && m.name != "load_avg_1m" && m.name != "runs" &&
+        m.name != "ru_maxrss_bytes" && m.name != "parent_rss_bytes")
+      row.emplace_back(m.name, num(m.value));
+  row.emplace_back("process_peak_rss_bytes", num(r.get("peak_rss_bytes")));
+  csv.add(row);
+}
+
+int run(Options& o) {
+  cli::check_output("--out", o.out, {".csv"});
+  if (!o.meshes.empty()) check_output_dir("--meshes", o.meshes);
+  std::vector<CellSpec> grid;
+  for (const std::string& text : o.cases) {
+    std::string name;
+    CellSpec s = parse_case(text, o.data, name);
+    if (name.empty()) continue;
+    if (!o.meshes.empty()) s.set("meshes", o.meshes);
+    grid.push_back(s);
+  }
+  if (grid.empty()) throw InputError("no application case found (--case, or a --config that lists cases)");
+  if (o.dry_run) {
+    for (const CellSpec& s : grid) std::cout << s.text() << "\n";
+    return 0;
+  }
+  if (!o.meshes.empty()) fs::create_directories(o.meshes);
+  std::cerr << "[applications] " << provenance_summary() << "\n";
+  CsvTable csv;
+  RunOptions ro;
+  ro.timeout_s = o.cell_timeout_s;
+  for (const CellSpec& s : grid) {
+    const CellResult r = run_cell(self_executable(), s, ro);
+    if (!r.ok()) throw Error(fmt::format("{}: {} ({})", s.get("name"), r.message, r.exit));
+    std::cerr << fmt::format("[applications] {:24s} patch {:6.0f} v  total {:.3f} s  detail error {:.3g}  seam max "
+                             "{:.1f} -> {:.1f} deg\n",
+                             s.get("name"), r.get("patch_vertices"), r.get("total_s"), r.get("detail_error"),
+                             r.get("seam_max_deg_before"), r.get("seam_max_deg_after"));
+    add_row(csv, s, r);
+  }
+  csv.write(o.out);
+  std::cerr << "[applications] wrote " << o.out << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (is_cell_invocation(argc, argv)) return cell_main(argc, argv, {{"application", measure_application}});
+  CLI::App app("Coating transfer and transplanting on bundled data, each case in a fresh child process.",
+               "exp_applications");
+  Options o;
+  define_options(app, o);
+  return cli::run(app, argc, argv, [&] { return run(o); });
+}

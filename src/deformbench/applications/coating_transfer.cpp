@@ -1,0 +1,108 @@
+#include "applications/coating_transfer.h"
+
+#include <fmt/format.h>
+
+#include "applications/parameter_map.h"
+#include "applications/tangent_frames.h"
+#include "core/error.h"
+#include "core/timer.h"
+
+namespace db {
+namespace {
+
+double loop_length(const DiskPatch& p) {
+  double len = 0;
+  const std::size_t m = p.boundary.size();
+  for (std::size_t k = 0; k < m; ++k) len += (p.mesh.V.row(p.boundary[(k + 1) % m]) - p.mesh.V.row(p.boundary[k])).norm();
+  return len;
+}
+
+// Kinds of the patch's own vertices: its boundary hard, its interior soft (smoothing) or free.
+std::vector<Constraint> interior_kinds(const DiskPatch& p, Constraint interior) {
+  std::vector<Constraint> kinds(static_cast<std::size_t>(p.num_vertices()), interior);
+  for (int v : p.boundary) kinds[static_cast<std::size_t>(v)] = Constraint::Hard;
+  return kinds;
+}
+
+double mean_edge_length(const Mesh& m) {
+  double sum = 0;
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) sum += (m.V.row(m.F(f, (c + 1) % 3)) - m.V.row(m.F(f, c))).norm();
+  return sum / (3.0 * m.num_faces());
+}
+
+}  // namespace
+
+Coating extract_coating(const Mesh& source, const std::vector<int>& region, const CoatingOptions& options) {
+  Coating c;
+  c.patch = extract_disk_patch(source, region, "source");
+  const Mesh& m = c.patch.mesh;
+  Timer t;
+  c.uv = tutte_parameterization(c.patch);
+  c.parameterize_s = t.seconds();
+  const Adjacency adj = vertex_adjacency(m);
+  // Zero Laplacian coordinates inside; the boundary's rows (they touch interior unknowns, so they are in the
+  // energy) keep their own, or their target 0 would pull the interior outwards.
+  const Points delta = uniform_delta(m, adj);
+  Points target = delta;
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (!c.patch.on_boundary[v]) target.row(v).setZero();
+  c.smooth = solve_lse(m, interior_kinds(c.patch, Constraint::Soft), options.smooth_weight, target, m.V,
+                       &c.smoothing);
+  const Mesh smooth{c.smooth, m.F, m.name + "_smooth"};
+  const std::vector<Mat3> frames = tangent_frames(smooth, adj, c.uv);
+  const Points d = delta - uniform_delta(smooth, adj);
+  c.detail.resize(d.rows(), 3);
+  for (Eigen::Index i = 0; i < d.rows(); ++i) c.detail.row(i) = (frames[i].transpose() * d.row(i).transpose()).transpose();
+  c.boundary_length = loop_length(c.patch);
+  c.mean_edge = mean_edge_length(smooth);  // the spacing of the surface the detail sits on
+  return c;
+}
+
+CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const std::vector<int>& region,
+                              const CoatingOptions& options) {
+  if (coating.uv.rows() != coating.patch.num_vertices() || coating.detail.rows() != coating.patch.num_vertices())
+    throw InputError(fmt::format("coating: {} patch vertices but {} parameter points and {} detail vectors",
+                                 coating.patch.num_vertices(), coating.uv.rows(), coating.detail.rows()));
+  CoatedTarget out;
+  out.patch = extract_disk_patch(target, region, "target");
+  const DiskPatch& p = out.patch;
+  Timer t;
+  const UV uv = tutte_parameterization(p);
+  out.parameterize_s = t.seconds();
+  t.reset();
+  // The detail as a shape scales with the patch (sigma); its uniform Laplacian coordinates also scale with the
+  // square of the vertex spacing relative to the shape: rho = (h_t / h_s) / sigma.
+  out.sigma = loop_length(p) / coating.boundary_length;
+  const double rho = mean_edge_length(p.mesh) / coating.mean_edge / out.sigma;
+  out.scale = options.amplitude * out.sigma * rho * rho;
+  out.mapped_detail = out.scale * interpolate(locate_in_parameter_domain(coating.uv, coating.patch.mesh.F, uv),
+                                              coating.patch.mesh.F, coating.detail);
+  const std::vector<Mat3> frames = tangent_frames(p.mesh, vertex_adjacency(p.mesh), uv);
+  out.map_s = t.seconds();
+
+  const Adjacency adj = vertex_adjacency(target);
+  const Points delta0 = uniform_delta(target, adj);
+  Points delta = delta0;
+  std::vector<Constraint> kinds(static_cast<std::size_t>(target.num_vertices()), Constraint::Hard);
+  for (int l = 0; l < p.num_vertices(); ++l) {
+    delta.row(p.parent[l]) += (frames[l] * out.mapped_detail.row(l).transpose()).transpose();
+    if (!p.on_boundary[l]) kinds[p.parent[l]] = Constraint::Free;
+  }
+  out.result = target;
+  out.result.V = solve_lse(target, kinds, 1.0, delta, target.V, &out.solve);
+
+  // How much of the mapped coating the solved surface carries, read back in the same frames.
+  const Points got = uniform_delta(out.result, adj) - delta0;
+  double err2 = 0, ref2 = 0;
+  for (int l = 0; l < p.num_vertices(); ++l) {
+    if (p.on_boundary[l]) continue;
+    const Vec3 xi = frames[l].transpose() * got.row(p.parent[l]).transpose();
+    err2 += (xi - out.mapped_detail.row(l).transpose()).squaredNorm();
+    ref2 += out.mapped_detail.row(l).squaredNorm();
+  }
+  out.detail_error = ref2 > 0 ? std::sqrt(err2 / ref2) : 0.0;
+  return out;
+}
+
+}  // namespace db

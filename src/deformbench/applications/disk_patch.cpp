@@ -1,0 +1,116 @@
+#include "applications/disk_patch.h"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace db {
+namespace {
+
+// The faces of `mesh` inside the region, renumbered locally; fills parent.
+void cut_faces(const Mesh& mesh, const std::vector<int>& region, const std::string& what, DiskPatch& p) {
+  const int n = mesh.num_vertices();
+  std::vector<char> in(static_cast<std::size_t>(n), 0);
+  for (int v : region) {
+    if (v < 0 || v >= n) throw InputError(fmt::format("{} region: vertex {} is out of range (the mesh has {})", what, v, n));
+    in[static_cast<std::size_t>(v)] = 1;
+  }
+  std::vector<int> faces;
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    if (in[mesh.F(f, 0)] && in[mesh.F(f, 1)] && in[mesh.F(f, 2)]) faces.push_back(f);
+  if (faces.empty())
+    throw InputError(fmt::format("{} region holds no whole face of {} ({} vertices selected): the patch is empty", what,
+                                 mesh.name, region.size()));
+  std::vector<int> local(static_cast<std::size_t>(n), -1);
+  p.mesh.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      int& l = local[mesh.F(faces[k], c)];
+      if (l < 0) {
+        l = static_cast<int>(p.parent.size());
+        p.parent.push_back(mesh.F(faces[k], c));
+      }
+      p.mesh.F(static_cast<Eigen::Index>(k), c) = l;
+    }
+  p.mesh.V.resize(static_cast<Eigen::Index>(p.parent.size()), 3);
+  for (std::size_t l = 0; l < p.parent.size(); ++l) p.mesh.V.row(static_cast<Eigen::Index>(l)) = mesh.V.row(p.parent[l]);
+  p.mesh.name = mesh.name + "_" + what + "_patch";
+}
+
+int count_components(const Mesh& m) {
+  std::vector<int> root(static_cast<std::size_t>(m.num_vertices()));
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
+  };
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int c = 1; c < 3; ++c) root[find(m.F(f, 0))] = find(m.F(f, c));
+  int components = 0;
+  for (int v = 0; v < m.num_vertices(); ++v) components += find(v) == v;
+  return components;
+}
+
+// The boundary half-edges a -> b (those whose reverse is in no face), checked to form exactly one simple loop.
+void trace_boundary(DiskPatch& p, const std::string& what) {
+  const Mesh& m = p.mesh;
+  std::map<std::pair<int, int>, int> half;  // directed edge -> faces using it
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) ++half[{m.F(f, c), m.F(f, (c + 1) % 3)}];
+  std::vector<int> next(static_cast<std::size_t>(m.num_vertices()), -1);
+  int boundary_edges = 0;
+  for (const auto& [e, count] : half) {
+    const auto rev = half.find({e.second, e.first});
+    if (count > 1 || (rev != half.end() && rev->second > 1))
+      throw InputError(fmt::format("{} patch is not a disk: edge ({}, {}) of {} is non-manifold or inconsistently "
+                                   "oriented", what, p.parent[e.first], p.parent[e.second], m.name));
+    if (rev != half.end()) continue;
+    if (next[e.first] >= 0)
+      throw InputError(fmt::format("{} patch is not a disk: its boundary touches itself at vertex {} (a pinched vertex)",
+                                   what, p.parent[e.first]));
+    next[e.first] = e.second;
+    ++boundary_edges;
+  }
+  if (boundary_edges == 0)
+    throw InputError(fmt::format("{} patch is not a disk: it has no boundary (a closed surface); select part of it",
+                                 what));
+  int start = -1;
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (next[v] >= 0 && (start < 0 || p.parent[v] < p.parent[start])) start = v;
+  p.on_boundary.assign(static_cast<std::size_t>(m.num_vertices()), 0);
+  for (int v = start; p.boundary.empty() || v != start; v = next[v]) {
+    // A boundary vertex entered twice (or a dead end) is no simple loop; the step bound keeps the walk finite.
+    if (v < 0 || p.on_boundary[v] || static_cast<int>(p.boundary.size()) == boundary_edges)
+      throw InputError(fmt::format("{} patch is not a disk: its boundary is no simple loop", what));
+    p.boundary.push_back(v);
+    p.on_boundary[v] = 1;
+  }
+  if (static_cast<int>(p.boundary.size()) != boundary_edges)
+    throw InputError(fmt::format("{} patch is not a disk: its boundary has {} edges in more than one loop (a hole or "
+                                 "an annulus; the patch needs exactly one)", what, boundary_edges));
+}
+
+}  // namespace
+
+DiskPatch extract_disk_patch(const Mesh& mesh, const std::vector<int>& region, const std::string& what) {
+  DiskPatch p;
+  cut_faces(mesh, region, what, p);
+  const int components = count_components(p.mesh);
+  if (components != 1)
+    throw InputError(fmt::format("{} patch is not a disk: the region's faces form {} separate pieces", what, components));
+  trace_boundary(p, what);
+  // V - E + F = 1 for a disk; with one boundary loop and one component, anything else has handles (genus).
+  const long long V = p.mesh.num_vertices(), F = p.mesh.num_faces();
+  const long long E = (3 * F + static_cast<long long>(p.boundary.size())) / 2;
+  if (V - E + F != 1)
+    throw InputError(fmt::format("{} patch is not a disk: Euler characteristic {} (a handle or tunnel inside it)", what,
+                                 V - E + F));
+  return p;
+}
+
+}  // namespace db

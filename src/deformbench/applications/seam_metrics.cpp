@@ -1,0 +1,37 @@
+#include "applications/seam_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+#include <vector>
+
+namespace db {
+
+SeamAngles seam_angles(const Mesh& mesh, const DiskPatch& patch) {
+  // The faces of each boundary edge, by the edge's parent ids.
+  std::map<std::pair<int, int>, std::vector<Vec3>> normals;
+  const std::size_t m = patch.boundary.size();
+  auto key = [](int a, int b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  for (std::size_t k = 0; k < m; ++k)
+    normals[key(patch.parent[patch.boundary[k]], patch.parent[patch.boundary[(k + 1) % m]])];
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const auto it = normals.find(key(mesh.F(f, c), mesh.F(f, (c + 1) % 3)));
+      if (it == normals.end()) continue;
+      const Vec3 a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), d = mesh.V.row(mesh.F(f, 2));
+      it->second.push_back((b - a).cross(d - a).normalized());
+    }
+  SeamAngles s;
+  for (const auto& [edge, n] : normals) {
+    if (n.size() != 2) continue;
+    const double deg = std::atan2(n[0].cross(n[1]).norm(), n[0].dot(n[1])) * 180.0 / M_PI;
+    s.max_deg = std::max(s.max_deg, deg);
+    s.mean_deg += deg;
+    ++s.edges;
+  }
+  if (s.edges > 0) s.mean_deg /= s.edges;
+  return s;
+}
+
+}  // namespace db
