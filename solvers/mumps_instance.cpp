@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -86,8 +87,8 @@ std::vector<std::string> orderings() {
 #endif
 }
 
-Instance::Instance(MPI_Comm comm, const SolverOptions& options, const std::string& who)
-    : comm_(comm), options_(options), who_(who) {
+Instance::Instance(MPI_Comm comm, const SolverOptions& options, const std::string& who, bool distributed_input)
+    : comm_(comm), options_(options), who_(who), distributed_(distributed_input) {
   if (!options.factor_dir.empty()) check_ooc_dir(options.factor_dir, who);
   mpi::ensure_initialized();
   id_.comm_fortran = MUMPS_INT(MPI_Comm_c2f(comm));
@@ -100,7 +101,8 @@ Instance::Instance(MPI_Comm comm, const SolverOptions& options, const std::strin
   id_.ICNTL(2) = -1;
   id_.ICNTL(3) = verbose ? 6 : -1;
   id_.ICNTL(4) = verbose ? 2 : 0;
-  id_.ICNTL(8) = 1;  // diagonal scaling: see min_pivot_ratio
+  id_.ICNTL(8) = distributed_input ? 0 : -1;  // the diagonal scaling: see local_min_pivot
+  id_.ICNTL(18) = distributed_input ? 3 : 0;
   const std::string& o = options.ordering;
   id_.ICNTL(7) = kOrderingCodes.at(o);
   given_ = o == "metis" || o == "natural";
@@ -141,6 +143,18 @@ void Instance::analyze(std::vector<int>* perm_in) {
   read_analysis_report();
 }
 
+std::vector<double> diagonal_scaling(const std::vector<double>& diagonal) {
+  std::vector<double> s(diagonal.size());
+  for (std::size_t k = 0; k < diagonal.size(); ++k) s[k] = diagonal[k] > 0 ? 1 / std::sqrt(diagonal[k]) : 1.0;
+  return s;
+}
+
+void Instance::set_diagonal(const std::vector<double>& diagonal) {
+  scaling_ = diagonal_scaling(diagonal);
+  id_.colsca = scaling_.data();
+  id_.rowsca = scaling_.data();
+}
+
 void Instance::factorize(bool singular_test) {
   factored_ = false;
   for (int attempt = 0;; ++attempt) {
@@ -155,6 +169,9 @@ void Instance::factorize(bool singular_test) {
     break;
   }
   read_factor_report();
+  if (id_.INFOG(33) != id_.ICNTL(8))
+    throw SolverError(fmt::format("{}: MUMPS changed the scaling (ICNTL(8) {}, used {}); the pivot test would be "
+                                  "meaningless", who_, id_.ICNTL(8), id_.INFOG(33)));
   const double n = double(id_.n);
   if (report_.negative_pivots > 0)
     throw SolverError(fmt::format("{}: matrix not positive definite ({} of {} pivots negative)", who_,
@@ -173,13 +190,27 @@ void Instance::solve() {
   call(3, "solve");
 }
 
+void Instance::fill_stats(FactorStats& st) const {
+  const Report& r = report_;
+  st.nnz_factor = std::size_t(r.nnz_factor);
+  st.flops = r.flops;
+  st.factor_bytes = std::size_t(r.factor_entries * sizeof(double) + r.factor_integers * sizeof(MUMPS_INT));
+  st.factor_on_disk = id_.ICNTL(22) == 1;
+  const double held = st.factor_on_disk ? 0.0 : double(st.factor_bytes);
+  st.workspace_bytes = std::size_t(std::max(0.0, r.mb_used_sum * 1e6 - held));
+  st.min_pivot_ratio = r.min_pivot_ratio;
+  st.ordering_used = ordering_used();
+}
+
 double Instance::local_min_pivot() const { return id_.dkeep[18]; }
 
 std::string Instance::ordering_used() const {
   if (options_.ordering == "natural") return "natural";
   const std::string block = fmt::format("-block{}", options_.block_size);
   if (options_.ordering == "metis") return options_.block_size > 1 ? "metis" + block : "metis";
-  return ordering_name(report_.ordering_code) + (compressed_ ? block : "");
+  // Parallel analysis (INFOG(32) = 2) reports no sequential ordering in INFOG(7).
+  const std::string name = id_.INFOG(32) == 2 ? "ptscotch" : ordering_name(report_.ordering_code);
+  return name + (compressed_ ? block : "");
 }
 
 void Instance::read_analysis_report() {
@@ -193,14 +224,17 @@ void Instance::read_analysis_report() {
   report_.mb_in_core_sum = id_.INFOG(17);
   report_.mb_ooc_max = id_.INFOG(26);
   report_.mb_ooc_sum = id_.INFOG(27);
-  double mine[2] = {double(id_.INFO(15)), double(id_.INFO(17))};
-  std::vector<double> all(me == root ? 2 * std::size_t(report_.processes) : 0);
-  MPI_Gather(mine, 2, MPI_DOUBLE, all.data(), 2, MPI_DOUBLE, root, comm_);
+  report_.factor_entries_estimated = count(id_.INFOG(3));
+  const double mine[3] = {count(id_.INFO(3)), double(id_.INFO(15)), double(id_.INFO(17))};
+  std::vector<double> all(me == root ? 3 * std::size_t(report_.processes) : 0);
+  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, root, comm_);
+  report_.factor_entries_rank.clear();
   report_.mb_in_core_rank.clear();
   report_.mb_ooc_rank.clear();
-  for (std::size_t p = 0; p < all.size(); p += 2) {
-    report_.mb_in_core_rank.push_back(all[p]);
-    report_.mb_ooc_rank.push_back(all[p + 1]);
+  for (std::size_t p = 0; p < all.size(); p += 3) {
+    report_.factor_entries_rank.push_back(all[p]);
+    report_.mb_in_core_rank.push_back(all[p + 1]);
+    report_.mb_ooc_rank.push_back(all[p + 2]);
   }
 }
 

@@ -6,8 +6,12 @@
 //!
 //! Settings beyond MUMPS's defaults, and why:
 //! - printing off (ICNTL(1..4)); DEFORMBENCH_MUMPS_VERBOSE=1 turns MUMPS's own report on (stdout).
-//! - diagonal scaling (ICNTL(8)=1): the scaled matrix has a unit diagonal, so its smallest |pivot| is the
-//!   smallest d_k / A_kk, which MUMPS records (DKEEP(19), see min_pivot_ratio()); the solution is unchanged.
+//! - the diagonal scaling 1 / sqrt(A_kk) (diagonal_scaling()): the scaled matrix has a unit diagonal, so its
+//!   smallest |pivot| is the smallest d_k / A_kk, which MUMPS records (DKEEP(19), see local_min_pivot()); the
+//!   solution is unchanged. Centralized input: given to MUMPS (ICNTL(8)=-1, COLSCA = ROWSCA, set_diagonal()).
+//!   Distributed input: MUMPS 5.5 applies neither its own diagonal scaling (ICNTL(8)=1) nor a given one (it
+//!   frees the caller's arrays at the end), so the caller scales its entries and the right-hand sides itself
+//!   (ICNTL(8)=0).
 //! - ordering (ICNTL(7)) from SolverOptions::ordering; "metis" and "natural" are given to MUMPS (ICNTL(7)=1,
 //!   PERM_IN): Debian's MUMPS links no METIS, so "metis" is this project's METIS ordering (solvers/ordering) of the
 //!   block graph; "ptscotch" is MUMPS's parallel analysis (ICNTL(28)=2, ICNTL(29)=1).
@@ -26,30 +30,12 @@
 #include <mpi.h>
 
 #include "solvers/linear_solver.h"
+#include "solvers/mumps_report.h"
 
 namespace db::mumps {
 
-//! MUMPS's own figures after analysis (estimates) and factorization (effective), global over the processes.
-//! Sizes MUMPS gives in MB are millions of bytes.
-struct Report {
-  int processes = 1;
-  int ordering_code = -1;           //!< INFOG(7)
-  double flops_estimated = 0;       //!< RINFOG(1): elimination flops, from the analysis
-  double flops = 0;                 //!< RINFOG(3): elimination flops of the factorization
-  double nnz_factor_estimated = 0;  //!< INFOG(20)
-  double nnz_factor = 0;            //!< INFOG(29)
-  double factor_entries = 0;        //!< INFOG(9): real entries allocated for the factor
-  double factor_integers = 0;       //!< INFOG(10)
-  int max_front = 0;                //!< INFOG(11)
-  double mb_in_core_max = 0, mb_in_core_sum = 0;  //!< INFOG(16), INFOG(17): estimated, factorization in core
-  double mb_ooc_max = 0, mb_ooc_sum = 0;          //!< INFOG(26), INFOG(27): estimated, out of core
-  double mb_used_max = 0, mb_used_sum = 0;        //!< INFOG(21), INFOG(22): effectively used by the factorization
-  //! Per process (rank order): INFO(15) and INFO(17), the in-core and out-of-core estimates, MB.
-  std::vector<double> mb_in_core_rank, mb_ooc_rank;
-  int negative_pivots = 0;          //!< INFOG(12)
-  double min_pivot_ratio = 0;       //!< smallest |d_k| / A_kk over every process (see Instance::min_pivot_ratio)
-};
-
+//! 1 / sqrt(d_k) for each diagonal entry, 1 for a non-positive one (its pivot fails anyway).
+std::vector<double> diagonal_scaling(const std::vector<double>& diagonal);
 //! MUMPS's meaning of an error code INFOG(1) < 0, with INFOG(2) where it says more.
 std::string error_text(int infog1, int infog2);
 //! Name of an ordering MUMPS reports in INFOG(7) ("amd", "amf", "scotch", "pord", "metis", "qamd", "given").
@@ -59,9 +45,11 @@ std::vector<std::string> orderings();
 
 class Instance {
  public:
-  //! JOB=-1 on `comm` (every process of it calls this). \throw Error for options MUMPS cannot honour (an
-  //! out-of-core directory that does not exist or is not writable, or longer than MUMPS's 255 characters).
-  Instance(MPI_Comm comm, const SolverOptions& options, const std::string& who);
+  //! JOB=-1 on `comm` (every process of it calls this). `distributed_input`: every process passes its own
+  //! entries (IRN_loc, JCN_loc, A_loc; ICNTL(18)=3), else the host passes them all (IRN, JCN, A).
+  //! \throw Error for options MUMPS cannot honour (an out-of-core directory that does not exist or is not
+  //! writable, or longer than MUMPS's 255 characters).
+  Instance(MPI_Comm comm, const SolverOptions& options, const std::string& who, bool distributed_input = false);
   ~Instance();
   Instance(const Instance&) = delete;
   Instance& operator=(const Instance&) = delete;
@@ -71,6 +59,9 @@ class Instance {
   //! Analysis (JOB=1) of the entries the caller has set in id() (centralized or distributed): the ordering,
   //! the block compression. `perm_in` (host only; 1-based positions, PERM_IN) when the ordering is given.
   void analyze(std::vector<int>* perm_in);
+  //! Centralized input: the scaling for the next factorization (see above) from the matrix's diagonal (on the
+  //! host), kept here.
+  void set_diagonal(const std::vector<double>& diagonal);
   //! Factorization (JOB=2) of the values the caller has set; retries on too little workspace. Then the pivot
   //! checks: \throw SolverError when a pivot is negative (not positive definite), or, with
   //! `singular_test`, when the smallest d_k / A_kk is under singular_pivot_bound(n).
@@ -83,6 +74,9 @@ class Instance {
   //! document; the conformance test checks it against a dense Cholesky.
   double local_min_pivot() const;
   const Report& report() const { return report_; }
+  //! The factorization's part of FactorStats from report(): nnz_factor, flops, factor_bytes (INFOG(9), (10)),
+  //! workspace_bytes (INFOG(22) less the factor held in memory), factor_on_disk, min_pivot_ratio, ordering_used.
+  void fill_stats(FactorStats& st) const;
   bool factored() const { return factored_; }
   bool given_ordering() const { return given_; }
   //! The ordering for FactorStats::ordering_used: MUMPS's name, "-block<b>" when the graph was compressed;
@@ -99,7 +93,8 @@ class Instance {
   SolverOptions options_;
   std::string who_;
   Report report_;
-  bool given_ = false, compressed_ = false, factored_ = false, alive_ = false;
+  std::vector<double> scaling_;
+  bool given_ = false, compressed_ = false, factored_ = false, alive_ = false, distributed_ = false;
 };
 
 }  // namespace db::mumps

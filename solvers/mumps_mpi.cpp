@@ -106,5 +106,12 @@ void broadcast(std::vector<double>& data) {
 }
 double max_all(double value) { return reduce_all(value, MPI_MAX); }
 double min_all(double value) { return reduce_all(value, MPI_MIN); }
+double sum_all(double value) { return reduce_all(value, MPI_SUM); }
+
+void abort_all(int code) {
+  ensure_initialized();
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; this is for the compiler
+}
 
 }  // namespace db::mpi

@@ -28,8 +28,12 @@ void sum_to_root(double* data, std::size_t count);
 //! Rank 0's `data` on every rank (resized to rank 0's size). Collective.
 void broadcast(std::vector<int>& data);
 void broadcast(std::vector<double>& data);
-//! The largest / smallest of every rank's value, on every rank. Collective.
+//! The largest / smallest / sum of every rank's value, on every rank. Collective.
 double max_all(double value);
 double min_all(double value);
+double sum_all(double value);
+//! Ends every rank of the world with `code` (MPI_Abort): for a failure on some ranks only, which would leave the
+//! others waiting in a collective call forever.
+[[noreturn]] void abort_all(int code);
 
 }  // namespace db::mpi

@@ -52,16 +52,12 @@ class MumpsSolver final : public LinearSolver {
     const SpMat& upper = upper_only(prepare_factorize(*this, guard_, upper_in, storage));
     // The COO coordinates were laid out in the CSC order of this pattern (guarded): the values are passed as they
     // lie, without a copy.
+    const DenseVec d = diagonal_of(upper);
+    mumps_->set_diagonal(std::vector<double>(d.data(), d.data() + d.size()));
     mumps_->id().a = const_cast<double*>(upper.valuePtr());
     mumps_->factorize(options_.pivot_singularity_test);
     mumps_->id().a = nullptr;
-    const mumps::Report& r = mumps_->report();
-    stats_.nnz_factor = std::size_t(r.nnz_factor);
-    stats_.flops = r.flops;
-    stats_.factor_bytes = std::size_t(r.factor_entries * sizeof(double) + r.factor_integers * sizeof(MUMPS_INT));
-    const double held = stats_.factor_on_disk ? 0.0 : double(stats_.factor_bytes);
-    stats_.workspace_bytes = std::size_t(std::max(0.0, r.mb_used_sum * 1e6 - held));
-    stats_.min_pivot_ratio = r.min_pivot_ratio;
+    mumps_->fill_stats(stats_);
   }
 
   void solve(const DenseMat& B, DenseMat& X) override {

@@ -1,6 +1,7 @@
 // The mumps backend beyond the conformance suite: its pivot statistic against a dense LDL^T in MUMPS's own
-// elimination order, every ordering it accepts, the out-of-core factor and its files, MUMPS's errors explained.
-// One process (MPI singleton, initialized on first use); the distributed run has its own test (mpi_test.sh).
+// elimination order, every ordering it accepts, the out-of-core factor and its files, MUMPS's errors explained;
+// and DistributedMumps, whose tests run on however many ranks started this binary: one under plain ctest (an MPI
+// singleton, initialized on first use), two in the ctest case solvers_mumps_2ranks (scripts/mpirun.sh 2).
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -12,7 +13,9 @@
 
 #include "core/error.h"
 #include "solvers/linear_solver.h"
+#include "solvers/mumps_distributed.h"
 #include "solvers/mumps_instance.h"
+#include "solvers/mumps_mpi.h"
 
 namespace {
 
@@ -94,6 +97,8 @@ TEST(Mumps, MinPivotRatioIsTheDenseOneInMumpsOrder) {
     std::vector<int> identity(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) identity[std::size_t(i)] = i + 1;
     m.analyze(&identity);
+    const db::DenseVec d = A.diagonal();
+    m.set_diagonal(std::vector<double>(d.data(), d.data() + n));
     m.id().a = const_cast<double*>(U.valuePtr());
     m.factorize(true);
     std::vector<int> order(static_cast<std::size_t>(n));  // order[k]: the unknown eliminated k-th
@@ -126,7 +131,7 @@ TEST(Mumps, EveryOrderingAgreesWithCholmod) {
       const std::string suffix = block == 3 && ordering != "natural" ? "-block3" : "";
       if (ordering == "default") {
         EXPECT_NE(st.ordering_used.find(suffix), std::string::npos) << st.ordering_used;
-      } else if (ordering == "ptscotch") {
+      } else if (ordering == "ptscotch") {  // one process: SCOTCH's sequential ordering
         EXPECT_EQ(st.ordering_used, "scotch" + suffix);
       } else {
         EXPECT_EQ(st.ordering_used, ordering + suffix);
@@ -203,6 +208,147 @@ TEST(Mumps, FailuresAreExplained) {
   EXPECT_NE(db::mumps::error_text(-9, 0).find("ICNTL(14)"), std::string::npos);
   EXPECT_NE(db::mumps::error_text(-13, -5).find("5000000 entries"), std::string::npos);
   EXPECT_NE(db::mumps::error_text(-999, 3).find("users' guide"), std::string::npos);
+}
+
+//! This rank's share of U's entries: the columns [r n / size, (r + 1) n / size), and, with two ranks or more, half
+//! of every diagonal entry on each of the first and the last rank (MUMPS sums an entry given twice).
+struct Share {
+  std::vector<int> rows, cols;
+  std::vector<double> values;
+};
+Share share_of(const SpMat& U) {
+  const int n = int(U.cols()), r = db::mpi::rank(), p = db::mpi::size();
+  Share s;
+  for (int j = 0; j < n; ++j)
+    for (SpMat::InnerIterator it(U, j); it; ++it) {
+      const bool mine = j >= int(std::int64_t(r) * n / p) && j < int(std::int64_t(r + 1) * n / p);
+      const bool diagonal = it.row() == j;
+      const bool split = p > 1 && diagonal && (r == 0 || r == p - 1);
+      if (!mine && !split) continue;
+      s.rows.push_back(int(it.row()));
+      s.cols.push_back(j);
+      s.values.push_back(split ? 0.5 * it.value() : it.value());
+    }
+  return s;
+}
+
+// Distributed input on every rank gives CHOLMOD's solution on rank 0, for MUMPS's own orderings and a given one,
+// scalar and 3x3-block systems; the statistics are global.
+TEST(DistributedMumps, MatchesOneProcess) {
+  for (int block : {1, 3}) {
+    const SpMat U = grid_system(23, 19, block, 0.5);
+    const DenseMat B = DenseMat::Random(U.rows(), 3);  // the same on every rank (Eigen's fixed seed)
+    db::SolverOptions o;
+    o.block_size = block;
+    const DenseMat Xref = solve_with("cholmod_supernodal", o, U, B);
+    const DenseMat A = DenseMat(SpMat(U.selfadjointView<Eigen::Upper>()));
+    const db::DenseVec d = A.diagonal().cwiseSqrt().cwiseInverse();
+    const double lambda_min =
+        Eigen::SelfAdjointEigenSolver<DenseMat>(d.asDiagonal() * A * d.asDiagonal()).eigenvalues()(0);
+    for (const std::string& ordering : db::solver_info("mumps").orderings) {
+      if (ordering == "metis") continue;
+      SCOPED_TRACE(fmt::format("{} block {} on {} ranks", ordering, block, db::mpi::size()));
+      o.ordering = ordering;
+      db::DistributedMumps m(o);
+      Share s = share_of(U);
+      m.analyze(U.rows(), s.rows, s.cols);
+      m.factorize(s.values);
+      DenseMat X = db::mpi::rank() == 0 ? B : DenseMat();
+      m.solve(X);
+      if (db::mpi::rank() == 0) {
+        EXPECT_LT(rel(X, Xref), 1e-10);
+      }
+      const db::FactorStats st = m.stats();
+      EXPECT_EQ(st.n, std::size_t(U.rows()));
+      EXPECT_EQ(st.nnz_matrix, std::size_t(U.nonZeros()) + (db::mpi::size() > 1 ? std::size_t(U.rows()) : 0));
+      db::FactorStats one;  // given the order, the same pivots as on one process (an ordering MUMPS computes
+      solve_with("mumps", o, U, B, &one);  // may break ties by the order the entries arrive in)
+      if (ordering == "natural") {
+        EXPECT_NEAR(st.min_pivot_ratio, one.min_pivot_ratio, 1e-10 * one.min_pivot_ratio);
+      }
+      EXPECT_GE(st.min_pivot_ratio, lambda_min * (1 - 1e-10));  // every pivot of the scaled matrix lies in
+      EXPECT_LE(st.min_pivot_ratio, 1.0);                        // [its smallest eigenvalue, 1]
+      if (ordering != "ptscotch") {  // parallel analysis on two ranks or more, SCOTCH's on one
+        EXPECT_EQ(st.ordering_used, one.ordering_used);
+      }
+      EXPECT_GT(st.flops, double(st.nnz_factor));
+      EXPECT_EQ(m.report().processes, db::mpi::size());
+      if (db::mpi::rank() == 0) {
+        EXPECT_EQ(m.report().mb_in_core_rank.size(), std::size_t(db::mpi::size()));
+      }
+    }
+  }
+}
+
+// A failure on any rank is a failure on every rank (none is left waiting): a NaN on the last rank, an entry below the
+// diagonal on the first, an indefinite matrix, a right-hand side of the wrong size on rank 0; and metis is refused.
+TEST(DistributedMumps, EveryRankFailsTogether) {
+  const SpMat U = grid_system(12, 10, 1, 0.5);
+  const int last = db::mpi::size() - 1;
+  {
+    db::DistributedMumps m({});
+    Share s = share_of(U);
+    m.analyze(U.rows(), s.rows, s.cols);
+    if (db::mpi::rank() == last) s.values[0] = std::nan("");
+    EXPECT_THROW(m.factorize(s.values), db::SolverError);
+  }
+  {
+    db::DistributedMumps m({});
+    Share s = share_of(U);
+    if (db::mpi::rank() == 0) {  // an entry below the diagonal
+      s.rows.push_back(1);
+      s.cols.push_back(0);
+    }
+    EXPECT_THROW(m.analyze(U.rows(), s.rows, s.cols), db::Error);
+  }
+  {
+    SpMat bad = U;
+    bad.coeffRef(40, 40) = -bad.coeffRef(40, 40);
+    db::DistributedMumps m({});
+    Share s = share_of(bad);
+    m.analyze(bad.rows(), s.rows, s.cols);
+    try {
+      m.factorize(s.values);
+      ADD_FAILURE() << "expected SolverError";
+    } catch (const db::SolverError& e) {
+      EXPECT_NE(std::string(e.what()).find("not positive definite"), std::string::npos) << e.what();
+    }
+    DenseMat X = DenseMat::Ones(U.rows(), 1);
+    EXPECT_THROW(m.solve(X), db::SolverError) << "no factor after a failure";
+  }
+  {
+    db::DistributedMumps m({});
+    Share s = share_of(U);
+    m.analyze(U.rows(), s.rows, s.cols);
+    m.factorize(s.values);
+    DenseMat X = db::mpi::rank() == 0 ? DenseMat::Ones(U.rows() + 1, 1) : DenseMat();
+    EXPECT_THROW(m.solve(X), db::SolverError);
+  }
+  db::SolverOptions metis;
+  metis.ordering = "metis";
+  EXPECT_THROW(db::DistributedMumps{metis}, db::Error);
+}
+
+// Out of core on every rank: the same solution as in memory.
+TEST(DistributedMumps, OutOfCore) {
+  const SpMat U = grid_system(30, 27, 3, 0.5);
+  const DenseMat B = DenseMat::Random(U.rows(), 2);
+  db::SolverOptions o;
+  o.block_size = 3;
+  DenseMat X[2];
+  for (int k = 0; k < 2; ++k) {
+    if (k == 1) o.factor_dir = fs::temp_directory_path().string();
+    db::DistributedMumps m(o);
+    Share s = share_of(U);
+    m.analyze(U.rows(), s.rows, s.cols);
+    m.factorize(s.values);
+    EXPECT_EQ(m.stats().factor_on_disk, k == 1);
+    X[k] = db::mpi::rank() == 0 ? B : DenseMat();
+    m.solve(X[k]);
+  }
+  if (db::mpi::rank() == 0) {
+    EXPECT_LT(rel(X[1], X[0]), 1e-12);
+  }
 }
 
 }  // namespace
