@@ -1,98 +1,135 @@
-// Deforms every available edit case (the BS08 survey cases, the bundled CGAL cactus edit) with LAP and TF and
-// writes one tidy row per (case, method): sizes, phase times, median frame time over a handle drag, bytes.
-//   exp_deform_cases --data DIR --shared DIR --out results/deform_cases.csv [--meshes DIR] [--frames N]
-#include <algorithm>
+// Deforms the edit cases of a config (data/experiments/deform_cases.toml: the BS08 survey cases, the bundled CGAL
+// cactus edit) with each method and writes one tidy row per (case, method): sizes, phase times, median frame time
+// over a handle drag, bytes, and the peak RSS of the cell, which runs in a fresh child process (harness/
+// deform_cell.h with the library's default options). Options: --help.
 #include <filesystem>
 #include <iostream>
 
 #include <fmt/format.h>
 
-#include "core/args.h"
+#include "core/cli.h"
 #include "core/csv.h"
 #include "core/error.h"
 #include "core/provenance.h"
-#include "core/resources.h"
-#include "edit/edit_io.h"
-#include "mesh/mesh_io.h"
-#include "methods/deformer.h"
-#include "methods/drag.h"
+#include "harness/deform_cell.h"
+#include "harness/driver.h"
+#include "harness/mesh_source.h"
+#include "harness/runner.h"
+#include "harness/subprocess.h"
 
 namespace fs = std::filesystem;
+using namespace db;
+using namespace db::harness;
+
+namespace {
+
+struct Options {
+  std::string data = "data", out = "results/deform_cases.csv", meshes;
+  std::vector<std::string> cases, methods = {"lap", "tf"};
+  int frames = 20;
+  double cell_timeout_s = 600;
+  bool dry_run = false;
+};
+
+void define_options(CLI::App& app, Options& o) {
+  add_config_option(app, "data/experiments/deform_cases.toml");
+  app.add_option("--data", o.data, "data directory; case paths are inside it")->capture_default_str();
+  app.add_option("--out", o.out, "the CSV")->capture_default_str();
+  app.add_option("--meshes", o.meshes, "write each case's last frame here (CASE_METHOD.ply)");
+  app.add_option("--case", o.cases, "a case: NAME=EDIT (a .edit file or a Botsch-Sorkine stem, relative to --data)")
+      ->delimiter(',');
+  app.add_option("--methods", o.methods, "methods")->delimiter(',')->check(cli::OneOf({"lap", "tf", "lri"}))
+      ->capture_default_str();
+  app.add_option("--frames", o.frames, "frames of the drag")->check(cli::Integer(1, 100000))->capture_default_str();
+  app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))
+      ->capture_default_str();
+  app.add_flag("--dry-run", o.dry_run, "print the grid's cells (one spec a line) and exit");
+}
+
+// An edit is there when its .edit file or its stem's mesh is.
+bool edit_exists(const std::string& path) {
+  return fs::exists(path) || fs::exists(path + ".off") || fs::exists(path + ".ply") || fs::exists(path + ".obj");
+}
+
+void add_row(CsvTable& csv, const DeformCell& c, const CellResult& r) {
+  auto count = [&](const char* m) { return num(r.get(m)); };
+  csv.add({{"case", c.model},
+           {"mesh", r.text("mesh_name")},
+           {"vertices", count("vertices")},
+           {"faces", count("faces")},
+           {"handle", count("handle")},
+           {"fixed", count("fixed")},
+           {"method", c.method},
+           {"constraints", r.text("constraints")},
+           {"build", r.text("build")},
+           {"backend", r.text("backend")},
+           {"ordering", r.text("ordering_used")},
+           {"n", count("n")},
+           {"nnz", count("nnz")},
+           {"nnz_factor", count("nnz_factor")},
+           {"build_s", num(r.get("build_s"))},
+           {"analyze_s", num(r.get("analyze_s"))},
+           {"factorize_s", num(r.get("factorize_s"))},
+           {"init_s", num(r.get("init_s"))},
+           {"frames", count("frames")},
+           {"frame_median_s", num(r.get("frame_s"))},
+           {"matrix_bytes", count("matrix_bytes")},
+           {"factor_bytes", count("factor_bytes")},
+           {"process_peak_rss_bytes", count("peak_rss_bytes")}});
+}
+
+CellResult run_one(const Options& o, const DeformCell& c) {
+  RunOptions ro;
+  ro.timeout_s = o.cell_timeout_s;
+  CellResult r = run_cell(self_executable(), c.to_spec(), ro);
+  if (!r.ok()) throw Error(fmt::format("{} {}: {} ({})", c.model, c.method, r.message, r.exit));
+  std::cerr << fmt::format("[deform_cases] {:14s} {:3s} n={:6.0f} init {:.3f} s  frame {:.4f} s  peak {:.1f} MiB\n",
+                           c.model, c.method, r.get("n"), r.get("init_s"), r.get("frame_s"),
+                           r.get("peak_rss_bytes") / 1048576.0);
+  return r;
+}
+
+int run(Options& o) {
+  cli::check_output("--out", o.out, {".csv"});
+  if (!o.meshes.empty()) check_output_dir("--meshes", o.meshes);
+  std::vector<MeshSource> cases;
+  for (const auto& text : o.cases) {
+    MeshSource s = parse_mesh_source(text, o.data);
+    if (edit_exists(s.path)) cases.push_back(s);
+    else std::cerr << fmt::format("[deform_cases] skipping {}: {} not found (run scripts/data.sh)\n", s.label, s.path);
+  }
+  if (cases.empty()) throw InputError("no edit case found (--case, or a --config that lists cases)");
+  std::vector<DeformCell> grid;  // a plain list: cases x methods
+  for (const MeshSource& s : cases)
+    for (const auto& method : o.methods) {
+      DeformCell c;
+      c.model = s.label;
+      c.edit = s.path;
+      c.method = method;
+      c.frames = o.frames;
+      if (!o.meshes.empty()) c.out_mesh = (fs::path(o.meshes) / fmt::format("{}_{}.ply", s.label, method)).string();
+      grid.push_back(c);
+    }
+  if (o.dry_run) {
+    for (const DeformCell& c : grid) std::cout << c.to_spec().text() << "\n";
+    return 0;
+  }
+  if (!o.meshes.empty()) fs::create_directories(o.meshes);
+  std::cerr << "[deform_cases] " << provenance_summary() << "\n";
+  CsvTable csv;
+  for (const DeformCell& c : grid) add_row(csv, c, run_one(o, c));
+  csv.write(o.out);
+  std::cerr << "[deform_cases] wrote " << o.out << "\n";
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const db::Args a = db::parse_args(argc, argv, 1);
-    const fs::path data = a.get("--data", "data"), shared = a.get("--shared", "data/bs08");
-    const std::string out = a.get("--out", "results/deform_cases.csv");
-    const std::string mesh_dir = a.get("--meshes", "");
-    const int frames = static_cast<int>(a.number("--frames", 20));
-    if (!mesh_dir.empty()) fs::create_directories(mesh_dir);
-
-    std::vector<std::pair<std::string, std::string>> cases;  // (label, spec)
-    for (const char* c : {"plane", "cylinder", "bar", "cactus"}) {
-      if (fs::exists(shared / (std::string(c) + ".off"))) cases.emplace_back(std::string("bs08_") + c, (shared / c).string());
-      else std::cerr << "[deform_cases] skipping BS08 " << c << ": not found under " << shared << "\n";
-    }
-    const fs::path cgal_cactus = data / "edits" / "cactus_cgal.edit";
-    if (fs::exists(cgal_cactus)) cases.emplace_back("cgal_cactus", cgal_cactus.string());
-    else std::cerr << "[deform_cases] skipping the CGAL cactus: " << cgal_cactus << " missing (run scripts/data.sh)\n";
-    if (cases.empty()) throw db::InputError("no edit case found");
-
-    std::cerr << "[deform_cases] " << db::provenance_summary() << "\n";
-    db::CsvTable csv;
-    for (const auto& [label, spec] : cases) {
-      const db::EditCase ec = db::load_edit_case(spec);
-      for (const char* method : {"lap", "tf"}) {
-        db::DeformOptions o;
-        o.method = method;
-        auto d = db::make_deformer(ec.mesh, ec.edit, o);
-        std::vector<double> ft;
-        db::Points V;
-        for (int f = 1; f <= frames; ++f) {
-          V = d->deform(db::interpolate_transform(ec.edit.transform, static_cast<double>(f) / frames));
-          ft.push_back(d->times().frame());
-        }
-        std::sort(ft.begin(), ft.end());
-        const double median = ft[ft.size() / 2];
-        if (!mesh_dir.empty()) {
-          db::Mesh m = ec.mesh;
-          m.V = V;
-          db::write_mesh((fs::path(mesh_dir) / fmt::format("{}_{}.ply", label, method)).string(), m);
-        }
-        const auto& t = d->times();
-        const auto& s = d->systems().front();
-        csv.add({{"case", label},
-                 {"mesh", ec.mesh.name},
-                 {"vertices", std::to_string(ec.mesh.num_vertices())},
-                 {"faces", std::to_string(ec.mesh.num_faces())},
-                 {"handle", std::to_string(ec.edit.count(db::Role::Handle))},
-                 {"fixed", std::to_string(ec.edit.count(db::Role::Fixed))},
-                 {"method", method},
-                 {"constraints", db::to_string(o.constraints)},
-                 {"build", db::to_string(o.build)},
-                 {"backend", o.solver},
-                 {"ordering", s.factor.ordering_used},
-                 {"n", std::to_string(s.n)},
-                 {"nnz", std::to_string(s.nnz)},
-                 {"nnz_factor", std::to_string(s.factor.nnz_factor)},
-                 {"build_s", db::num(t.build)},
-                 {"analyze_s", db::num(t.analyze)},
-                 {"factorize_s", db::num(t.factorize)},
-                 {"init_s", db::num(t.init())},
-                 {"frames", std::to_string(frames)},
-                 {"frame_median_s", db::num(median)},
-                 {"matrix_bytes", std::to_string(d->matrix_bytes())},
-                 {"factor_bytes", std::to_string(d->factor_bytes())},
-                 {"process_peak_rss_bytes", std::to_string(db::peak_rss_bytes())}});
-        std::cerr << fmt::format("[deform_cases] {:14s} {:3s} n={:6d} init {:.3f} s  frame {:.4f} s\n", label,
-                                 method, s.n, t.init(), median);
-      }
-    }
-    csv.write(out);
-    std::cerr << "[deform_cases] wrote " << out << "\n";
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "exp_deform_cases: error: " << e.what() << "\n";
-    return db::exit_code(e);
-  }
+  if (is_cell_invocation(argc, argv)) return cell_main(argc, argv, {deform_kind()});
+  CLI::App app("The edit cases of a config with each method, every (case, method) in a fresh child process.",
+               "exp_deform_cases");
+  Options o;
+  define_options(app, o);
+  return cli::run(app, argc, argv, [&] { return run(o); });
 }

@@ -1,49 +1,49 @@
 #!/usr/bin/env bash
-# The experiments ./run reproduce runs, in order. Each driver writes results/<name>.csv (atomically).
+# The measurements ./run reproduce runs, in order. Each driver reads its config (data/experiments/NAME.toml) and
+# writes CSVs only (atomically); ./run then writes the Markdown reports from them (experiments/reports/report.py)
+# and the plots.
 # usage: scripts/experiments.sh BUILD_DIR [--full]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=$1; shift
 FULL=${1:-}
+CONF=$ROOT/data/experiments
 log() { printf '[experiments] %s\n' "$*" >&2; }
 
 log "deform cases (BS08 + bundled cactus, lap and tf)"
-"$BUILD/exp_deform_cases" --data "$ROOT/data" --shared "$ROOT/data/bs08" \
+"$BUILD/exp_deform_cases" --config "$CONF/deform_cases.toml" --data "$ROOT/data" \
   --out "$ROOT/results/deform_cases.csv" --meshes "$ROOT/results/meshes"
 
-# Thesis Table 2-1 (issue 3): every cell in a fresh child process under a memory budget (default half the RAM)
-# and a time budget (default 120 s a cell, --full 900 s) checked on predictions; about 5 minutes on 2 cores
-# (--full adds armadillo Loop levels 2-3, up to 1.66M vertices).
+# Thesis Table 2-1: every cell in fresh child processes under a memory budget (default half the RAM) and a time
+# budget (default 120 s a cell, --full 900 s) checked on predictions; about 5 minutes on 2 cores (--full adds
+# armadillo Loop levels 2-3, up to 1.66M vertices).
 log "table 2-1 (dense / naive / structured builds of LAP and TF; scaling of the structured build)"
-"$BUILD/exp_table_2_1" --data "$ROOT/data" --results "$ROOT/results" ${FULL:+--full}
+"$BUILD/exp_table_2_1" --config "$CONF/table_2_1.toml" --data "$ROOT/data" --results "$ROOT/results" ${FULL:+--full}
 
-# Solver choice (issue 4, experiments/solvers.cpp): backends x orderings on the LAP and TF systems, and the
-# BLAS kernel set. OPENBLAS_CORETYPE is read when OpenBLAS loads, so each kernel set is its own driver run:
-# first the other kernel sets (BLAS-calling backends only, plus Eigen's dense LLT as a no-BLAS control), then
-# the full grid under this run's setting, which writes results/solvers.csv and the summary results/solvers.md.
+# Solver choice: backends x orderings on the LAP and TF systems, and the BLAS kernel set. OPENBLAS_CORETYPE is read
+# when OpenBLAS loads, so each kernel set is its own driver run: first the other kernel sets (BLAS-calling backends
+# only, plus Eigen's dense LLT as a no-BLAS control) into results/solvers_blas_*.csv, then the full grid under this
+# run's setting into results/solvers.csv; the report compares them.
 log "solver choice (backends x orderings; BLAS kernel sets)"
-SOLV=("$BUILD/exp_solvers" --data "$ROOT/data" --results "$ROOT/results")
+SOLV=("$BUILD/exp_solvers" --config "$CONF/solvers.toml" --data "$ROOT/data" --results "$ROOT/results")
 [ "$FULL" = --full ] && SOLV+=(--full)
 SOLV_BLAS_BACKENDS=cholmod_supernodal,multifrontal,umfpack,dense_llt,lapack_potrf,dense_ldlt_bk,dense_lu
-SOLV_VARIANTS=()
 rm -f "$ROOT"/results/solvers_blas_*.csv
 if grep -qw avx512f /proc/cpuinfo && [ "${OPENBLAS_CORETYPE:-}" != SkylakeX ]; then
   log "solver choice under OPENBLAS_CORETYPE=SkylakeX (the CPU has avx512f)"
-  OPENBLAS_CORETYPE=SkylakeX "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default --no-md \
+  OPENBLAS_CORETYPE=SkylakeX "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default \
     --out "$ROOT/results/solvers_blas_SkylakeX.csv"
-  SOLV_VARIANTS+=("$ROOT/results/solvers_blas_SkylakeX.csv")
 fi
 if [ -n "${OPENBLAS_CORETYPE:-}" ]; then
   log "solver choice with OPENBLAS_CORETYPE unset (OpenBLAS' own CPU detection)"
-  env -u OPENBLAS_CORETYPE "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default --no-md \
+  env -u OPENBLAS_CORETYPE "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default \
     --out "$ROOT/results/solvers_blas_auto.csv"
-  SOLV_VARIANTS+=("$ROOT/results/solvers_blas_auto.csv")
 fi
 log "solver choice, full grid (OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset>})"
-"${SOLV[@]}" --blas-compare "$(IFS=,; echo "${SOLV_VARIANTS[*]}")"
+"${SOLV[@]}"
 
-# LRI and the frames experiment (issue 5): bends, twists, the dino head turn and the BS08 edits for lap, tf and
-# lri x frame strategy x orthonormalization; deformed meshes under results/meshes/frames for the renders.
+# LRI and the frames experiment: bends, twists, the dino head turn and the BS08 edits for lap, tf and lri x frame
+# strategy x orthonormalization; deformed meshes under results/meshes/frames for the renders.
 log "frames (LRI frame strategies against lap and tf)"
-"$BUILD/exp_frames" --data "$ROOT/data" --shared "$ROOT/data/bs08" --out "$ROOT/results/frames.csv" \
+"$BUILD/exp_frames" --config "$CONF/frames.toml" --data "$ROOT/data" --out "$ROOT/results/frames.csv" \
   --meshes "$ROOT/results/meshes/frames"

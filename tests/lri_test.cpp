@@ -79,16 +79,6 @@ TEST_P(EveryConfig, RotatingEveryConstraintRotatesTheResult) {
   }
 }
 
-// The rigid motion ideal_bend applies beyond z1 (mesh/procedural.h), as a handle transform.
-Mat4 bend_transform(double a, double z0, double z1) {
-  const double R = (z1 - z0) / a, c = std::cos(a), s = std::sin(a);
-  Mat4 T = Mat4::Identity();
-  T.block<2, 2>(1, 1) << c, s, -s, c;
-  T(1, 3) = -z1 * s + R * (1 - c);
-  T(2, 3) = -z1 * c + z0 + R * s;
-  return T;
-}
-
 TEST_P(EveryConfig, BendKeepsConstraintsAndBeatsLap) {
   const auto& [frames, ortho] = GetParam();
   const Mesh m = tube();

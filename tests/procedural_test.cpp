@@ -169,6 +169,23 @@ TEST(IdealTwist, PreservesAxisDistanceAndHeight) {
   }
 }
 
+// The handle transforms of the bend and twist cases: beyond z1 they move a point where the ideal does.
+TEST(IdealBendAndTwist, HandleTransformsMatchTheIdealBeyondZ1) {
+  const Mesh m = make_cylinder(21, 6, 0.5, 4.0);
+  const double z0 = 1.0, z1 = 3.0;
+  for (double angle : {0.0, 0.7, kPi}) {
+    const Points B = ideal_bend(m.V, angle, z0, z1), T = ideal_twist(m.V, angle, z0, z1);
+    const Mat4 Tb = bend_transform(angle, z0, z1), Tt = twist_transform(angle);
+    for (int i = 0; i < m.num_vertices(); ++i) {
+      if (m.V(i, 2) < z1) continue;
+      const Eigen::Vector4d p(m.V(i, 0), m.V(i, 1), m.V(i, 2), 1.0);
+      EXPECT_NEAR(((Tb * p).head<3>() - Vec3(B.row(i))).norm(), 0.0, 1e-12) << angle;
+      EXPECT_NEAR(((Tt * p).head<3>() - Vec3(T.row(i))).norm(), 0.0, 1e-12) << angle;
+    }
+  }
+  EXPECT_THROW(bend_transform(1.0, 2.0, 2.0), InputError);
+}
+
 TEST(LoopSubdivide, CountsManifoldAndDeterministic) {
   for (const Mesh& m : {make_bar(2, 2, 3, 1, 1, 2), make_cylinder(4, 6, 1, 2), make_bumpy_plane(3, 3, 1, 0.1, 1)}) {
     SCOPED_TRACE(m.name);

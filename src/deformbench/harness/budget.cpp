@@ -3,18 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
-#include <numeric>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
-#include "core/resources.h"
-#include "core/timer.h"
 #include "methods/deformer.h"
 #include "operators/energy_operator.h"
-#include "solvers/blas_lapack.h"
 #include "solvers/linear_solver.h"
 
 namespace db::harness {
@@ -31,94 +26,18 @@ constexpr double kSupernodalSlack = 1.15, kMultifrontalSlack = 1.03;
 // Bytes written per second when the dense build zero-fills and copies its matrices.
 constexpr double kFillBytesPerSecond = 4e9;
 
-double best_of(int reps, const std::function<void()>& f) {
-  double best = 1e300;
-  for (int i = 0; i < reps; ++i) {
-    Timer t;
-    f();
-    best = std::min(best, t.seconds());
-  }
-  return best;
-}
-
 }  // namespace
 
-MachineRates MachineRates::measure() {
-  MachineRates r;
-  {
-    const int m = 384;
-    const DenseMat A = DenseMat::Random(m, m), B = DenseMat::Random(m, m);
-    DenseMat C(m, m);
-    const double s = best_of(3, [&] { C.noalias() = A * B; });
-    r.dense = 2.0 * m * m * m / s;
-  }
-  {
-    // A grid operator shaped like a Laplacian (5 entries a row): the product A^T A the sparse builds perform.
-    const int g = 300, n = g * g;
-    std::vector<Eigen::Triplet<double, int>> t;
-    t.reserve(5 * n);
-    for (int i = 0; i < g; ++i)
-      for (int j = 0; j < g; ++j) {
-        const int v = i * g + j;
-        t.emplace_back(v, v, 4.0);
-        if (i > 0) t.emplace_back(v, v - g, -1.0);
-        if (i + 1 < g) t.emplace_back(v, v + g, -1.0);
-        if (j > 0) t.emplace_back(v, v - 1, -1.0);
-        if (j + 1 < g) t.emplace_back(v, v + 1, -1.0);
-      }
-    SpMat A(n, n);
-    A.setFromTriplets(t.begin(), t.end());
-    double flops = 0;
-    const SpMat At = A.transpose();
-    for (int c = 0; c < At.outerSize(); ++c) {  // row c of A = column c of A^T
-      const double k = At.outerIndexPtr()[c + 1] - At.outerIndexPtr()[c];
-      flops += 2 * k * k;
-    }
-    SpMat P;
-    const double s = best_of(3, [&] { P = SpMat(At * A); });
-    r.sparse = flops / s;
-  }
-  {
-    // 32 MB, well beyond the caches: forward/back substitution streams the factor the same way.
-    const int m = 2048;
-    const DenseMat A = DenseMat::Random(m, m);
-    const DenseVec x = DenseVec::Random(m);
-    DenseVec y(m);
-    const double s = best_of(3, [&] { y.noalias() = A * x; });
-    r.stream = 2.0 * m * m / s;
-  }
-  return r;
-}
-
-double MachineRates::blas_gemm() {
-  const int m = 1024;
-  const DenseMat A = DenseMat::Random(m, m), B = DenseMat::Random(m, m);
-  DenseMat C(m, m);
-  auto gemm = [&] {
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, m, m, 1.0, A.data(), m, B.data(), m, 0.0, C.data(), m);
-  };
-  gemm();  // the BLAS's thread pool and the pages of C, outside the timing
-  return 2.0 * m * m * m / best_of(3, gemm);
-}
-
-double MachineRates::read_bandwidth() {
-  const std::size_t count = std::size_t(16) << 20;  // 128 MB, beyond the caches
-  std::vector<double> a(count, 1.0);
-  const int T = std::max(1, worker_threads());
-  std::vector<double> sums(static_cast<std::size_t>(T));
-  auto read = [&] {
-    run_on_threads(T, [&](int t) {
-      const std::size_t lo = count * std::size_t(t) / std::size_t(T), hi = count * std::size_t(t + 1) / std::size_t(T);
-      double s[4] = {};
-      for (std::size_t i = lo; i + 3 < hi; i += 4)
-        for (int k = 0; k < 4; ++k) s[k] += a[i + std::size_t(k)];
-      sums[std::size_t(t)] = (s[0] + s[1]) + (s[2] + s[3]);
-    });
-  };
-  read();
-  const double seconds = best_of(3, read);
-  if (std::accumulate(sums.begin(), sums.end(), 0.0) <= 0) throw Error("read_bandwidth: the sums were lost");
-  return double(count * sizeof(double)) / seconds;
+Prediction DeformPrediction::generic() const {
+  Prediction p;
+  p.bytes = total_bytes;
+  p.seconds = seconds;
+  p.basis = basis;
+  p.measures = {{"predicted_build_bytes", build_bytes, "bytes"},     {"predicted_factor_bytes", factor_bytes, "bytes"},
+                {"predicted_workspace_bytes", workspace_bytes, "bytes"}, {"predicted_bytes", total_bytes, "bytes"},
+                {"predicted_factor_nnz", factor_nnz, "count"},        {"predicted_factor_flops", factor_flops, "flop"},
+                {"predicted_s", seconds, "s"}};
+  return p;
 }
 
 CellPredictor::CellPredictor(const Mesh& mesh, const ThesisEditOptions& edit, const MachineRates& rates)
@@ -179,12 +98,12 @@ CellPredictor::VertexFactor CellPredictor::vertex_factor(const std::string& back
   return f;
 }
 
-Prediction CellPredictor::predict(const CellSpec& spec) {
+DeformPrediction CellPredictor::predict(const DeformCell& spec) {
   const Build build = parse_build(spec.build);
-  const EnergyOperator& o = op(spec.system);
+  const EnergyOperator& o = op(spec.method);
   const double b = o.block(), r = o.rhs_cols();
   const double nv = mesh_.num_vertices(), nu = b * unk_.num_unknowns(), rows = b * nv;
-  Prediction p;
+  DeformPrediction p;
   p.build_bytes = static_cast<double>(predict_build_bytes(o, unk_, build));
   const double base = kBaseBytes + kBytesPerVertex * nv;
   if (build == Build::Dense) {

@@ -9,26 +9,27 @@
 #include <memory>
 #include <string>
 
-#include "harness/cell.h"
+#include "harness/deform_cell.h"
+#include "harness/machine_rates.h"
+#include "harness/runner.h"
 #include "mesh/mesh.h"
 #include "methods/normalization.h"
 #include "systems/normal_system.h"
 
 namespace db::harness {
 
-//! Machine rates in flop/s, measured once per driver run (a few tenths of a second).
-struct MachineRates {
-  double dense = 1e9;   //!< Eigen dense GEMM, one thread: the dense build's SYRK and LLT run on this kernel
-  double sparse = 1e8;  //!< Eigen sparse A^T A product: what the sparse builds run at (indexing-bound)
-  double stream = 1e9;  //!< dense matrix-vector product out of cache: what triangular solves run at (memory-bound)
-  static MachineRates measure();
-  //! The system BLAS's dgemm on 1024 x 1024 matrices with its own threads (best of three, ~0.2 s): the ceiling
-  //! of the sparse factorizations' dense kernels at the moment it runs. On a shared machine it moves by 2x
-  //! within a day, so drivers take it next to each cell to tell a slow machine from a slow code.
-  static double blas_gemm();
-  //! Bytes per second read from memory by worker_threads() threads summing a 128 MB array (best of three): the
-  //! rate the triangular solves stream the factor at, at best.
-  static double read_bandwidth();
+//! What a deformation cell was predicted to need before it was allowed to run.
+struct DeformPrediction {
+  double build_bytes = 0;   //!< predict_build_bytes (dense: includes the LLT's copy of K)
+  double factor_bytes = 0;  //!< dense: n^2 * 8; sparse: from a symbolic analysis of the vertex graph
+  double workspace_bytes = 0;  //!< the factorization's working storage besides the factor (update matrices)
+  double total_bytes = 0;   //!< what the memory budget is checked against
+  double factor_nnz = 0, factor_flops = 0, build_flops = 0;
+  double seconds = 0;       //!< what the time budget is checked against (build + analyze + factor + frames)
+  std::string basis;        //!< how the factor was predicted, for the raw cell records
+  //! For the runner: bytes, seconds and the measures predicted_build_bytes, predicted_factor_bytes,
+  //! predicted_workspace_bytes, predicted_bytes, predicted_factor_nnz, predicted_factor_flops, predicted_s.
+  Prediction generic() const;
 };
 
 //! Predicts every cell of one mesh under the thesis edit. Holds the mesh's adjacency and operators, and caches
@@ -38,7 +39,7 @@ class CellPredictor {
   CellPredictor(const Mesh& mesh, const ThesisEditOptions& edit, const MachineRates& rates);
   ~CellPredictor();
   //! \throw Error for an unknown system, build or backend.
-  Prediction predict(const CellSpec& spec);
+  DeformPrediction predict(const DeformCell& cell);
 
  private:
   struct VertexFactor {

@@ -153,4 +153,21 @@ Points ideal_twist(const Points& V, double angle_rad, double z0, double z1) {
   return out;
 }
 
+Mat4 bend_transform(double angle_rad, double z0, double z1) {
+  require(z1 > z0, fmt::format("bend_transform: need z1 > z0 (got {}, {})", z0, z1));
+  Mat4 T = Mat4::Identity();
+  if (angle_rad == 0) return T;
+  const double R = (z1 - z0) / angle_rad, c = std::cos(angle_rad), s = std::sin(angle_rad);
+  T.block<2, 2>(1, 1) << c, s, -s, c;
+  T(1, 3) = -z1 * s + R * (1 - c);
+  T(2, 3) = -z1 * c + z0 + R * s;
+  return T;
+}
+
+Mat4 twist_transform(double angle_rad) {
+  Mat4 T = Mat4::Identity();
+  T.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle_rad, Vec3::UnitZ()).toRotationMatrix();
+  return T;
+}
+
 }  // namespace db

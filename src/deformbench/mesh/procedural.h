@@ -41,4 +41,12 @@ Points ideal_bend(const Points& V, double angle_rad, double z0, double z1);
 //! \throw InputError when z1 <= z0.
 Points ideal_twist(const Points& V, double angle_rad, double z0, double z1);
 
+//! The rigid motion ideal_bend applies beyond z1, as a handle transform: handle vertices above z1 moved by it land
+//! where ideal_bend puts them (the frames experiment and the LRI tests bend tubes with it). angle 0 is the
+//! identity. \throw InputError when z1 <= z0.
+Mat4 bend_transform(double angle_rad, double z0, double z1);
+
+//! The rigid motion ideal_twist applies beyond z1: a rotation by angle_rad about the z axis.
+Mat4 twist_transform(double angle_rad);
+
 }  // namespace db

@@ -1,0 +1,114 @@
+"""What every report needs: reading the drivers' CSVs, formatting numbers, writing a file atomically.
+
+Standard library only, so the report step runs with any python3 (./run uses /usr/bin/python3, as for the plots).
+"""
+import csv
+import math
+import os
+import statistics
+import tempfile
+
+MIB = 1024.0 * 1024.0
+NAN = float("nan")
+
+
+def read_rows(path):
+    """Every row of a CSV as a dict; [] when the file does not exist."""
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def number(text):
+    """A CSV value as a float (NaN for "", "n/a", "nan" or anything else that is not a number)."""
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return NAN
+
+
+def isnan(x):
+    return x is None or (isinstance(x, float) and math.isnan(x))
+
+
+def settings(path):
+    """The setting -> value rows of a driver's *_settings.csv ({} when absent)."""
+    return {r["setting"]: r["value"] for r in read_rows(path)}
+
+
+def provenance(rows):
+    """The provenance columns of a CSV's first row ({} for no rows)."""
+    keys = ("git_sha", "blas", "blas_core", "blas_coretype_env", "blas_threads", "build_threads", "hardware_threads",
+            "cpu", "compiler", "timestamp")
+    return {k: rows[0].get(k, "") for k in keys} if rows else {}
+
+
+class Cell:
+    """One cell of a long CSV (one row per measure): its key columns, status, message and measures."""
+
+    def __init__(self, row, key_columns):
+        self.key = {k: row.get(k, "") for k in key_columns}
+        self.status = row.get("status", "ok")
+        self.message = row.get("message", "")
+        self.row = row
+        self.values = {}
+
+    def __getattr__(self, name):
+        if name in ("key", "status", "message", "row", "values"):
+            raise AttributeError(name)
+        return self.key[name]
+
+    def ok(self):
+        return self.status == "ok"
+
+    def get(self, measure):
+        """The measure's value, NaN when absent or empty."""
+        return self.values.get(measure, NAN)
+
+
+def cells(rows, key_columns):
+    """Groups a long CSV into Cells by `key_columns`, in file order."""
+    out, index = [], {}
+    for r in rows:
+        k = tuple(r.get(c, "") for c in key_columns)
+        if k not in index:
+            index[k] = len(out)
+            out.append(Cell(r, key_columns))
+        c = out[index[k]]
+        c.values[r["measure"]] = number(r.get("value"))
+    return out
+
+
+def median(values):
+    v = [x for x in values if not isnan(x)]
+    return statistics.median(v) if v else NAN
+
+
+def geomean(values):
+    v = [x for x in values if not isnan(x) and x > 0 and math.isfinite(x)]
+    return math.exp(sum(math.log(x) for x in v) / len(v)) if v else NAN
+
+
+def minmax(values):
+    v = [x for x in values if not isnan(x) and math.isfinite(x)]
+    return (min(v), max(v)) if v else (NAN, NAN)
+
+
+def fmt(x, spec="{:.3g}", missing="-"):
+    """A number with a format spec, `missing` for NaN."""
+    return missing if isnan(x) else spec.format(x)
+
+
+def write_atomically(path, text):
+    """Writes `text` to a temporary file beside `path`, then renames it into place: no partial report."""
+    d = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=os.path.basename(path) + ".", suffix=".tmp", dir=d)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise

@@ -1,0 +1,15 @@
+#pragma once
+//! Reading back the tidy CSVs the drivers write (core/csv.h): RFC 4180 quoting, no embedded newlines.
+#include <map>
+#include <string>
+#include <vector>
+
+namespace db::harness {
+
+using CsvRow = std::map<std::string, std::string>;
+
+//! Every row as column -> value. \throw InputError when the file cannot be read or a row has more fields than
+//! the header.
+std::vector<CsvRow> read_csv(const std::string& path);
+
+}  // namespace db::harness

@@ -1,0 +1,52 @@
+#pragma once
+//! The deformation cell (kind "deform"): one mesh and edit, one method / build / backend, a handle drag over
+//! `frames` frames. Used by Table 2-1 (the thesis edit on a mesh, soft constraints) and the edit cases (an edit
+//! file with the library's defaults); the tracking suite can list such cells as data.
+//!
+//! Spec keys (DeformCell::to_spec / from_spec): model, mesh | edit, method, build, backend, ordering,
+//! constraints, frames, handle, anchors, drag, factor_dir, memory_budget_bytes, out_mesh.
+//! Measures: vertices, faces, handle, fixed, n, nnz, nnz_factor, factor_flops, min_pivot_ratio, build_s,
+//! analyze_s, factorize_s, init_s, frames, frame_s, rhs_s, solve_s, write_s (medians over the frames), fps,
+//! matrix_bytes, factor_bytes, held_bytes:<matrix>, held_total_bytes, peak_rss_bytes (VmHWM),
+//! baseline_rss_bytes (after reading the mesh), mean_displacement (last frame, / bbox diagonal).
+//! Strings: ordering_used, mesh_name, constraints, build, backend.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "harness/cell.h"
+#include "harness/runner.h"
+#include "harness/thesis_edit.h"
+
+namespace db::harness {
+
+struct DeformCell {
+  std::string model;  //!< label for result rows ("hand", "armadillo_loop2", "bs08_bar")
+  std::string mesh;   //!< a mesh file, deformed by the thesis edit (harness/thesis_edit.h) ...
+  std::string edit;   //!< ... or an edit (Botsch-Sorkine stem or .edit file); exactly one of the two
+  std::string method = "tf";
+  std::string build = "structured";
+  std::string backend = "multifrontal";  //!< solver registry name (dense builds: a dense backend, "dense_llt")
+  std::string ordering = "default";
+  std::string constraints = "hard";      //!< "hard" | "soft" (thesis eq. 2-4: Table 2-1's cells)
+  //! Out of core: the factor goes to a scratch file in this directory (SolverOptions::factor_dir); "" = memory.
+  std::string factor_dir;
+  int frames = 20;
+  ThesisEditOptions thesis;                 //!< with `mesh`
+  std::size_t memory_budget_bytes = 0;      //!< DeformOptions::memory_budget (the systems layer's own check)
+  std::string out_mesh;                     //!< when set, the last frame's mesh is written here
+
+  CellSpec to_spec() const;
+  //! \throw UsageError on an unknown key, a malformed number, or not exactly one of mesh / edit.
+  static DeformCell from_spec(const CellSpec& spec);
+  //! "hand/tf/structured/multifrontal"
+  std::string key() const;
+  //! "disk" when the factor is kept out of core, else "memory".
+  std::string factor_storage() const { return factor_dir.empty() ? "memory" : "disk"; }
+};
+
+//! Measures a deformation cell in this process. \throw whatever the layers below throw.
+CellResult measure_deform_cell(const CellSpec& spec);
+inline CellKind deform_kind() { return {"deform", measure_deform_cell}; }
+
+}  // namespace db::harness

@@ -1,0 +1,22 @@
+#pragma once
+//! How fast this machine is at the moment: the rates the budget predictions divide flop counts by, and the rates
+//! drivers measure just before and after each cell (on a shared machine they move by 2x within a day, so a slow
+//! window shows in them rather than as a regression of the code).
+
+namespace db::harness {
+
+//! Machine rates in flop/s, measured once per driver run (a few tenths of a second).
+struct MachineRates {
+  double dense = 1e9;   //!< Eigen dense GEMM, one thread: the dense build's SYRK and LLT run on this kernel
+  double sparse = 1e8;  //!< Eigen sparse A^T A product: what the sparse builds run at (indexing-bound)
+  double stream = 1e9;  //!< dense matrix-vector product out of cache: what triangular solves run at (memory-bound)
+  static MachineRates measure();
+  //! The system BLAS's dgemm on 1024 x 1024 matrices with its own threads (best of three, ~0.2 s): the ceiling
+  //! of the sparse factorizations' dense kernels at the moment it runs.
+  static double blas_gemm();
+  //! Bytes per second read from memory by worker_threads() threads summing a 128 MB array (best of three): the
+  //! rate the triangular solves stream the factor at, at best.
+  static double read_bandwidth();
+};
+
+}  // namespace db::harness

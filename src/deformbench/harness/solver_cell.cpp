@@ -1,0 +1,295 @@
+#include "harness/solver_cell.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <random>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/resources.h"
+#include "core/timer.h"
+#include "harness/positions.h"
+#include "harness/stats.h"
+#include "harness/thesis_edit.h"
+#include "mesh/mesh_io.h"
+#include "methods/deformer.h"
+#include "methods/normalization.h"
+#include "operators/energy_operator.h"
+#include "solvers/least_squares.h"
+#include "solvers/linear_solver.h"
+#include "systems/normal_system.h"
+#include "systems/vertex_ordering.h"
+
+namespace db::harness {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Unknown u's coordinate c in the solver layout: LAP keeps x, y, z as three columns, TF interleaves them.
+inline double& at(DenseMat& M, int block, int u, int c) { return block == 1 ? M(u, c) : M(3 * u + c, 0); }
+
+// The thesis edit's system, before any build: what every cell of a tier and system shares.
+struct Problem {
+  Mesh mesh;
+  Edit edit;
+  Normalization norm;
+  Points Vn;
+  Adjacency adj;
+  Unknowns unk;
+  EnergyKind kind = EnergyKind::Lap;
+  int block = 1;
+  double order_s = 0;  // vertex-graph ordering of the unknowns ("vertex-*" orderings)
+};
+
+Problem make_problem(const SolverCell& c) {
+  Problem p;
+  p.mesh = read_mesh(c.mesh);
+  validate_mesh(p.mesh);
+  p.edit = make_thesis_edit(p.mesh);
+  p.norm = Normalization::fit(p.mesh.V);
+  p.Vn = p.norm.apply(p.mesh.V);
+  p.adj = vertex_adjacency(p.mesh);
+  const auto kinds = classify(p.edit, ConstraintMode::Soft);
+  check_every_component_anchored(p.adj, kinds);
+  p.unk = make_unknowns(kinds, 1.0);
+  p.kind = parse_energy(c.system);
+  p.block = p.kind == EnergyKind::Lap ? 1 : 3;
+  if (c.ordering.rfind("vertex-", 0) == 0) {
+    Timer t;
+    order_unknowns(p.adj, p.unk, c.ordering.substr(7));
+    p.order_s = t.seconds();
+  }
+  return p;
+}
+
+// The soft targets of the full drag (normalized coordinates): handle moved, anchors in place.
+Vec3 soft_target(const Problem& p, int v) {
+  const Vec3 q = p.Vn.row(v).transpose();
+  return p.edit.roles[v] == Role::Handle ? apply(p.norm.conjugate(p.edit.transform), q) : q;
+}
+
+// The deformation's right-hand side: g0 + w^2 * soft targets (soft constraints: no hard vertices, no C term).
+DenseMat drag_rhs(const Problem& p, const NormalSystem& sys) {
+  DenseMat rhs = sys.g0;
+  const double w2 = p.unk.soft_weight * p.unk.soft_weight;
+  for (int v : p.unk.soft_vertices) {
+    const Vec3 q = soft_target(p, v);
+    for (int c = 0; c < 3; ++c) at(rhs, p.block, p.unk.unknown_of[v], c) += w2 * q(c);
+  }
+  return rhs;
+}
+
+// x_ref per vertex (so every numbering sees the same one).
+DenseMat reference_solution(const Problem& p, unsigned seed, int cols) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  DenseMat x(Index(p.block * p.unk.num_unknowns()), cols);
+  for (int v = 0; v < p.mesh.num_vertices(); ++v)
+    for (int c = 0; c < 3; ++c) at(x, p.block, p.unk.unknown_of[v], c) = uni(rng);
+  return x;
+}
+
+Points to_vertices(DenseMat& x, const Problem& p) {
+  Points P(p.mesh.num_vertices(), 3);
+  for (int v = 0; v < p.mesh.num_vertices(); ++v)
+    for (int c = 0; c < 3; ++c) P(v, c) = at(x, p.block, p.unk.unknown_of[v], c);
+  return P;
+}
+
+double rel_residual(const SpMat& upper, const DenseMat& x, const DenseMat& b) {
+  const DenseMat r = upper.selfadjointView<Eigen::Upper>() * x - b;
+  const double nb = b.norm();
+  return nb > 0 ? r.norm() / nb : r.norm();
+}
+
+// Repeats `f` (at least once, at most `reps` times, and no more once `budget_s` seconds have been spent);
+// returns {median, min, count}.
+template <class F>
+std::tuple<double, double, int> repeat_timed(int reps, double budget_s, F&& f) {
+  std::vector<double> t;
+  double total = 0;
+  for (int i = 0; i < reps; ++i) {
+    Timer tm;
+    f();
+    t.push_back(tm.seconds());
+    total += t.back();
+    if (total >= budget_s) break;
+  }
+  return {median(t), *std::min_element(t.begin(), t.end()), int(t.size())};
+}
+
+void add_system(CellResult& r, const Problem& p, const NormalSystem& sys, double build_s) {
+  r.set("vertices", p.mesh.num_vertices(), "count");
+  r.set("n", static_cast<double>(sys.n()), "count");
+  r.set("nnz", double(sys.K.nonZeros()), "count");
+  r.set("rhs_cols", sys.rhs_cols, "count");
+  r.set("build_s", build_s, "s");
+  r.set("order_s", p.order_s, "s");
+  r.set("matrix_bytes", double(sparse_bytes(sys.K)), "bytes");
+  r.set("baseline_rss_bytes", double(current_rss_bytes()), "bytes");
+}
+
+// What the factorization and solve phases measured, the same for every kind of solver.
+struct Phases {
+  double analyze_s = 0;
+  std::tuple<double, double, int> factorize, solve;
+  FactorStats stats;
+};
+
+void add_phases(CellResult& r, const Phases& ph) {
+  const auto [fmed, fmin, fn] = ph.factorize;
+  const auto [smed, smin, sn] = ph.solve;
+  r.set("analyze_s", ph.analyze_s, "s");
+  r.set("factorize_s", fmed, "s");
+  r.set("factorize_min_s", fmin, "s");
+  r.set("factorize_reps", fn, "count");
+  r.set("solve_s", smed, "s");
+  r.set("solve_min_s", smin, "s");
+  r.set("solve_reps", sn, "count");
+  r.set("nnz_factor", double(ph.stats.nnz_factor), "count");
+  r.set("factor_flops", ph.stats.flops > 0 ? ph.stats.flops : kNaN, "flop");
+  r.set("gflops", ph.stats.flops > 0 && fmin > 0 ? ph.stats.flops / fmin / 1e9 : kNaN, "GFlop/s");  // fastest rep
+  r.set("factor_bytes", double(ph.stats.factor_bytes), "bytes");
+}
+
+// A registry backend on the structured K: analyze, factorize (repeated), solve (repeated).
+CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat& x) {
+  const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});
+  Timer tb;
+  const NormalSystem sys = build_normal_system(op, p.unk, Build::Structured);
+  CellResult r;
+  add_system(r, p, sys, tb.seconds());
+  const DenseMat rhs = drag_rhs(p, sys), xref = reference_solution(p, c.seed, sys.rhs_cols);
+  const DenseMat bsyn = sys.K.selfadjointView<Eigen::Upper>() * xref;
+
+  SolverOptions so;
+  so.block_size = p.block;
+  so.ordering = c.ordering.rfind("vertex-", 0) == 0 ? "natural" : c.ordering;
+  auto solver = make_solver(c.backend, so);
+  Phases ph;
+  Timer ta;
+  solver->analyze(sys.K);
+  ph.analyze_s = p.order_s + ta.seconds();
+  ph.factorize = repeat_timed(c.factor_reps, c.rep_seconds, [&] { solver->factorize(sys.K); });
+  ph.solve = repeat_timed(c.solve_reps, c.rep_seconds, [&] { solver->solve(rhs, x); });
+  ph.stats = solver->stats();
+  DenseMat xs;
+  solver->solve(bsyn, xs);
+  r.set("peak_rss_bytes", double(peak_rss_bytes()), "bytes");  // before anything below allocates
+  add_phases(r, ph);
+  if (solver_info(c.backend).family == "iterative") r.set("iterations", ph.stats.iterations, "count");
+  r.set_text("ordering_used", ph.stats.ordering_used);
+  r.set("residual", rel_residual(sys.K, x, rhs), "relative");
+  r.set("residual_synthetic", rel_residual(sys.K, xs, bsyn), "relative");
+  r.set("error_exact", (xs - xref).norm() / xref.norm(), "relative");
+  return r;
+}
+
+// The least-squares matrix [A_u; w S] of the naive build (S selects the soft unknowns) and its right-hand side
+// [b; w u] for the full drag.
+std::pair<SpMat, DenseMat> least_squares_system(const Problem& p, const NormalSystem& sys) {
+  const int b = p.block, rows_a = int(sys.At.cols()), soft = int(p.unk.soft_vertices.size());
+  const double w = p.unk.soft_weight;
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(std::size_t(sys.At.nonZeros()) + std::size_t(b * soft));
+  for (int k = 0; k < sys.At.outerSize(); ++k)  // A_u = At^T
+    for (SpMat::InnerIterator it(sys.At, k); it; ++it) t.emplace_back(int(it.col()), int(it.row()), it.value());
+  DenseMat rhs = DenseMat::Zero(rows_a + b * soft, sys.rhs_cols);
+  rhs.topRows(rows_a) = sys.targets;
+  for (int k = 0; k < soft; ++k) {
+    const int v = p.unk.soft_vertices[k], u = p.unk.unknown_of[v];
+    const Vec3 q = soft_target(p, v);
+    for (int c = 0; c < b; ++c) t.emplace_back(rows_a + b * k + c, b * u + c, w);
+    for (int c = 0; c < 3; ++c) {
+      if (b == 1) rhs(rows_a + k, c) = w * q(c);
+      else rhs(rows_a + 3 * k + c, 0) = w * q(c);
+    }
+  }
+  SpMat A(rows_a + b * soft, sys.At.rows());
+  A.setFromTriplets(t.begin(), t.end());
+  return {std::move(A), std::move(rhs)};
+}
+
+// SPQR on the naive build's A: QR of A itself, A^T A never formed; accuracy on the normal equations.
+CellResult measure_least_squares(const SolverCell& c, const Problem& p, DenseMat& x) {
+  const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});
+  Timer tb;
+  const NormalSystem sys = build_normal_system(op, p.unk, Build::Naive);
+  auto [A, b_ls] = least_squares_system(p, sys);
+  CellResult r;
+  add_system(r, p, sys, tb.seconds());
+  r.set("matrix_bytes", double(sparse_bytes(A)), "bytes");
+  const DenseMat rhs = drag_rhs(p, sys), xref = reference_solution(p, c.seed, sys.rhs_cols);
+  const DenseMat bsyn = A * xref;
+
+  SpqrLeastSquares qr(c.ordering);
+  Phases ph;
+  ph.analyze_s = p.order_s;
+  ph.factorize = repeat_timed(c.factor_reps, c.rep_seconds, [&] { qr.factorize(A); });
+  ph.solve = repeat_timed(c.solve_reps, c.rep_seconds, [&] { qr.solve(b_ls, x); });
+  ph.stats = qr.stats();
+  DenseMat xs;
+  qr.solve(bsyn, xs);
+  r.set("peak_rss_bytes", double(peak_rss_bytes()), "bytes");
+  add_phases(r, ph);
+  r.set_text("ordering_used", ph.stats.ordering_used);
+  r.set("residual", rel_residual(sys.K, x, rhs), "relative");
+  r.set("residual_synthetic", rel_residual(sys.K, xs, DenseMat(A.transpose() * bsyn)), "relative");
+  r.set("error_exact", (xs - xref).norm() / xref.norm(), "relative");
+  return r;
+}
+
+}  // namespace
+
+CellSpec SolverCell::to_spec() const {
+  CellSpec s("solve");
+  s.set("model", model).set("mesh", mesh).set("system", system).set("backend", backend).set("ordering", ordering);
+  s.set("solve_reps", solve_reps).set("factor_reps", factor_reps).set("rep_seconds", rep_seconds);
+  s.set("seed", static_cast<double>(seed));
+  if (!positions.empty()) s.set("positions", positions);
+  return s;
+}
+
+SolverCell SolverCell::from_spec(const CellSpec& s) {
+  s.check_keys({"model", "mesh", "system", "backend", "ordering", "solve_reps", "factor_reps", "rep_seconds", "seed",
+                "positions"});
+  SolverCell c;
+  c.mesh = s.get("mesh");
+  c.model = s.get("model", c.mesh);
+  c.system = s.get("system", c.system);
+  c.backend = s.get("backend", c.backend);
+  c.ordering = s.get("ordering", c.ordering);
+  c.solve_reps = static_cast<int>(s.integer("solve_reps", c.solve_reps, 1, 1000000));
+  c.factor_reps = static_cast<int>(s.integer("factor_reps", c.factor_reps, 1, 1000000));
+  c.rep_seconds = s.real("rep_seconds", c.rep_seconds, 0, 1e6);
+  c.seed = static_cast<unsigned>(s.integer("seed", c.seed, 0, 4294967295LL));
+  c.positions = s.get("positions", "");
+  return c;
+}
+
+std::string SolverCell::key() const { return fmt::format("{}/{}/{}/{}", model, system, backend, ordering); }
+
+std::string solver_family(const std::string& backend) {
+  return backend == kLeastSquaresBackend ? "least-squares" : solver_info(backend).family;
+}
+
+std::vector<std::string> solver_orderings(const std::string& backend) {
+  if (backend == kLeastSquaresBackend) return {"default", "colamd", "amd", "metis", "natural"};
+  return solver_info(backend).orderings;
+}
+
+CellResult measure_solver_cell(const CellSpec& spec) {
+  const SolverCell c = SolverCell::from_spec(spec);
+  const Problem p = make_problem(c);
+  DenseMat x;
+  CellResult r = c.backend == kLeastSquaresBackend ? measure_least_squares(c, p, x) : measure_linear_solver(c, p, x);
+  if (c.ordering.rfind("vertex-", 0) == 0) r.set_text("ordering_used", c.ordering.substr(7) + "-vertex-graph");
+  if (!c.positions.empty()) write_positions(c.positions, to_vertices(x, p));
+  return r;
+}
+
+}  // namespace db::harness

@@ -1,0 +1,53 @@
+#pragma once
+//! The solver cell (kind "solve"): one backend and ordering on the LAP or TF normal system of the thesis edit
+//! (harness/thesis_edit.h: whole-mesh ROI, 100 handle vertices at one extreme, 100 anchors at the other; soft
+//! constraints, so K is #V x #V or 3#V x 3#V), built with the structured build. Used by the solver study; the
+//! tracking suite can list such cells as data.
+//!
+//! Right-hand sides: the deformation's own (the full drag of the handle) and a synthetic b = K x_ref for a
+//! seeded random x_ref, whose exact solution is known. Measures: vertices, n, nnz, rhs_cols, build_s, order_s,
+//! analyze_s, factorize_s / factorize_min_s / factorize_reps, solve_s / solve_min_s / solve_reps, nnz_factor,
+//! factor_flops, gflops, matrix_bytes, factor_bytes, baseline_rss_bytes, peak_rss_bytes, iterations (iterative
+//! backends), residual (||K x - b|| / ||b||), residual_synthetic, error_exact (||x - x_ref|| / ||x_ref||).
+//! String: ordering_used. With positions=PATH the deformed (normalized) positions go there, for the parent's
+//! error_vs_cholmod (harness/positions.h).
+//!
+//! Orderings: every value the backend accepts, plus "vertex-metis" / "vertex-amd": the deformer's own path, the
+//! unknowns renumbered on the vertex graph before assembly and the solver run with the natural ordering (its cost
+//! is order_s, counted into analyze_s).
+//!
+//! Backend "spqr" is least squares on the naive build's A itself (solvers/least_squares.h: QR, A^T A never
+//! formed): its analyze is part of its factorize (analyze_s = 0), its residuals are those of the normal
+//! equations its solution satisfies, and error_exact uses b = A x_ref.
+#include <string>
+
+#include "harness/cell.h"
+#include "harness/runner.h"
+
+namespace db::harness {
+
+//! The least-squares row of the solver study (not a LinearSolver: its input is the rectangular A).
+inline const char* const kLeastSquaresBackend = "spqr";
+
+struct SolverCell {
+  std::string model, mesh, system = "lap", backend = "cholmod_supernodal", ordering = "default";
+  int solve_reps = 10, factor_reps = 5;
+  double rep_seconds = 2.0;  //!< stop repeating a phase once it has taken this long in total
+  unsigned seed = 1;
+  std::string positions;     //!< where to write the deformed positions ("" = nowhere)
+
+  CellSpec to_spec() const;
+  //! \throw UsageError on an unknown key or a malformed number.
+  static SolverCell from_spec(const CellSpec& spec);
+  std::string key() const;  //!< "hand/tf/cholmod_supernodal/default"
+};
+
+//! Family of a backend in the study: the registry's, "least-squares" for spqr.
+std::string solver_family(const std::string& backend);
+//! Orderings a backend accepts in the study (the registry's; spqr's own).
+std::vector<std::string> solver_orderings(const std::string& backend);
+
+CellResult measure_solver_cell(const CellSpec& spec);
+inline CellKind solver_kind() { return {"solve", measure_solver_cell}; }
+
+}  // namespace db::harness

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The experiment drivers end to end: strict command lines (generated --help, misspelled options and config keys,
+# numbers out of range, unwritable outputs: exit 1, nothing written), the shipped configs (data/experiments/*.toml
+# load and give the grids), a tiny run of every driver on a bundled mesh, and the report step on its CSVs.
+#   experiments_test.sh SOURCE_DIR BUILD_DIR
+set -u
+SRC=$1
+BIN=$2
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+cd "$SRC" || exit 1
+fails=0
+PY=/usr/bin/python3
+[ -x "$PY" ] || PY=python3
+
+fail() { echo "FAIL $*"; fails=$((fails + 1)); }
+ok() { echo "ok   $*"; }
+
+# expect NAME EXIT_CODE MESSAGE_REGEX -- driver args...
+expect() {
+  local name=$1 code=$2 re=$3; shift 4
+  "$@" >"$T/stdout" 2>"$T/stderr"
+  local got=$?
+  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(head -c 300 "$T/stderr")"; return; fi
+  if ! grep -Eqi -- "$re" "$T/stdout" "$T/stderr"; then fail "$name: output does not match /$re/"; return; fi
+  ok "$name"
+}
+
+# ---------------------------------------------------------------- strict command lines, configs
+for d in table_2_1 solvers frames deform_cases; do
+  exe="$BIN/exp_$d"
+  expect "$d --help" 0 "Usage: exp_$d" -- "$exe" --help
+  expect "$d misspelled option" 1 "unknown option --frme|did you mean" -- "$exe" --frme 3
+  expect "$d config parses, grid listed" 0 "^kind=" -- "$exe" --dry-run
+  printf 'bogus-key = 1\n' >"$T/bad.toml"
+  expect "$d unknown config key" 1 "bogus" -- "$exe" --config "$T/bad.toml" --dry-run
+  expect "$d missing config file" 1 "not readable|missing" -- "$exe" --config "$T/none.toml" --dry-run
+done
+expect "table_2_1 frames out of range" 1 "frames" -- "$BIN/exp_table_2_1" --frames 0 --dry-run
+expect "table_2_1 frames not whole" 1 "whole number" -- "$BIN/exp_table_2_1" --frames 2.5 --dry-run
+expect "table_2_1 unknown tier" 1 "no such tier" -- "$BIN/exp_table_2_1" --only plank --dry-run
+expect "table_2_1 own mesh" 0 "model=mine mesh=/some/mine.off" -- "$BIN/exp_table_2_1" --mesh mine=/some/mine.off --only mine --dry-run
+expect "table_2_1 bad loop level" 1 "Loop level" -- "$BIN/exp_table_2_1" --mesh mine=x.off+loopx --dry-run
+expect "solvers unknown backend" 1 "not one of" -- "$BIN/exp_solvers" --backends cholmod --dry-run
+touch "$T/afile"
+expect "solvers results not a directory" 1 "not a directory" -- "$BIN/exp_solvers" --results "$T/afile/results" --dry-run
+expect "frames malformed case" 1 "kind 'bnd'" -- "$BIN/exp_frames" --case "x: bnd mesh=a" --dry-run
+expect "frames out into a missing directory" 1 "does not exist" -- "$BIN/exp_frames" --out "$T/no/frames.csv"
+expect "deform_cases csv extension" 1 "extension" -- "$BIN/exp_deform_cases" --out "$T/cases.txt"
+[ -z "$(ls "$T" | grep -v -e stdout -e stderr -e bad.toml -e afile)" ] && ok "nothing written by the failures" || fail "files left: $(ls "$T")"
+
+# ---------------------------------------------------------------- tiny runs and the report step
+R="$T/results"
+mkdir -p "$R"
+expect "table_2_1 tiny run" 0 "wrote" -- "$BIN/exp_table_2_1" --tier cactus=bs08/cactus.off --systems lap \
+  --builds naive,structured --frames 2 --repeats 1 --series cactus_loop=bs08/cactus.off+loop0..0 --results "$R"
+expect "solvers tiny run" 0 "wrote" -- "$BIN/exp_solvers" --tier cactus=bs08/cactus.off --systems lap \
+  --backends cholmod_supernodal,multifrontal,spqr --orderings default --factor-reps 1 --solve-reps 1 --results "$R"
+expect "frames tiny run" 0 "wrote" -- "$BIN/exp_frames" --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" \
+  --methods lap,lri --lri-frames first,random --lri-orthonormalize polar --no-meshes --out "$R/frames.csv"
+expect "deform_cases tiny run" 0 "wrote" -- "$BIN/exp_deform_cases" --case bar=bs08/bar --methods lap --frames 2 \
+  --out "$R/deform_cases.csv"
+expect "report step" 0 "frames.md: written" -- "$PY" experiments/reports/report.py --results "$R"
+grep -q "^| cactus | lap | naive |" "$R/table_2_1.md" && ok "table_2_1.md has the cells" || fail "table_2_1.md lacks the cells"
+grep -q "^| cactus | lap | .* | spqr |" "$R/solvers.md" && ok "solvers.md has the spqr row" || fail "solvers.md lacks spqr"
+grep -q "^| bar | single |" "$R/frames.md" && ok "frames.md has the case" || fail "frames.md lacks the case"
+grep -q "error_vs_cholmod" "$R/solvers.csv" && ok "error_vs_cholmod measured" || fail "no error_vs_cholmod"
+grep -q ",peak_rss_bytes," "$R/frames.csv" || head -1 "$R/frames.csv" | grep -q "peak_rss_bytes" && ok "frames rows carry peak RSS" || fail "frames lacks peak_rss_bytes"
+expect "report unknown name" 1 "unknown report" -- "$PY" experiments/reports/report.py --results "$R" --only tables
+
+if ((fails)); then echo "$fails failure(s)"; exit 1; fi
+echo "all passed"
