@@ -70,14 +70,15 @@ struct Row {
 };
 
 // Rank r's share of the upper triangle: columns [r n / N, (r+1) n / N) (every column, or none, with --input root).
-void my_entries(const SpMat& K, bool all, std::vector<int>& rows, std::vector<int>& cols, std::vector<double>& vals) {
+// The values are left out when `vals` is null (an analysis needs the pattern only).
+void my_entries(const SpMat& K, bool all, std::vector<int>& rows, std::vector<int>& cols, std::vector<double>* vals) {
   const long long n = K.cols(), r = mpi::rank(), N = mpi::size();
   const long long c0 = all ? 0 : r * n / N, c1 = all ? n : (r + 1) * n / N;
   for (long long c = c0; c < c1; ++c)
     for (SpMat::InnerIterator it(K, Index(c)); it; ++it) {
       rows.push_back(int(it.row()));
       cols.push_back(int(c));
-      vals.push_back(it.value());
+      if (vals) vals->push_back(it.value());
     }
 }
 
@@ -102,7 +103,7 @@ void add_report(Row& row, const mumps::Report& m) {
 
 // DistributedMumps on every rank: analysis, factorization, solve; the times are rank 0's (the phases are
 // collective, so every rank leaves them together).
-DenseMat run_distributed(const Options& o, const ThesisSystem& t, Index n, Row& row) {
+DenseMat run_distributed(const Options& o, ThesisSystem& t, Index n, Row& row) {
   SolverOptions so;
   so.ordering = o.ordering;
   so.block_size = o.system == "tf" ? 3 : 1;
@@ -111,7 +112,8 @@ DenseMat run_distributed(const Options& o, const ThesisSystem& t, Index n, Row& 
   DistributedMumps dm(so);
   std::vector<int> rows, cols;
   std::vector<double> vals;
-  my_entries(t.K, o.input == "root", rows, cols, vals);
+  my_entries(t.K, o.input == "root", rows, cols, o.analysis_only ? nullptr : &vals);
+  if (o.analysis_only || mpi::rank() != 0) SpMat().swap(t.K);  // only rank 0's residual reads K again
   Timer ta;
   dm.analyze(n, std::move(rows), std::move(cols));
   row.add("analyze_s", ta.seconds());

@@ -352,13 +352,9 @@ int merge_shards(const Options& o, const std::vector<Planned>& grid) {
 std::vector<Planned> shard_of(Options& o, const std::vector<Planned>& grid) {
   const Shard s = o.shards.parsed();
   if (!s.active()) return grid;
-  std::vector<std::string> groups;
-  for (const Planned& p : grid) groups.push_back(group_of(p));
-  std::vector<Planned> mine;
-  for (std::size_t i : shard_cells(groups, s)) mine.push_back(grid[i]);
   o.results = shard_directory(o.results, s.index, s.count);
   o.out = (fs::path(o.results) / fs::path(o.out).filename()).string();
-  return mine;
+  return shard_slice(grid, s, group_of);
 }
 
 int run(Options& o, char** argv) {

@@ -2,13 +2,14 @@
 # The MUMPS-on-ranks measurements of results/mpi/ (build/exp_mumps_ranks; experiments/mumps_ranks.cpp).
 #   scripts/mumps_ranks.sh solve MESH OUT.csv [ROUNDS]     multifrontal, mumps on 1 rank, mumps on 2 ranks,
 #                                                           interleaved, ROUNDS times (default 2)
-#   scripts/mumps_ranks.sh analysis MESH OUT.csv [MAXNP]    MUMPS's analysis only on 1..MAXNP ranks (default 8)
+#   scripts/mumps_ranks.sh analysis MESH OUT.csv ["NP..."]  MUMPS's analysis only on each NP ranks (default
+#                                                           "1 2 3 4 5 6 7 8"); rank 0 passes every entry
 # Every run is one row of OUT.csv (rows appended in run order, one header). Threads: the one-process runs use
 # the machine's cores (BLAS and the multifrontal's threads); on N ranks each rank's BLAS gets cores/N threads, at
 # least 1, so the ranks share the cores rather than oversubscribe them. The 2-rank solutions are compared with
 # the multifrontal one of the same round (max_diff_vs_compare, units of the bounding-box diagonal).
 set -euo pipefail
-(($# >= 3)) || { sed -n 2,8p "$0" >&2; exit 1; }
+(($# >= 3)) || { sed -n 2,9p "$0" >&2; exit 1; }
 mode=$1 mesh=$2 out=$3
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 EXE=$ROOT/build/exp_mumps_ranks
@@ -34,7 +35,7 @@ case $mode in
       row 2 --compare "$tmp/mf.bin"
     done ;;
   analysis)
-    for ((np = 1; np <= ${4:-8}; ++np)); do row "$np" --analysis-only --input root; done ;;
+    for np in ${4:-1 2 3 4 5 6 7 8}; do row "$np" --analysis-only --input root; done ;;
   *) echo "mumps_ranks.sh: mode is solve or analysis" >&2; exit 1 ;;
 esac
 /usr/bin/python3 - "$out" "$tmp" "$k" <<'EOF'

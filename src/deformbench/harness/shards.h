@@ -35,6 +35,15 @@ void add_shard_options(CLI::App& app, ShardOptions& o);
 //! Which cells of a grid shard `s` runs (indices into the grid, ascending). `groups[i]` is cell i's group; a group
 //! is the run of consecutive cells with one key. The whole grid when `s` is not active.
 std::vector<std::size_t> shard_cells(const std::vector<std::string>& groups, const Shard& s);
+//! The cells of `grid` that shard `s` runs, in grid order; `group_of(cell)` is a cell's group key.
+template <class Cell, class GroupOf>
+std::vector<Cell> shard_slice(const std::vector<Cell>& grid, const Shard& s, GroupOf group_of) {
+  std::vector<std::string> groups;
+  for (const Cell& c : grid) groups.push_back(group_of(c));
+  std::vector<Cell> mine;
+  for (std::size_t i : shard_cells(groups, s)) mine.push_back(grid[i]);
+  return mine;
+}
 //! RESULTS/shards/I-of-N.
 std::string shard_directory(const std::string& results, int index, int count);
 
