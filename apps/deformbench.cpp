@@ -69,6 +69,13 @@ std::vector<std::string> all_orderings() {
   return out;
 }
 
+std::vector<std::string> out_of_core_backends() {
+  std::vector<std::string> out;
+  for (const std::string& s : solver_names())
+    if (solver_info(s).out_of_core) out.push_back(s);
+  return out;
+}
+
 // --transform is checked as text here (a usage error); a def:FILE is read with the edit (a bad file: exit 2).
 CLI::Validator TransformSpec() {
   return CLI::Validator(
@@ -133,7 +140,8 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
                "fill-reducing ordering: of the vertex graph with the structured lap/tf build, else the backend's own "
                "(`deformbench solvers` lists what each accepts)")
       ->check(cli::OneOf(all_orderings()))->capture_default_str()->group(s);
-  d.add_option("--factor-dir", a.factor_dir, "out of core: the factor in a scratch file in DIR (multifrontal)")
+  d.add_option("--factor-dir", a.factor_dir, fmt::format("out of core: the factor in scratch files in DIR ({})",
+                                                      fmt::join(out_of_core_backends(), ", ")))
       ->type_name("DIR")->group(s);
   d.add_option("--memory-budget-mb", a.memory_budget_mb, "refuse builds predicted above MB megabytes (exit 4)")
       ->type_name("MB")->check(cli::Integer(1, 1000000000))->group(s);
@@ -175,7 +183,8 @@ void check_backend(const CLI::App& d, const DeformArgs& a) {
     throw UsageError(fmt::format("--solver {} takes sparse input only; --build dense needs a dense backend ({})",
                                  info.name, info.family));
   if (!a.factor_dir.empty() && !info.out_of_core)
-    throw UsageError(fmt::format("--factor-dir: {} cannot keep its factor out of core (multifrontal can)", info.name));
+    throw UsageError(fmt::format("--factor-dir: {} cannot keep its factor out of core ({} can)", info.name,
+                                 fmt::join(out_of_core_backends(), ", ")));
   if (d.count("--ordering") == 0) return;
   const bool vertex_graph = a.method != "lri" && a.build == "structured" && contains(info.orderings, "natural");
   const std::vector<std::string>& accepted = vertex_graph ? kVertexOrderings : info.orderings;

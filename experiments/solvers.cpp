@@ -31,6 +31,7 @@
 #include "harness/mesh_source.h"
 #include "harness/positions.h"
 #include "harness/runner.h"
+#include "harness/shards.h"
 #include "harness/solver_cell.h"
 #include "harness/subprocess.h"
 #include "mesh/mesh_io.h"
@@ -61,6 +62,7 @@ struct Options {
   int threads = 1, solve_reps = 10, factor_reps = 5;
   double rep_seconds = 2.0;
   unsigned seed = 1;
+  ShardOptions shards;
 };
 
 void define_options(CLI::App& app, Options& o) {
@@ -100,6 +102,7 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--seed", o.seed, "seed of the synthetic right-hand side")->check(cli::Integer(0, 4294967295LL))
       ->capture_default_str();
   app.add_option("--mesh-cache", o.cache, "where generated Loop levels go (default RESULTS/cells/meshes)");
+  add_shard_options(app, o.shards);
 }
 
 void finish_options(Options& o) {
@@ -331,9 +334,34 @@ void write_csv(const std::string& path, std::vector<Record> recs) {
   if (!csv.empty()) csv.write(path);
 }
 
+// A cell's group: its tier and system (they share the loaded mesh and the reference cell).
+std::string group_of(const Planned& p) { return p.tier.label + "|" + p.cell.system; }
+
+// --merge-shards N: the shards' solvers.csv into --out, every group's rows in grid order.
+int merge_shards(const Options& o, const std::vector<Planned>& grid) {
+  std::vector<std::string> order;
+  for (const Planned& p : grid)
+    if (order.empty() || order.back() != group_of(p)) order.push_back(group_of(p));
+  merge_shard_csv(o.results, o.shards.merge, fs::path(o.out).filename().string(), o.out, order,
+                  [](const CsvRow& r) { return r.at("model") + "|" + r.at("system"); });
+  std::cerr << fmt::format("[solvers] merged {} shards into {}\n", o.shards.merge, o.out);
+  return 0;
+}
+
+// --shard I/N: the shard's cells of the grid; its CSV and scratch files go to RESULTS/shards/I-of-N/.
+std::vector<Planned> shard_of(Options& o, const std::vector<Planned>& grid) {
+  const Shard s = o.shards.parsed();
+  if (!s.active()) return grid;
+  o.results = shard_directory(o.results, s.index, s.count);
+  o.out = (fs::path(o.results) / fs::path(o.out).filename()).string();
+  return shard_slice(grid, s, group_of);
+}
+
 int run(Options& o, char** argv) {
   finish_options(o);
-  const std::vector<Planned> grid = plan(o);  // the tiers are checked before any work
+  const std::vector<Planned> all = plan(o);  // the tiers are checked before any work
+  if (o.shards.merge > 0) return merge_shards(o, all);
+  const std::vector<Planned> grid = shard_of(o, all);
   if (o.dry_run) {
     for (const Planned& p : grid) std::cout << p.cell.to_spec().text() << "\n";
     return 0;

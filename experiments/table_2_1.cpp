@@ -29,6 +29,7 @@
 #include "harness/driver.h"
 #include "harness/mesh_source.h"
 #include "harness/runner.h"
+#include "harness/shards.h"
 #include "harness/stats.h"
 #include "harness/subprocess.h"
 #include "mesh/mesh_io.h"
@@ -55,6 +56,7 @@ struct Options {
   std::vector<std::string> tiers, meshes, only, systems = {"lap", "tf"}, builds = {"dense", "naive", "structured"};
   std::vector<std::string> series, full_series;
   std::string backend = "multifrontal", dense_backend = "dense_llt", ordering = "default";
+  ShardOptions shards;
 };
 
 void define_options(CLI::App& app, Options& o) {
@@ -92,6 +94,7 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--mesh-cache", o.cache, "where generated Loop levels go (default RESULTS/cells/meshes)");
   app.add_option("--scratch-dir", o.scratch, "out-of-core factors go here")->capture_default_str();
   app.add_option("--thesis", o.thesis, "the thesis' numbers (relative to --data)")->capture_default_str();
+  add_shard_options(app, o.shards);
 }
 
 // Checks what can be checked before any work; fills the defaults that depend on other options.
@@ -480,9 +483,81 @@ void run_grid(const Options& o, const std::vector<Planned>& grid, TableRunner& r
   write_fits((dir / "scaling_fits.csv").string(), fit_series(scaling));
 }
 
+// ------------------------------------------------------------------------------------------------ shards
+// A cell's group: the cells of one mesh (a tier's, or a series level's), which share the loaded mesh and its
+// predictor. A tier and a series level of the same file are two groups; in two shards that cell is measured twice.
+std::string group_of(const Planned& p) {
+  return p.src.series.empty() ? "tier|" + p.src.label : "series|" + p.src.series + "|" + p.src.label;
+}
+
+// The cells of scaling.csv rows back from the CSV (consecutive rows of one cell), as far as the fits read them.
+std::vector<Record> scaling_records(const std::string& path) {
+  std::vector<Record> recs;
+  std::string last;
+  for (const CsvRow& row : read_csv(path)) {
+    const std::string key = row.at("series") + "|" + row.at("level") + "|" + row.at("model") + "|" +
+                            row.at("system") + "|" + row.at("build");
+    if (recs.empty() || key != last) {
+      Record r;
+      r.series = row.at("series");
+      r.model = row.at("model");
+      r.vertices = row.at("vertices").empty() ? std::nan("") : std::stod(row.at("vertices"));
+      r.cell.method = row.at("system");
+      r.cell.build = row.at("build");
+      if (row.at("factor_storage") == "disk") r.cell.factor_dir = "disk";
+      r.res.status = row.at("status");
+      recs.push_back(std::move(r));
+      last = key;
+    }
+    if (!row.at("value").empty()) recs.back().res.set(row.at("measure"), std::stod(row.at("value")), row.at("unit"));
+  }
+  return recs;
+}
+
+// --merge-shards N: the shards' table_2_1.csv and scaling.csv in grid order, the fits refitted from the merged
+// scaling rows, the thesis' numbers, shard 1's settings.
+int merge_shards(Options& o, const std::vector<Planned>& grid) {
+  const int n = o.shards.merge;
+  const fs::path dir(o.results);
+  std::vector<std::string> table, series, tiers;
+  for (const Planned& p : grid) {
+    std::vector<std::string>& v = p.src.series.empty() ? table : series;
+    if (v.empty() || v.back() != group_of(p)) v.push_back(group_of(p));
+    if (p.src.series.empty() && (tiers.empty() || tiers.back() != "tiers|" + p.src.label))
+      tiers.push_back("tiers|" + p.src.label);
+  }
+  merge_shard_csv(o.results, n, "table_2_1.csv", (dir / "table_2_1.csv").string(), table,
+                  [](const CsvRow& r) { return "tier|" + r.at("model"); });
+  if (o.scaling) {
+    series.insert(series.end(), tiers.begin(), tiers.end());  // the structured table rows, appended last
+    merge_shard_csv(o.results, n, "scaling.csv", (dir / "scaling.csv").string(), series, [](const CsvRow& r) {
+      return r.at("series") == "tiers" ? "tiers|" + r.at("model") : "series|" + r.at("series") + "|" + r.at("model");
+    });
+    write_fits((dir / "scaling_fits.csv").string(), fit_series(scaling_records((dir / "scaling.csv").string())));
+  }
+  write_thesis_csv(o);
+  std::vector<std::pair<std::string, std::string>> notes;
+  for (const CsvRow& r : read_csv((fs::path(shard_directory(o.results, 1, n)) / "table_2_1_settings.csv").string()))
+    notes.emplace_back(r.at("setting"), r.at("value"));
+  notes.emplace_back("shards", std::to_string(n));
+  write_settings((dir / "table_2_1_settings.csv").string(), notes);
+  std::cerr << fmt::format("[table_2_1] merged {} shards into {}\n", n, o.results);
+  return 0;
+}
+
+// --shard I/N: the shard's cells of the grid; its outputs go to RESULTS/shards/I-of-N/.
+std::vector<Planned> shard_of(Options& o, const std::vector<Planned>& grid) {
+  const Shard s = o.shards.parsed();
+  if (!s.active()) return grid;
+  o.results = shard_directory(o.results, s.index, s.count);
+  return shard_slice(grid, s, group_of);
+}
+
 int run(Options& o) {
   finish_options(o);
-  const std::vector<Planned> grid = plan(o);  // the tiers and series are checked before any work
+  const std::vector<Planned> all = plan(o);  // the tiers and series are checked before any work
+  if (o.shards.merge > 0) return merge_shards(o, all);
+  const std::vector<Planned> grid = shard_of(o, all);
   if (o.dry_run) {
     for (const Planned& p : grid) std::cout << p.cell.to_spec().text() << "\n";
     return 0;

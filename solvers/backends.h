@@ -2,6 +2,7 @@
 //! Factories of the individual backends; registry.cpp maps names to them. Internal to solvers/.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "solvers/linear_solver.h"
 
@@ -26,5 +27,10 @@ std::unique_ptr<LinearSolver> make_eigen_sparse_lu(const SolverOptions& options)
 std::unique_ptr<LinearSolver> make_umfpack(const SolverOptions& options);
 //! Conjugate gradients, Jacobi (`ichol` false) or incomplete-Cholesky preconditioned.
 std::unique_ptr<LinearSolver> make_cg(bool ichol, const SolverOptions& options);
+
+//! MUMPS's multifrontal LDL^T (symmetric positive definite) on this process; MPI initialized on first use.
+std::unique_ptr<LinearSolver> make_mumps(const SolverOptions& options);
+//! The orderings it accepts (SCOTCH's where Debian's ptscotch build of MUMPS is linked).
+std::vector<std::string> mumps_orderings();
 
 }  // namespace db::backends

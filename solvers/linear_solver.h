@@ -112,6 +112,9 @@ struct SolverInfo {
   bool requires_spd = true;  //!< factorize() throws SolverError on indefinite / singular input
   std::vector<std::string> orderings;  //!< values of SolverOptions::ordering it accepts
   bool out_of_core = false;  //!< accepts SolverOptions::factor_dir
+  //! With ordering "natural" it eliminates in exactly the given order. MUMPS takes a given order as the start of
+  //! its analysis and eliminates in an equivalent one (the same fill; pivots met in another order).
+  bool keeps_natural_order = true;
 };
 //! \throw Error for an unknown name.
 SolverInfo solver_info(const std::string& name);

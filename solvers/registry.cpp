@@ -26,6 +26,8 @@ const std::vector<Entry>& table() {
        [](const SolverOptions& o) { return backends::make_cholmod(true, o); }},
       {{"multifrontal", "sparse-cholesky", true, kCholmodOrderings, true},
        [](const SolverOptions& o) { return backends::make_multifrontal(o); }},
+      {{"mumps", "sparse-cholesky", true, backends::mumps_orderings(), true, false},
+       [](const SolverOptions& o) { return backends::make_mumps(o); }},
       {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
       {{"dense_llt", "dense", true, kDenseOrderings},
@@ -64,9 +66,13 @@ const Entry& find(const std::string& name) {
 
 std::unique_ptr<LinearSolver> make_solver(const std::string& name, const SolverOptions& options) {
   const Entry& e = find(name);
-  if (!options.factor_dir.empty() && !e.info.out_of_core)
-    throw Error(fmt::format("{}: cannot keep its factor out of core (factor directory '{}'); multifrontal can", name,
-                            options.factor_dir));
+  if (!options.factor_dir.empty() && !e.info.out_of_core) {
+    std::vector<std::string> can;
+    for (const Entry& o : table())
+      if (o.info.out_of_core) can.push_back(o.info.name);
+    throw Error(fmt::format("{}: cannot keep its factor out of core (factor directory '{}'); {} can", name,
+                            options.factor_dir, fmt::join(can, " and ")));
+  }
   return e.make(options);
 }
 

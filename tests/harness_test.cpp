@@ -24,6 +24,7 @@
 #include "harness/mesh_source.h"
 #include "harness/positions.h"
 #include "harness/runner.h"
+#include "harness/shards.h"
 #include "harness/solver_cell.h"
 #include "harness/stats.h"
 #include "harness/subprocess.h"
@@ -289,6 +290,18 @@ TEST(Runner, MachineRatesAroundTheCell) {
 }
 
 // ------------------------------------------------------------------------------------------------ deform cells
+TEST(Shards, GroupsGoRoundRobinAndPartitionTheGrid) {
+  const std::vector<std::string> groups = {"a", "a", "b", "c", "c", "c", "d", "e"};
+  const auto s1 = shard_cells(groups, parse_shard("--shard", "1/2"));
+  const auto s2 = shard_cells(groups, parse_shard("--shard", "2/2"));
+  EXPECT_EQ(s1, (std::vector<std::size_t>{0, 1, 3, 4, 5, 7}));  // groups a, c, e
+  EXPECT_EQ(s2, (std::vector<std::size_t>{2, 6}));              // groups b, d
+  EXPECT_EQ(shard_cells(groups, Shard{}).size(), groups.size());
+  EXPECT_TRUE(shard_cells(groups, parse_shard("--shard", "7/7")).empty());
+  for (const char* bad : {"0/1", "2/1", "1/0", "1/10001", "a/2", "1/2x", "", "/", "-1/2"})
+    EXPECT_THROW(parse_shard("--shard", bad), UsageError) << bad;
+}
+
 TEST(DeformCell, SpecRoundTripsAndRejectsUnknownKeys) {
   DeformCell c = deform_cell("tf", "structured");
   c.factor_dir = "/tmp";

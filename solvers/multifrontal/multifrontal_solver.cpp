@@ -278,7 +278,7 @@ void MultifrontalSolver::solve_changed(const DenseMat& B, DenseMat& X) {
   for (int j : reach_columns_) y_.row(j).setZero();
   for (int i : changing_rows_)
     for (Index c = 0; c < B.cols(); ++c) y_(iperm(i), c) += B(i, c) - base_(i, c);
-  std::vector<double> tmp;
+  SolveScratch tmp;
   for (int s : reach_) forward_supernode(factor(), s, y_, tmp);
   for (int j : reach_columns_) y_.row(j) += y0_.row(j);
   backward_all(factor(), solve_plan_, y_);

@@ -55,13 +55,36 @@ Mapping Mapping::on_file(std::size_t count, const char* what, const std::string&
   }
   void* p = ::mmap(nullptr, m.bytes_, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
   const int map_errno = errno;
-  ::close(fd);  // the mapping keeps the file
+  if (p == MAP_FAILED) ::close(fd);
   if (p == MAP_FAILED)
     throw BudgetError(fmt::format("multifrontal: cannot map {} MB of '{}' for {}: {}", m.bytes_ >> 20, dir, what,
                                   std::strerror(map_errno)));
   m.data_ = static_cast<double*>(p);
   m.on_file_ = true;
+  m.fd_ = fd;
   return m;
+}
+
+Mapping::~Mapping() {
+  if (data_) ::munmap(data_, bytes_);
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void Mapping::read(const double* from, std::size_t count, double* out) const {
+  auto* dst = reinterpret_cast<char*>(out);
+  std::size_t left = count * sizeof(double);
+  off_t at = off_t(reinterpret_cast<const char*>(from) - reinterpret_cast<const char*>(data_));
+  while (left > 0) {
+    const ssize_t got = ::pread(fd_, dst, left, at);
+    if (got <= 0) {
+      if (got < 0 && errno == EINTR) continue;
+      throw Error(fmt::format("multifrontal: reading the factor back from its scratch file failed: {}",
+                              got < 0 ? std::strerror(errno) : "unexpected end of file"));
+    }
+    dst += got;
+    at += got;
+    left -= std::size_t(got);
+  }
 }
 
 UpdatePool::UpdatePool(std::size_t count) : units_((count + kUnit - 1) / kUnit) {

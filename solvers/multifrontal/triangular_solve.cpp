@@ -1,5 +1,7 @@
 #include "solvers/multifrontal/triangular_solve.h"
 
+#include <algorithm>
+
 #include "solvers/multifrontal/kernels.h"
 
 namespace db::multifrontal {
@@ -19,18 +21,34 @@ Place place(const FactorView& F, int s, RowMajorMat& y) {
           std::size_t(m), std::size_t(r), y.data()};
 }
 
+//! Panel p of L as the kernels read it (its packed triangle, then its rectangle): in place in memory; out of core
+//! copied into `buf` (Mapping::read), so a frame does not fault the whole factor back into the mapping.
+struct Panel {
+  const double* tri;
+  const double* rect;
+};
+Panel panel(const FactorView& F, const FactorBlock& L, int p, std::vector<double>& buf) {
+  if (!F.values.on_file()) return {L.tri(p), L.rect(p)};
+  const std::size_t w = std::size_t(L.width(p)), tri = w * (w + 1) / 2, count = tri + w * std::size_t(L.height(p));
+  buf.resize(std::max(buf.size(), count));
+  F.values.read(L.tri(p), count, buf.data());
+  return {buf.data(), buf.data() + tri};
+}
+
 }  // namespace
 
-void forward_supernode(const FactorView& F, int s, RowMajorMat& y_, std::vector<double>& tmp,
+void forward_supernode(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& scratch,
                        const ForeignRows* foreign) {
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
+  std::vector<double>& tmp = scratch.rhs;
   tmp.assign(sm * sr, 0.0);
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = y[std::size_t(f + k) * sr + std::size_t(c)];
   const FactorBlock L = F.block(s);
-  for (int p = 0; p < L.panels(); ++p)
-    forward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
-  F.release(s);
+  for (int p = 0; p < L.panels(); ++p) {
+    const Panel P = panel(F, L, p, scratch.panel);
+    forward_panel(P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+  }
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
   double* acc = foreign ? foreign->acc.data() : nullptr;
@@ -44,36 +62,40 @@ void forward_supernode(const FactorView& F, int s, RowMajorMat& y_, std::vector<
 namespace {
 
 //! backward_supernode for two to four right-hand sides: rows of x as vectors (backward_rows4).
-void backward_rows(const FactorView& F, int s, RowMajorMat& y_, std::vector<double>& tmp) {
+void backward_rows(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
   const FactorBlock L = F.block(s);
+  std::vector<double>& tmp = scratch.rhs;
   tmp.resize(sm * 4);
   double* x = tmp.data();
   for (int k = 0; k < m; ++k) {  // plain loops: a few doubles a row, not worth a library call
     const double* src = y + std::size_t(k < nc ? f + k : R[k]) * sr;
     for (int c = 0; c < 4; ++c) x[4 * std::size_t(k) + std::size_t(c)] = c < r ? src[c] : 0.0;
   }
-  for (int p = L.panels() - 1; p >= 0; --p)
-    backward_rows4(L.tri(p), L.rect(p), L.width(p), L.height(p), x + 4 * std::size_t(L.c0(p)));
-  F.release(s);
+  for (int p = L.panels() - 1; p >= 0; --p) {
+    const Panel P = panel(F, L, p, scratch.panel);
+    backward_rows4(P.tri, P.rect, L.width(p), L.height(p), x + 4 * std::size_t(L.c0(p)));
+  }
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = x[4 * std::size_t(k) + std::size_t(c)];
 }
 
 }  // namespace
 
-void backward_supernode(const FactorView& F, int s, RowMajorMat& y_, std::vector<double>& tmp) {
-  if (y_.cols() >= 2 && y_.cols() <= 4) return backward_rows(F, s, y_, tmp);  // the general kernel otherwise
+void backward_supernode(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
+  if (y_.cols() >= 2 && y_.cols() <= 4) return backward_rows(F, s, y_, scratch);  // the general kernel otherwise
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
   const FactorBlock L = F.block(s);
+  std::vector<double>& tmp = scratch.rhs;
   tmp.resize(sm * sr);
   for (int k = 0; k < m; ++k) {
     const double* src = y + std::size_t(k < nc ? f + k : R[k]) * sr;
     for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = src[c];
   }
-  for (int p = L.panels() - 1; p >= 0; --p)
-    backward_panel(L.tri(p), L.rect(p), L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
-  F.release(s);
+  for (int p = L.panels() - 1; p >= 0; --p) {
+    const Panel P = panel(F, L, p, scratch.panel);
+    backward_panel(P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+  }
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
 }
@@ -87,22 +109,22 @@ void forward_all(const FactorView& F, const Plan& plan, RowMajorMat& y, std::vec
     for (int j : plan.top_columns) a.row(j).setZero();
   }
   run_subtrees(T, [&](std::size_t t) {
-    std::vector<double> tmp;
+    SolveScratch tmp;
     const ForeignRows foreign{int(t), plan.owner, acc[t]};
     for (int root : plan.subtrees[t])
       for (int s = F.S.first[std::size_t(root)]; s <= root; ++s) forward_supernode(F, s, y, tmp, &foreign);
   });
   for (std::size_t t = 0; t < T; ++t)
     for (int j : plan.top_columns) y.row(j) += acc[t].row(j);
-  std::vector<double> tmp;
+  SolveScratch tmp;
   for (int s : plan.top) forward_supernode(F, s, y, tmp);
 }
 
 void backward_all(const FactorView& F, const Plan& plan, RowMajorMat& y) {
-  std::vector<double> tmp;
+  SolveScratch tmp;
   for (auto it = plan.top.rbegin(); it != plan.top.rend(); ++it) backward_supernode(F, *it, y, tmp);
   run_subtrees(plan.subtrees.size(), [&](std::size_t t) {
-    std::vector<double> tmp_t;
+    SolveScratch tmp_t;
     for (auto it = plan.subtrees[t].rbegin(); it != plan.subtrees[t].rend(); ++it)
       for (int s = *it; s >= F.S.first[std::size_t(*it)]; --s) backward_supernode(F, s, y, tmp_t);
   });

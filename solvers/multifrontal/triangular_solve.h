@@ -26,6 +26,12 @@ struct FactorView {
   }
 };
 
+//! A thread's scratch in the solves: its right-hand sides gathered for one supernode, and, out of core, the one
+//! panel of the factor it works on (read with Mapping::read, not through the mapping).
+struct SolveScratch {
+  std::vector<double> rhs, panel;
+};
+
 //! Where a subtree's thread adds its forward updates to rows it does not own: acc, not y.
 struct ForeignRows {
   int thread;
@@ -34,10 +40,10 @@ struct ForeignRows {
 };
 
 //! y_s := L_ss^{-1} y_s, then y_rows -= L_rs y_s (into foreign->acc for rows another thread owns).
-void forward_supernode(const FactorView& F, int s, RowMajorMat& y, std::vector<double>& tmp,
+void forward_supernode(const FactorView& F, int s, RowMajorMat& y, SolveScratch& tmp,
                        const ForeignRows* foreign = nullptr);
 //! y_s -= L_rs^T y_rows, then y_s := L_ss^{-T} y_s.
-void backward_supernode(const FactorView& F, int s, RowMajorMat& y, std::vector<double>& tmp);
+void backward_supernode(const FactorView& F, int s, RowMajorMat& y, SolveScratch& tmp);
 
 //! y := L^{-1} y: the subtrees in parallel (contributions to top columns collected per thread in acc, one
 //! matrix per thread, resized here), then the top.

@@ -7,9 +7,8 @@
 #include "core/error.h"
 
 namespace db::harness {
-namespace {
 
-std::vector<std::string> fields(const std::string& line) {
+std::vector<std::string> split_csv_line(const std::string& line) {
   std::vector<std::string> f;
   std::string cur;
   bool quoted = false;
@@ -32,18 +31,16 @@ std::vector<std::string> fields(const std::string& line) {
   return f;
 }
 
-}  // namespace
-
 std::vector<CsvRow> read_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError("cannot read " + path);
   std::string line;
   std::getline(in, line);
-  const auto header = fields(line);
+  const auto header = split_csv_line(line);
   std::vector<CsvRow> rows;
   for (int lineno = 2; std::getline(in, line); ++lineno) {
     if (line.empty()) continue;
-    const auto f = fields(line);
+    const auto f = split_csv_line(line);
     if (f.size() > header.size())
       throw InputError(fmt::format("{}:{}: {} fields, the header has {}", path, lineno, f.size(), header.size()));
     CsvRow row;

@@ -156,6 +156,27 @@ void add_phases(CellResult& r, const Phases& ph) {
   r.set("factor_bytes", double(ph.stats.factor_bytes), "bytes");
 }
 
+}  // namespace
+
+ThesisSystem build_thesis_system(const std::string& mesh, const std::string& system) {
+  SolverCell c;
+  c.mesh = mesh;
+  c.system = system;
+  const Problem p = make_problem(c);
+  const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});
+  Timer tb;
+  NormalSystem sys = build_normal_system(op, p.unk, Build::Structured);
+  ThesisSystem t;
+  t.build_s = tb.seconds();
+  t.rhs = drag_rhs(p, sys);
+  t.K.swap(sys.K);
+  t.vertices = p.mesh.num_vertices();
+  t.block = p.block;
+  return t;
+}
+
+namespace {
+
 // A registry backend on the structured K: analyze, factorize (repeated), solve (repeated).
 CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat& x) {
   const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});

@@ -21,6 +21,7 @@
 //! equations its solution satisfies, and error_exact uses b = A x_ref.
 #include <string>
 
+#include "core/types.h"
 #include "harness/cell.h"
 #include "harness/runner.h"
 
@@ -46,6 +47,17 @@ struct SolverCell {
 std::string solver_family(const std::string& backend);
 //! Orderings a backend accepts in the study (the registry's; spqr's own).
 std::vector<std::string> solver_orderings(const std::string& backend);
+
+//! The cell's system without a solver (for drivers that run their own, e.g. MUMPS under mpirun): the structured
+//! build's K (upper triangle), the full drag's right-hand side, and what the rows report.
+struct ThesisSystem {
+  SpMat K;
+  DenseMat rhs;
+  int vertices = 0, block = 1;
+  double build_s = 0;  //!< the structured build alone (mesh reading and the edit not counted)
+};
+//! \throw InputError for a mesh that cannot be read or is degenerate.
+ThesisSystem build_thesis_system(const std::string& mesh, const std::string& system);
 
 CellResult measure_solver_cell(const CellSpec& spec);
 inline CellKind solver_kind() { return {"solve", measure_solver_cell}; }

@@ -1,0 +1,228 @@
+// MUMPS on N ranks against one process: the solver study's system (the thesis edit, soft constraints, structured
+// build; harness/solver_cell.h) of one mesh, factored and solved by DistributedMumps on every rank of
+// MPI_COMM_WORLD, or by one registry backend in this process for comparison. Run under a launcher:
+//
+//   scripts/mpirun.sh 2 build/exp_mumps_ranks --mesh data/generated/armadillo_loop1.off --csv r2.csv
+//   build/exp_mumps_ranks --mesh data/generated/armadillo_loop1.off --solver multifrontal --csv mf.csv
+//   scripts/mpirun.sh 8 build/exp_mumps_ranks --mesh M.off --analysis-only --input root --csv a8.csv
+//
+// Input: `split` (default): every rank builds K and passes only its share of the columns (MUMPS's distributed
+// assembled input, ICNTL(18)=3), then drops the rest; `root`: rank 0 builds and passes every entry (the others
+// build nothing: for analysis-only estimates of systems too large to build N times on one machine; MUMPS's
+// estimates depend on the number of ranks, not on who passed the entries). --analysis-only stops after MUMPS's
+// analysis: its estimates per rank (INFO(3), (15), (17)) and overall (INFOG(16), (17), (26), (27), RINFOG(1)).
+// Rank 0 writes one CSV row with provenance, every rank's peak RSS gathered; --positions / --compare keep a
+// solution and compare another with it (the largest coordinate difference, in units of the bounding-box
+// diagonal: the system is built in normalized coordinates).
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/cli.h"
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/provenance.h"
+#include "core/resources.h"
+#include "core/timer.h"
+#include "harness/positions.h"
+#include "harness/solver_cell.h"
+#include "solvers/linear_solver.h"
+#include "solvers/mumps_distributed.h"
+#include "solvers/mumps_mpi.h"
+
+namespace {
+
+using namespace db;
+using namespace db::harness;
+
+struct Options {
+  std::string mesh, system = "tf", solver = "distributed", ordering = "default", input = "split";
+  std::string csv, positions, compare, factor_dir, label;
+  bool analysis_only = false;
+};
+
+void define_options(CLI::App& app, Options& o) {
+  app.add_option("--mesh", o.mesh, "the mesh (.off/.ply/.obj); the thesis edit is made on it")->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--system", o.system, "lap or tf")->check(cli::OneOf({"lap", "tf"}))->capture_default_str();
+  app.add_option("--solver", o.solver, "distributed (MUMPS on every rank) or a registry backend (one process)")
+      ->capture_default_str();
+  app.add_option("--ordering", o.ordering, "the solver's ordering (distributed: MUMPS's own or natural)")
+      ->capture_default_str();
+  app.add_option("--input", o.input, "split (every rank passes its columns) or root (rank 0 passes all)")
+      ->check(cli::OneOf({"split", "root"}))->capture_default_str();
+  app.add_flag("--analysis-only", o.analysis_only, "stop after the analysis (MUMPS's estimates)");
+  app.add_option("--factor-dir", o.factor_dir, "out of core: the factor's files go here");
+  app.add_option("--csv", o.csv, "one row of the measurements with provenance (written by rank 0)");
+  app.add_option("--positions", o.positions, "write the solution here (binary, rank 0)");
+  app.add_option("--compare", o.compare, "a solution written by --positions: report the largest difference");
+  app.add_option("--label", o.label, "a name for the row (default: the mesh's file name)");
+}
+
+struct Row {
+  CsvTable::Row cols;
+  void add(const std::string& k, double v) { cols.emplace_back(k, num(v)); }
+  void add(const std::string& k, const std::string& v) { cols.emplace_back(k, v); }
+};
+
+// Rank r's share of the upper triangle: columns [r n / N, (r+1) n / N) (every column, or none, with --input root).
+// The values are left out when `vals` is null (an analysis needs the pattern only).
+void my_entries(const SpMat& K, bool all, std::vector<int>& rows, std::vector<int>& cols, std::vector<double>* vals) {
+  const long long n = K.cols(), r = mpi::rank(), N = mpi::size();
+  const long long c0 = all ? 0 : r * n / N, c1 = all ? n : (r + 1) * n / N;
+  for (long long c = c0; c < c1; ++c)
+    for (SpMat::InnerIterator it(K, Index(c)); it; ++it) {
+      rows.push_back(int(it.row()));
+      cols.push_back(int(c));
+      if (vals) vals->push_back(it.value());
+    }
+}
+
+void add_report(Row& row, const mumps::Report& m) {
+  row.add("flops_estimated", m.flops_estimated);
+  row.add("factor_entries_estimated", m.factor_entries_estimated);
+  row.add("mb_in_core_max", m.mb_in_core_max);  // INFOG(16)
+  row.add("mb_in_core_sum", m.mb_in_core_sum);  // INFOG(17)
+  row.add("mb_ooc_max", m.mb_ooc_max);          // INFOG(26)
+  row.add("mb_ooc_sum", m.mb_ooc_sum);          // INFOG(27)
+  auto join = [](const std::vector<double>& v) {
+    std::string s;
+    for (double x : v) s += (s.empty() ? "" : " ") + num(x);
+    return s;
+  };
+  row.add("mb_in_core_rank", join(m.mb_in_core_rank));
+  row.add("mb_ooc_rank", join(m.mb_ooc_rank));
+  row.add("flops", m.flops);
+  row.add("mb_used_max", m.mb_used_max);
+  row.add("mb_used_sum", m.mb_used_sum);
+}
+
+// DistributedMumps on every rank: analysis, factorization, solve; the times are rank 0's (the phases are
+// collective, so every rank leaves them together).
+DenseMat run_distributed(const Options& o, ThesisSystem& t, Index n, Row& row) {
+  SolverOptions so;
+  so.ordering = o.ordering;
+  so.block_size = o.system == "tf" ? 3 : 1;
+  so.factor_dir = o.factor_dir;
+  so.pivot_singularity_test = false;  // as the deformers: the structure decides singularity (README)
+  DistributedMumps dm(so);
+  std::vector<int> rows, cols;
+  std::vector<double> vals;
+  my_entries(t.K, o.input == "root", rows, cols, o.analysis_only ? nullptr : &vals);
+  if (o.analysis_only || mpi::rank() != 0) SpMat().swap(t.K);  // only rank 0's residual reads K again
+  Timer ta;
+  dm.analyze(n, std::move(rows), std::move(cols));
+  row.add("analyze_s", ta.seconds());
+  DenseMat x;
+  if (!o.analysis_only) {
+    Timer tf;
+    dm.factorize(std::move(vals));
+    row.add("factorize_s", tf.seconds());
+    x = mpi::rank() == 0 ? t.rhs : DenseMat();
+    Timer ts;
+    dm.solve(x);
+    row.add("solve_s", ts.seconds());
+  }
+  add_report(row, dm.report());
+  row.add("ordering_used", dm.stats().ordering_used);
+  return x;
+}
+
+// One registry backend in this process (the comparison's other side).
+DenseMat run_single(const Options& o, const ThesisSystem& t, Row& row) {
+  SolverOptions so;
+  so.ordering = o.ordering;
+  so.block_size = t.block;
+  so.factor_dir = o.factor_dir;
+  so.pivot_singularity_test = false;
+  auto solver = make_solver(o.solver, so);
+  Timer ta;
+  solver->analyze(t.K);
+  row.add("analyze_s", ta.seconds());
+  DenseMat x;
+  if (!o.analysis_only) {
+    Timer tf;
+    solver->factorize(t.K);
+    row.add("factorize_s", tf.seconds());
+    Timer ts;
+    solver->solve(t.rhs, x);
+    row.add("solve_s", ts.seconds());
+  }
+  const FactorStats st = solver->stats();
+  row.add("flops", st.flops);
+  row.add("factor_entries", double(st.nnz_factor));
+  row.add("ordering_used", st.ordering_used);
+  return x;
+}
+
+// Residual, --positions, --compare (rank 0).
+void finish_solution(const Options& o, const ThesisSystem& t, const DenseMat& x, Row& row) {
+  const DenseMat r = t.K.selfadjointView<Eigen::Upper>() * x - t.rhs;
+  row.add("residual", r.norm() / t.rhs.norm());
+  const Points P = Eigen::Map<const Points>(x.data(), x.size() / 3, 3);
+  if (!o.positions.empty()) write_positions(o.positions, P);
+  if (!o.compare.empty()) {
+    const Points Q = read_positions(o.compare);
+    if (Q.rows() != P.rows()) throw InputError(fmt::format("--compare {}: {} rows, this solution has {}", o.compare,
+                                                           Q.rows(), P.rows()));
+    row.add("max_diff_vs_compare", (P - Q).cwiseAbs().maxCoeff());
+  }
+}
+
+int run(const Options& o) {
+  const bool distributed = o.solver == "distributed";
+  if (!distributed && mpi::launched() && mpi::size() > 1)
+    throw UsageError("--solver " + o.solver + " runs in one process: start it without mpirun, or use distributed");
+  if (!o.csv.empty()) cli::check_output("--csv", o.csv, {".csv"}, {o.mesh});
+  const bool builds = !distributed || o.input == "split" || mpi::rank() == 0;
+  ThesisSystem t = builds ? build_thesis_system(o.mesh, o.system) : ThesisSystem{};
+  std::vector<int> n{int(t.K.cols())};
+  if (distributed) mpi::broadcast(n);
+  Row row;
+  row.add("model", o.label.empty() ? std::string(std::filesystem::path(o.mesh).stem()) : o.label);
+  row.add("system", o.system);
+  row.add("vertices", t.vertices);
+  row.add("n", n[0]);
+  row.add("nnz_upper", double(t.K.nonZeros()));
+  row.add("solver", distributed ? "mumps_distributed" : o.solver);
+  row.add("ranks", distributed ? mpi::size() : 1);
+  row.add("input", distributed ? o.input : "whole");
+  row.add("ordering", o.ordering);
+  row.add("factor_storage", o.factor_dir.empty() ? "memory" : "disk");
+  row.add("phases", o.analysis_only ? "analysis" : "all");
+  row.add("build_s", t.build_s);
+  const DenseMat x = distributed ? run_distributed(o, t, Index(n[0]), row) : run_single(o, t, row);
+  const std::vector<double> rss = distributed ? mpi::gather_to_root(double(peak_rss_bytes()))
+                                              : std::vector<double>{double(peak_rss_bytes())};
+  if (distributed && mpi::rank() != 0) return 0;
+  row.add("peak_rss_max_bytes", *std::max_element(rss.begin(), rss.end()));
+  std::string per_rank;
+  for (double b : rss) per_rank += (per_rank.empty() ? "" : " ") + num(b);
+  row.add("peak_rss_rank_bytes", per_rank);
+  if (!o.analysis_only) finish_solution(o, t, x, row);
+  std::string line;
+  for (const auto& [k, v] : row.cols) line += (line.empty() ? "" : " ") + k + "=" + v;
+  std::cout << line << "\n[mumps_ranks] " << provenance_summary() << "\n";
+  if (!o.csv.empty()) {
+    CsvTable csv;
+    csv.add(row.cols);
+    csv.write(o.csv);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("One system by MUMPS on every rank of an MPI launch, or by one backend in one process.",
+               "exp_mumps_ranks");
+  Options o;
+  define_options(app, o);
+  const int code = db::cli::run(app, argc, argv, [&] { return run(o); });
+  if (code != 0 && db::mpi::launched() && db::mpi::size() > 1) db::mpi::abort_all(code);  // leave none waiting
+  return code;
+}

@@ -1,0 +1,117 @@
+#include "solvers/mumps_mpi.h"
+
+#include <climits>
+#include <cstdlib>
+#include <mutex>
+
+#include <fmt/format.h>
+#include <mpi.h>
+
+#include "core/error.h"
+
+namespace db::mpi {
+namespace {
+
+std::mutex init_mutex;
+
+void finalize_at_exit() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+}
+
+void check(int status, const char* what) {
+  if (status == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int len = 0;
+  MPI_Error_string(status, text, &len);
+  throw SolverError(fmt::format("MPI: {} failed: {}", what, std::string(text, std::size_t(len))));
+}
+
+int count_of(std::size_t n, const char* what) {
+  if (n > std::size_t(INT_MAX)) throw SolverError(fmt::format("MPI: {} of {} elements exceeds one message", what, n));
+  return int(n);
+}
+
+}  // namespace
+
+bool launched() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "SLURM_STEP_NUM_TASKS"})
+    if (std::getenv(v)) return true;
+  return false;
+}
+
+void ensure_initialized() {
+  const std::lock_guard<std::mutex> lock(init_mutex);
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) return;
+  if (!launched()) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);  // 0: an explicit setting wins
+  int provided = 0;
+  check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided), "MPI_Init_thread");
+  std::atexit(finalize_at_exit);
+}
+
+int rank() {
+  ensure_initialized();
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+int size() {
+  ensure_initialized();
+  int s = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &s);
+  return s;
+}
+
+std::vector<double> gather_to_root(double value) {
+  std::vector<double> all(rank() == 0 ? std::size_t(size()) : 0);
+  check(MPI_Gather(&value, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD), "MPI_Gather");
+  return all;
+}
+
+void sum_to_root(double* data, std::size_t count) {
+  const int n = count_of(count, "a sum");
+  if (rank() == 0)
+    check(MPI_Reduce(MPI_IN_PLACE, data, n, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD), "MPI_Reduce");
+  else
+    check(MPI_Reduce(data, nullptr, n, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD), "MPI_Reduce");
+}
+
+namespace {
+template <class T>
+void broadcast_vector(std::vector<T>& data, MPI_Datatype type) {
+  unsigned long long n = data.size();
+  check(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  data.resize(std::size_t(n));
+  check(MPI_Bcast(data.data(), count_of(data.size(), "a broadcast"), type, 0, MPI_COMM_WORLD), "MPI_Bcast");
+}
+double reduce_all(double value, MPI_Op op) {
+  ensure_initialized();
+  double out = value;
+  check(MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, op, MPI_COMM_WORLD), "MPI_Allreduce");
+  return out;
+}
+}  // namespace
+
+void broadcast(std::vector<int>& data) {
+  ensure_initialized();
+  broadcast_vector(data, MPI_INT);
+}
+void broadcast(std::vector<double>& data) {
+  ensure_initialized();
+  broadcast_vector(data, MPI_DOUBLE);
+}
+double max_all(double value) { return reduce_all(value, MPI_MAX); }
+double min_all(double value) { return reduce_all(value, MPI_MIN); }
+double sum_all(double value) { return reduce_all(value, MPI_SUM); }
+
+void abort_all(int code) {
+  ensure_initialized();
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; this is for the compiler
+}
+
+}  // namespace db::mpi
