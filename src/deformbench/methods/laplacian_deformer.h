@@ -7,6 +7,7 @@
 #include "methods/deformer.h"
 #include "methods/normalization.h"
 #include "operators/energy_operator.h"
+#include "systems/handle_response.h"
 
 namespace db {
 
@@ -25,6 +26,7 @@ class LaplacianDeformer : public Deformer {
   Points Vn_;  // normalized rest positions
   Unknowns unk_;
   MinQuadWithFixed mqwf_;
+  HandleResponse response_;  // FrameMode::Handle: every vertex's restored position, affine in the handle map
   DenseMat xh_, soft_, x_;  // per-frame buffers, reused
 
   //! Orders the unknowns (structured builds) and builds the system; `vertex_ordering` is the ordering used
@@ -35,6 +37,10 @@ class LaplacianDeformer : public Deformer {
   void constraint_values(const Mat4& T);
   //! Fast path: the hard and soft handle vertices are the constraints that move between frames.
   void set_varying();
+  //! FrameMode::Handle: the rest solution and the responses to the 12 parameters of the handle's affine map
+  //! (LAP: 4, shared by x, y, z), laid out per vertex, restored.
+  void precompute_handle();
+  Points deform_handle(const Mat4& T);
 };
 
 }  // namespace db
