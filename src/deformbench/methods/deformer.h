@@ -73,6 +73,10 @@ class Deformer {
   std::size_t matrix_bytes() const;  //!< bytes of the system matrices handed to the solvers
   std::size_t factor_bytes() const;
   FrameMode frame_mode() const { return frame_mode_; }
+  //! Switches to FrameMode::Handle on the factored systems (what DeformOptions::frame_mode = Handle does after
+  //! the factorization): a deformer can measure full frames, then handle frames, from one init. Sets
+  //! times().precompute. \throw SolverError for a failed or non-finite solve.
+  virtual void precompute_handle_frames() = 0;
   //! FrameMode::Handle: bytes of the stored responses one frame streams (HandleResponse::bytes), else 0.
   std::size_t response_bytes() const { return response_bytes_; }
 

@@ -51,8 +51,7 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   times_.analyze = ordering_seconds + mqwf_.analyze_seconds();
   times_.factorize = mqwf_.factorize_seconds();
   if (!vertex_ordering.empty()) mqwf_.report().factor.ordering_used = vertex_ordering + "-vertex-graph";
-  frame_mode_ = options.frame_mode;
-  if (frame_mode_ == FrameMode::Handle) precompute_handle();
+  if (options.frame_mode == FrameMode::Handle) precompute_handle_frames();
   else set_varying();
   systems_.push_back(mqwf_.report());
 }
@@ -111,7 +110,7 @@ void LaplacianDeformer::constraint_values(const Mat4& T) {
   fill(unk_.soft_vertices, soft_);
 }
 
-void LaplacianDeformer::precompute_handle() {
+void LaplacianDeformer::precompute_handle_frames() {
   const int b = mqwf_.system().block;
   const int m = b == 1 ? 4 : 12;  // parameter 4c + j: entry (c, j) of the handle map's top 3 x 4
   constraint_values(Mat4::Identity());
@@ -140,6 +139,7 @@ void LaplacianDeformer::precompute_handle() {
   response_.scale_and_shift(1.0 / norm_.scale, norm_.center);  // frames write restored positions
   times_.precompute = response_.seconds();
   response_bytes_ = response_.bytes();
+  frame_mode_ = FrameMode::Handle;
 }
 
 Points LaplacianDeformer::deform_handle(const Mat4& handle_transform) {

@@ -15,6 +15,9 @@ class LaplacianDeformer : public Deformer {
  public:
   LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind, const DeformOptions& options);
   Points deform(const Mat4& handle_transform) override;
+  //! The rest solution and the responses to the 12 parameters of the handle's affine map (LAP: 4, shared by x, y,
+  //! z), laid out per vertex, restored (systems/handle_response.h).
+  void precompute_handle_frames() override;
 
   //! The assembled system (for cross-checks between builds). Its K (or K_dense) is empty: the solver consumed
   //! it while factoring (LinearSolver::factorize_consuming, factorize_dense).
@@ -37,9 +40,6 @@ class LaplacianDeformer : public Deformer {
   void constraint_values(const Mat4& T);
   //! Fast path: the hard and soft handle vertices are the constraints that move between frames.
   void set_varying();
-  //! FrameMode::Handle: the rest solution and the responses to the 12 parameters of the handle's affine map
-  //! (LAP: 4, shared by x, y, z), laid out per vertex, restored.
-  void precompute_handle();
   Points deform_handle(const Mat4& T);
 };
 

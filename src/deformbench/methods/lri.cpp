@@ -48,11 +48,10 @@ LriDeformer::LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions
   times_.factorize = frames_mqwf_.factorize_seconds() + positions_mqwf_.factorize_seconds();
   systems_.push_back(frames_mqwf_.report());
   systems_.push_back(positions_mqwf_.report());
-  frame_mode_ = options.frame_mode;
-  if (frame_mode_ == FrameMode::Handle) precompute_frame_response();
+  if (options.frame_mode == FrameMode::Handle) precompute_handle_frames();
 }
 
-void LriDeformer::precompute_frame_response() {
+void LriDeformer::precompute_handle_frames() {
   frame_rhs(Mat3::Identity());  // xhf_, softf_: the rest frames
   // A handle frame's target row c is row c of Rh F = sum_j Rh(c, j) F(j, :): basis column j holds row j of F.
   auto basis = [&](const std::vector<int>& vertices, DenseMat& M) {
@@ -76,6 +75,7 @@ void LriDeformer::precompute_frame_response() {
   times_.precompute = frame_response_.seconds();
   response_bytes_ = frame_response_.bytes();
   xf_all_.resize(3 * Vn_.rows(), 3);
+  frame_mode_ = FrameMode::Handle;
 }
 
 void LriDeformer::solve_frames(const Mat3& Rh, double& rhs_s, double& solve_s) {

@@ -37,6 +37,8 @@ class LriDeformer : public Deformer {
   LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
   //! \throw SolverError non-finite result or a degenerate solved frame; InputError a singular handle transform.
   Points deform(const Mat4& handle_transform) override;
+  //! The frame system's rest solution and its 3 responses to the handle rotation (systems/handle_response.h).
+  void precompute_handle_frames() override;
 
   FrameStrategy strategy() const { return strategy_; }
   Orthonormalization orthonormalization() const { return ortho_; }
@@ -74,7 +76,6 @@ class LriDeformer : public Deformer {
   //! From the solved frames xf_: raw_, solved_ and the position system's right-hand side for the handle
   //! transform T; returns its time.
   double position_rhs(const Mat4& T);
-  void precompute_frame_response();
   //! The solved frames xf_ (full) or xf_all_ (handle) for the handle rotation Rh; returns the seconds of rhs and
   //! solve, or of streaming the responses.
   void solve_frames(const Mat3& Rh, double& rhs_s, double& solve_s);
