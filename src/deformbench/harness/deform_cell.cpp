@@ -16,7 +16,7 @@ namespace {
 
 // The frames of the drag: per-frame phase times (medians go to the result) and the last frame's positions.
 struct Drag {
-  std::vector<double> frame, rhs, solve, write, response;
+  std::vector<double> frame, rhs, solve, write, response, ortho;
   Points V;
 };
 
@@ -30,6 +30,7 @@ Drag drag(Deformer& d, const Mat4& T, int frames) {
     g.solve.push_back(t.solve);
     g.write.push_back(t.write);
     g.response.push_back(t.response);
+    g.ortho.push_back(t.orthonormalize);
   }
   return g;
 }
@@ -82,6 +83,9 @@ void add_handle_frames(CellResult& r, Deformer& d, const Mat4& T, int frames, co
   r.set("init_precompute_s", t.init() + t.precompute, "s");
   r.set("frame_handle_s", median(g.frame), "s");
   r.set("response_s", median(g.response), "s");
+  r.set("handle_rhs_s", median(g.rhs), "s");  // lri: orthonormalization + position right-hand side
+  r.set("handle_solve_s", median(g.solve), "s");  // lri: the position solve
+  r.set("orthonormalize_s", median(g.ortho), "s");
   r.set("fps_handle", 1.0 / r.get("frame_handle_s"), "1/s");
   r.set("response_bytes", static_cast<double>(d.response_bytes()), "bytes");
   r.set("handle_vs_full", (g.V - full).rowwise().norm().maxCoeff() / bbox_diagonal(full), "bbox_diagonal");

@@ -11,7 +11,8 @@
 //! baseline_rss_bytes (after reading the mesh), mean_displacement (last frame, / bbox diagonal).
 //! With handle_frames=1, after the drag the same factored systems switch to handle-mode frames
 //! (Deformer::precompute_handle_frames) and the drag runs again: precompute_s, init_precompute_s,
-//! frame_handle_s, response_s (medians), fps_handle, response_bytes, handle_vs_full (largest distance between the
+//! frame_handle_s, response_s, handle_rhs_s, handle_solve_s, orthonormalize_s (medians; LRI's position part stays
+//! per frame), fps_handle, response_bytes, handle_vs_full (largest distance between the
 //! two modes' last frames / bbox diagonal), memory_read (GB/s, MachineRates::read_bandwidth right after) and
 //! response_pass_s (response_bytes at that rate: the least a handle frame could take).
 //! Strings: ordering_used, mesh_name, constraints, build, backend.
