@@ -11,7 +11,8 @@ Rounds interleave the cases (round 1: every case, round 2: every case, ...), the
 rounds. Timing cases: the armadillo (26k vertices) and its Loop level 1 (104k) whole-mesh edits, lap / tf / lri,
 soft constraints. Exactness cases: every BS08 edit (data/bs08/), lap / tf / lri, hard and soft, once.
 Writes RESULTS/handle_frames.csv (long: case, measure, value, unit, with provenance) and RESULTS/handle_frames.md.
---quick: the 26k tier and one BS08 edit, one round (a smoke run).
+--quick: the 26k tier and one BS08 edit, one round (a smoke run). --report-only: rewrite the .md from the .csv.
+--note TEXT: a paragraph for the .md (e.g. the machine's load during the run).
 """
 import argparse
 import csv
@@ -48,7 +49,15 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--frames", type=int, default=20)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--report-only", action="store_true")
+    ap.add_argument("--note", default="")
     a = ap.parse_args()
+    path = os.path.join(a.results, "handle_frames.csv")
+    if a.report_only:
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+        report(rows, os.path.join(a.results, "handle_frames.md"), rows[0], a.note)
+        return
     timed = TIMED[:1] if a.quick else TIMED
     bs08 = BS08[-1:] if a.quick else BS08
     rounds = 1 if a.quick else a.repeats
@@ -78,16 +87,15 @@ def main():
                        ["kind=deform", f"edit=data/bs08/{stem}", f"model=bs08_{stem}", f"method={method}",
                         f"constraints={constraints}", "frames=5", "handle_frames=1"])
     os.makedirs(a.results, exist_ok=True)
-    path = os.path.join(a.results, "handle_frames.csv")
     with open(path + ".tmp", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
     os.replace(path + ".tmp", path)
-    report(rows, os.path.join(a.results, "handle_frames.md"), prov)
+    report(rows, os.path.join(a.results, "handle_frames.md"), prov, a.note)
 
 
-def report(rows, path, prov):
+def report(rows, path, prov, note):
     def med(case, method, constraints, measure):
         v = [float(r["value"]) for r in rows if (r["case"], r["method"], r["constraints"], r["measure"]) ==
              (case, method, constraints, measure)]
@@ -98,8 +106,9 @@ def report(rows, path, prov):
            f"{prov.get('build_threads')} worker threads, {prov.get('timestamp')}. Medians over the rounds (fresh "
            "processes, cases interleaved); each cell runs the drag in full mode, then in handle mode on the same "
            "factor. `pass` = the responses' bytes at the memory read rate measured right after the handle drag "
-           "(the least a handle frame could take). Produced by `scripts/handle_frames.py` (commands in "
-           "handle_frames.csv).\n",
+           "(the least a handle frame could take). Produced by `scripts/handle_frames.py "
+           f"--repeats {max(int(r['round']) for r in rows)}`; each row's exact cell command is in handle_frames.csv.\n",
+           note + "\n" if note else "",
            "| case | method | full frame ms | handle frame ms | ratio | responses MB | read GB/s | pass ms | "
            "init s | precompute s | handle vs full | rounds |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     lri = ["\nLRI's handle frame in parts (medians, ms): the frame system from its responses; the orthonormalization; "
