@@ -13,7 +13,8 @@
 //! (Deformer::precompute_handle_frames) and the drag runs again: precompute_s, init_precompute_s,
 //! frame_handle_s, response_s, handle_rhs_s, handle_solve_s, orthonormalize_s (medians; LRI's position part stays
 //! per frame), fps_handle, response_bytes, handle_vs_full (largest distance between the
-//! two modes' last frames / bbox diagonal), memory_read (GB/s, MachineRates::read_bandwidth right after) and
+//! two modes' last frames / bbox diagonal), peak_rss_handle_bytes (VmHWM after them; peak_rss_bytes is taken
+//! before), memory_read (GB/s, MachineRates::read_bandwidth right after) and
 //! response_pass_s (response_bytes at that rate: the least a handle frame could take).
 //! Strings: ordering_used, mesh_name, constraints, build, backend.
 #include <cstddef>
