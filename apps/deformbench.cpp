@@ -44,6 +44,7 @@ struct DeformArgs {
   std::string method = "lap", weights = "uniform", constraints = "hard", build = "structured", solver;
   std::string ordering = "default", lri_frames = "first", lri_orthonormalize = "gram_schmidt";
   std::string tf_scale = "free";
+  std::string frame_mode = "full";
   double soft_weight = 1.0;
   unsigned lri_seed = 1;
   bool tf_no_translation = false, no_normalize = false;
@@ -100,6 +101,10 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
       ->type_name("FILE");
   d.add_option("--frames", a.frames, "interpolate the handle transform over N frames; report the median frame")
       ->type_name("N")->check(cli::Integer(1, kMaxFrames))->capture_default_str();
+  d.add_option("--frame-mode", a.frame_mode,
+               "full: each frame solves; handle: the responses to the handle's affine map are solved for once after "
+               "the factorization and each frame streams them (lri: its frame system)")
+      ->check(cli::OneOf(names({FrameMode::Full, FrameMode::Handle})))->capture_default_str();
   d.add_option("--transform", a.transform,
                "replace the edit's handle transform: translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | "
                "matrix:16 values | def:FILE")
@@ -168,6 +173,9 @@ void refuse_unused(const CLI::App& d, const DeformArgs& a) {
   else if (a.lri_frames != "random")
     refuse("--lri-seed", fmt::format("is used by --lri-frames random only, not {}", a.lri_frames));
   if (a.constraints != "soft") refuse("--soft-weight", "weights soft constraints; it needs --constraints soft");
+  if (a.tf_scale == "normalized" && a.frame_mode == "handle")
+    throw UsageError("--frame-mode handle with --tf-scale normalized: its second pass rotates by the fitted "
+                     "rotations, so a frame is not affine in the handle map (use --frame-mode full)");
   if (a.build == "dense") {
     if (lri) throw UsageError("--build dense: lri offers the structured and naive builds only");
     refuse("--ordering", "does not apply to --build dense (the dense factorization orders nothing)");
@@ -211,16 +219,17 @@ DeformOptions deform_options(const DeformArgs& a) {
   o.solver_options.factor_dir = a.factor_dir;
   o.normalize = !a.no_normalize;
   o.memory_budget = static_cast<std::size_t>(a.memory_budget_mb) * 1000000;
+  o.frame_mode = parse_frame_mode(a.frame_mode);
   return o;
 }
 
 struct FrameMedians {
-  double frame = 0, rhs = 0, solve = 0, write = 0;
+  double frame = 0, rhs = 0, solve = 0, write = 0, response = 0, orthonormalize = 0;
 };
 
 // Drags the handle from the rest pose to T over `frames` frames; the last frame's positions go to `result`.
 FrameMedians run_frames(Deformer& deformer, const Mat4& T, long long frames, Points& result) {
-  std::vector<double> frame, rhs, solve, write;
+  std::vector<double> frame, rhs, solve, write, response, ortho;
   for (long long f = 1; f <= frames; ++f) {
     result = deformer.deform(interpolate_transform(T, static_cast<double>(f) / static_cast<double>(frames)));
     const PhaseTimes& t = deformer.times();
@@ -228,9 +237,11 @@ FrameMedians run_frames(Deformer& deformer, const Mat4& T, long long frames, Poi
     rhs.push_back(t.rhs);
     solve.push_back(t.solve);
     write.push_back(t.write);
+    response.push_back(t.response);
+    ortho.push_back(t.orthonormalize);
   }
   using harness::median;
-  return {median(frame), median(rhs), median(solve), median(write)};
+  return {median(frame), median(rhs), median(solve), median(write), median(response), median(ortho)};
 }
 
 void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& deformer, long long frames,
@@ -255,8 +266,14 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
                  s.name, s.factor.min_pivot_ratio, singular_pivot_bound(s.n));
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
-  fmt::print("per frame (median of {}): {:.5f} s (medians: rhs {:.5f}, solve {:.5f}, write {:.5f})\n", frames, m.frame,
-             m.rhs, m.solve, m.write);
+  if (deformer.frame_mode() == FrameMode::Handle)
+    fmt::print("precompute {:.4f} s (handle responses, {:.2f} MB streamed per frame) | init + precompute {:.4f} s\n",
+               t.precompute, deformer.response_bytes() / 1e6, t.init() + t.precompute);
+  fmt::print("per frame ({} mode, median of {}): {:.5f} s (medians: rhs {:.5f}, solve {:.5f}, write {:.5f}", to_string(
+             deformer.frame_mode()), frames, m.frame, m.rhs, m.solve, m.write);
+  if (deformer.frame_mode() == FrameMode::Handle) fmt::print(", responses {:.5f}", m.response);
+  if (o.method == "lri") fmt::print(", of rhs orthonormalize {:.5f}", m.orthonormalize);
+  fmt::print(")\n");
   double flops = 0;
   for (const auto& s : deformer.systems()) flops += s.factor.flops;
   fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",
@@ -290,8 +307,12 @@ CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& d
            {"analyze_s", num(t.analyze)},
            {"factorize_s", num(t.factorize)},
            {"init_s", num(t.init())},
+           {"frame_mode", to_string(deformer.frame_mode())},
+           {"precompute_s", num(t.precompute)},
            {"frames", std::to_string(frames)},
            {"frame_median_s", num(m.frame)},
+           {"response_median_s", num(m.response)},
+           {"response_bytes", std::to_string(deformer.response_bytes())},
            {"matrix_bytes", std::to_string(deformer.matrix_bytes())},
            {"factor_bytes", std::to_string(deformer.factor_bytes())},
            {"peak_rss_bytes", std::to_string(peak_rss_bytes())}});

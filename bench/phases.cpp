@@ -5,6 +5,8 @@
 //   build/mesh:armadillo/system:tf/build:structured
 //   analyze/mesh:armadillo/system:tf/build:structured/backend:cholmod_supernodal
 //   factorize/... solve/...  (same shape as analyze)
+//   precompute/...  (same shape: the handle responses of handle-mode frames, one multi-right-hand-side solve)
+//   frame_handle/mesh:armadillo/system:tf/build:structured  (one handle-mode frame: the responses streamed)
 // Counters: n (unknowns), nnz (stored upper-triangle nonzeros of K), nnz_L (factor nonzeros) and bytes (build:
 // bytes of the matrices the build held; solver phases: bytes of the factor).
 //
@@ -193,6 +195,49 @@ void bm_solve(benchmark::State& st, Case c, std::string backend, std::string nam
   }
 }
 
+// Deformers (the thesis edit, soft constraints) for the handle-mode phases, one per (tier, system, build,
+// backend), kept for the whole run like the factored solvers.
+Deformer& deformer_of(const Case& c, const std::string& backend) {
+  static std::map<std::string, std::unique_ptr<Deformer>> cache;
+  const std::string key = c.tier + "/" + c.system + "/" + c.build + "/" + backend;
+  auto it = cache.find(key);
+  if (it != cache.end()) return *it->second;
+  const Problem& p = problem(c);
+  DeformOptions o;
+  o.method = c.system;
+  o.constraints = ConstraintMode::Soft;
+  o.build = parse_build(c.build);
+  o.solver = backend;
+  o.frame_mode = FrameMode::Handle;
+  return *cache.emplace(key, make_deformer(p.mesh, harness::make_thesis_edit(p.mesh), o)).first->second;
+}
+
+void bm_precompute(benchmark::State& st, Case c, std::string backend) {
+  try {
+    Deformer& d = deformer_of(c, backend);
+    for (auto _ : st) d.precompute_handle_frames();
+    st.counters["bytes"] = benchmark::Counter(double(d.response_bytes()), benchmark::Counter::kDefaults,
+                                              benchmark::Counter::kIs1024);
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+  }
+}
+
+void bm_frame_handle(benchmark::State& st, Case c, std::string backend) {
+  try {
+    Deformer& d = deformer_of(c, backend);
+    const Mat4 T = harness::make_thesis_edit(problem(c).mesh).transform;
+    for (auto _ : st) {
+      Points V = d.deform(T);
+      benchmark::DoNotOptimize(V.data());
+    }
+    st.counters["bytes"] = benchmark::Counter(double(d.response_bytes()), benchmark::Counter::kDefaults,
+                                              benchmark::Counter::kIs1024);
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+  }
+}
+
 struct Options {
   std::string data;
   std::vector<std::string> tiers = {"hand", "armadillo"}, systems = {"lap", "tf"}, builds = {"structured"},
@@ -253,7 +298,12 @@ void register_all(const Options& o) {
               ->Unit(benchmark::kMillisecond);
           benchmark::RegisterBenchmark(("solve/" + tail).c_str(), bm_solve, c, be, "solve/" + tail)
               ->Unit(benchmark::kMicrosecond);
+          benchmark::RegisterBenchmark(("precompute/" + tail).c_str(), bm_precompute, c, be)
+              ->Unit(benchmark::kMillisecond);
         }
+        // The frame streams the responses whichever backend solved for them.
+        benchmark::RegisterBenchmark(("frame_handle/" + stem).c_str(), bm_frame_handle, c, o.backends.front())
+            ->Unit(benchmark::kMicrosecond);
       }
     }
   }

@@ -67,6 +67,7 @@ expect_ok valid_with_csv "out.ply r.csv" -- deform "$G" --out "$OUT" --csv "$O/r
 printf '2 3 4\n' >"$T/roi_tf.txt"
 write_edit "$T/good.edit" indices:roi_tf.txt indices:handle.txt
 expect_ok valid_edit_file out.ply -- deform "$T/good.edit" --method tf --frames 3 --out "$OUT"
+expect_ok handle_frames out.ply -- deform "$T/good.edit" --method tf --frames 3 --frame-mode handle --out "$OUT"
 for k in 1e200 1e-300; do
   scaled_octa "$T/s$k" "$k"
   for m in lap tf; do expect_ok "scaled_${k}_$m" out.ply -- deform "$T/s$k" --method "$m" --out "$OUT"; done
@@ -82,6 +83,7 @@ expect frames_negative 1 "--frames: -1 is outside \[1, 100000\]" -- deform "$G" 
 expect frames_over_cap 1 "--frames: 100001 is outside \[1, 100000\]" -- deform "$G" --out "$OUT" --frames 100001
 expect soft_weight_nan 1 "--soft-weight: nan is not a finite number" -- deform "$G" --out "$OUT" --constraints soft --soft-weight nan
 expect unknown_method 1 "--method: 'nope' is not one of: lap, tf, lri" -- deform "$G" --method nope --out "$OUT"
+expect unknown_frame_mode 1 "--frame-mode: 'fast' is not one of: full, handle" -- deform "$G" --frame-mode fast --out "$OUT"
 expect unknown_solver 1 "--solver: 'nope' is not one of" -- deform "$G" --solver nope --out "$OUT"
 expect unknown_ordering 1 "--ordering: 'rcm' is not one of" -- deform "$G" --ordering rcm --out "$OUT"
 expect unknown_command 1 "unknown command 'deforn'" -- deforn "$G" --out "$OUT"
@@ -94,6 +96,7 @@ expect weights_with_lri 1 "--weights is not used by --method lri" -- deform "$G"
 expect tf_option_with_lap 1 "--tf-no-translation is for --method tf only" -- deform "$G" --tf-no-translation --out "$OUT"
 expect tf_scale_with_lri 1 "--tf-scale is for --method tf only, not lri" -- deform "$G" --method lri --tf-scale normalized --out "$OUT"
 expect tf_scale_unknown 1 "--tf-scale" -- deform "$G" --method tf --tf-scale isotropic --out "$OUT"
+expect tf_scale_handle_frames 1 "--frame-mode handle with --tf-scale normalized" -- deform "$G" --method tf --tf-scale normalized --frame-mode handle --out "$OUT"
 expect lri_option_with_tf 1 "--lri-frames is for --method lri only" -- deform "$G" --method tf --lri-frames random --out "$OUT"
 expect lri_seed_without_random 1 "--lri-seed is used by --lri-frames random only" -- deform "$G" --method lri --lri-seed 3 --out "$OUT"
 expect soft_weight_with_hard 1 "--soft-weight .*needs --constraints soft" -- deform "$G" --soft-weight 2 --out "$OUT"

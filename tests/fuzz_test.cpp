@@ -273,9 +273,13 @@ class Fuzz : public ::testing::Test {
     }
     // The .edit files of data/edits, their meshes replaced by a small tube (same names, so they load).
     const Mesh tube = small_tube();
-    for (const char* name : {"meshes/armadillo.off", "meshes/dino.off", "meshes/cactus.off",
-                             "generated/armadillo_loop1.off"})
+    for (const char* name : {"meshes/armadillo.off", "meshes/dino.off", "meshes/cactus.off"})
       write_mesh((dir_ / name).string(), tube);
+    for (const auto& e : fs::directory_iterator(src / "data" / "edits"))  // the generated tiers' meshes
+      if (e.path().extension() == ".edit" && e.path().stem().string().rfind("armadillo_loop", 0) == 0) {
+        const std::string level = e.path().stem().string().substr(0, e.path().stem().string().find('_', 10));
+        write_mesh((dir_ / "generated" / (level + ".off")).string(), tube);
+      }
     spit(dir_ / "meshes" / "cactus_cgal.sel", tube_sel(tube));
     fs::copy_file(src / "data/bs08/cylinder.def", dir_ / "meshes" / "cactus_cgal.def");
     fs::copy_file(src / "data/bs08/bar.off", dir_ / "bs08" / "bar.off");  // bar_bend.edit selects by boxes on it

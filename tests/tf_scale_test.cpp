@@ -147,5 +147,15 @@ TEST(TfScale, OtherMethodsRefuseIt) {
   }
 }
 
+TEST(TfScale, HandleFramesRefuseIt) {
+  // The second pass rotates by fitted rotations: a frame is not affine in the handle map.
+  const Mesh m = tube();
+  const Edit e = tube_edit(m);
+  DeformOptions o = tf(true);
+  o.frame_mode = FrameMode::Handle;
+  EXPECT_THROW(make_deformer(m, e, o), InputError);
+  EXPECT_THROW(make_deformer(m, e, tf(true))->precompute_handle_frames(), InputError);
+}
+
 }  // namespace
 }  // namespace db

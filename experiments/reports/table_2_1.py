@@ -109,7 +109,7 @@ def header(run):
     out.append("".join(f"- {tier}: {note}\n" for tier, note in notes))
     out.append("**Measures**: memory = the cell child's own peak RSS (VmHWM, MiB = 2^20 bytes; the thesis' MB are "
                "presumably the same unit); init = build + analyze + factorize; fps = 1 / median frame time (right-hand "
-               "side + solve + positions written) over the frames of the drag. `#over` / `#slow`: predicted over the "
+               "side + solve + positions written) over the frames of the drag. Handle mode (issue 16): after the drag the same factored system precomputes its responses to the handle's affine map (one multi-right-hand-side solve, `precompute`) and the drag runs again streaming them; fps = 1 / its median frame, and the cell records how far its last frame lies from the full mode's (`handle_vs_full`, in table_2_1.csv). `#over` / `#slow`: predicted over the "
                "memory / time budget, never attempted (the prediction is shown: MiB for #over, seconds for #slow).\n")
     return "\n".join(out)
 
@@ -120,10 +120,12 @@ def system_table(run, system):
     if tf:
         out.append("| model | vertices thesis / ours | memory MB thesis before / after | peak RSS MiB ours dense / naive / "
                    "structured | init s thesis before / after | init s ours dense / naive / structured | fps thesis | "
-                   "fps ours naive / structured |\n|---|---|---|---|---|---|---|---|")
+                   "fps ours naive / structured | handle mode (structured): fps / init + precompute s |\n"
+                   "|---|---|---|---|---|---|---|---|---|")
     else:
         out.append("| model | vertices | peak RSS MiB dense / naive / structured | init s dense / naive / structured | "
-                   "fps dense / naive / structured |\n|---|---|---|---|---|")
+                   "fps dense / naive / structured | handle mode (structured): fps / init + precompute s |\n"
+                   "|---|---|---|---|---|---|")
     for model in run.models:
         d, nv, st = (run.find(model, system, b) for b in ("dense", "naive", "structured"))
         if not (d or nv or st):
@@ -133,14 +135,15 @@ def system_table(run, system):
         mem = [cell_text(c, "peak_rss_bytes", 1, MIB, True) for c in (d, nv, st)]
         init = [cell_text(c, "init_s", 3, 1, False) for c in (d, nv, st)]
         fps = [cell_text(c, "fps", 1, 1, False) for c in (d, nv, st)]
+        handle = f"{cell_text(st, 'fps_handle', 0, 1, False)} / {cell_text(st, 'init_precompute_s', 3, 1, False)}"
         if tf:
             t = run.thesis.get(model, {})
             tv = lambda stage, m, p: thesis_num(t.get((stage, m), NAN), p) if t else "-"  # noqa: E731
             out.append(f"| {model} | {t.get('vertices', '-')} / {verts} | {tv('before', 'memory_mb', 1)} / "
                        f"{tv('after', 'memory_mb', 1)} | {' / '.join(mem)} | {tv('before', 'init_s', 1)} / "
-                       f"{tv('after', 'init_s', 1)} | {' / '.join(init)} | {tv('after', 'fps', 2)} | {fps[1]} / {fps[2]} |")
+                       f"{tv('after', 'init_s', 1)} | {' / '.join(init)} | {tv('after', 'fps', 2)} | {fps[1]} / {fps[2]} | {handle} |")
         else:
-            out.append(f"| {model} | {verts} | {' / '.join(mem)} | {' / '.join(init)} | {' / '.join(fps)} |")
+            out.append(f"| {model} | {verts} | {' / '.join(mem)} | {' / '.join(init)} | {' / '.join(fps)} | {handle} |")
     return "\n".join(out) + "\n"
 
 

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/resources.h"
 #include "edit/edit_io.h"
+#include "harness/machine_rates.h"
 #include "harness/stats.h"
 #include "mesh/mesh_io.h"
 #include "methods/deformer.h"
@@ -15,7 +16,7 @@ namespace {
 
 // The frames of the drag: per-frame phase times (medians go to the result) and the last frame's positions.
 struct Drag {
-  std::vector<double> frame, rhs, solve, write;
+  std::vector<double> frame, rhs, solve, write, response, ortho;
   Points V;
 };
 
@@ -28,6 +29,8 @@ Drag drag(Deformer& d, const Mat4& T, int frames) {
     g.rhs.push_back(t.rhs);
     g.solve.push_back(t.solve);
     g.write.push_back(t.write);
+    g.response.push_back(t.response);
+    g.ortho.push_back(t.orthonormalize);
   }
   return g;
 }
@@ -71,6 +74,28 @@ void add_memory(CellResult& r, const Deformer& d) {
   r.set("held_total_bytes", held, "bytes");
 }
 
+// The same drag in handle mode on the factored systems, and how far its last frame lies from the full mode's.
+void add_handle_frames(CellResult& r, Deformer& d, const Mat4& T, int frames, const Points& full) {
+  d.precompute_handle_frames();
+  const Drag g = drag(d, T, frames);
+  const PhaseTimes& t = d.times();
+  r.set("precompute_s", t.precompute, "s");
+  r.set("init_precompute_s", t.init() + t.precompute, "s");
+  r.set("frame_handle_s", median(g.frame), "s");
+  r.set("response_s", median(g.response), "s");
+  r.set("handle_rhs_s", median(g.rhs), "s");  // lri: orthonormalization + position right-hand side
+  r.set("handle_solve_s", median(g.solve), "s");  // lri: the position solve
+  r.set("orthonormalize_s", median(g.ortho), "s");
+  r.set("fps_handle", 1.0 / r.get("frame_handle_s"), "1/s");
+  r.set("response_bytes", static_cast<double>(d.response_bytes()), "bytes");
+  r.set("handle_vs_full", (g.V - full).rowwise().norm().maxCoeff() / bbox_diagonal(full), "bbox_diagonal");
+  r.set("peak_rss_handle_bytes", static_cast<double>(peak_rss_bytes()), "bytes");
+  // The floor of a handle frame: one pass over the responses at the rate the worker threads read memory now.
+  const double read = MachineRates::read_bandwidth();
+  r.set("memory_read", read / 1e9, "GB/s");
+  r.set("response_pass_s", static_cast<double>(d.response_bytes()) / read, "s");
+}
+
 }  // namespace
 
 CellSpec DeformCell::to_spec() const {
@@ -84,12 +109,13 @@ CellSpec DeformCell::to_spec() const {
   if (!factor_dir.empty()) s.set("factor_dir", factor_dir);
   if (memory_budget_bytes > 0) s.set("memory_budget_bytes", memory_budget_bytes);
   if (!out_mesh.empty()) s.set("out_mesh", out_mesh);
+  if (handle_frames) s.set("handle_frames", 1);
   return s;
 }
 
 DeformCell DeformCell::from_spec(const CellSpec& s) {
   s.check_keys({"model", "mesh", "edit", "method", "build", "backend", "ordering", "constraints", "frames", "handle",
-                "anchors", "drag", "factor_dir", "memory_budget_bytes", "out_mesh"});
+                "anchors", "drag", "factor_dir", "memory_budget_bytes", "out_mesh", "handle_frames"});
   DeformCell c;
   c.mesh = s.get("mesh", "");
   c.edit = s.get("edit", "");
@@ -107,6 +133,7 @@ DeformCell DeformCell::from_spec(const CellSpec& s) {
   c.thesis.anchor_count = static_cast<int>(s.integer("anchors", c.thesis.anchor_count, 1, 1 << 30));
   c.thesis.drag_fraction = s.real("drag", c.thesis.drag_fraction, -1e3, 1e3);
   c.memory_budget_bytes = static_cast<std::size_t>(s.real("memory_budget_bytes", 0, 0, 1e18));
+  c.handle_frames = s.integer("handle_frames", 0, 0, 1) == 1;
   return c;
 }
 
@@ -144,7 +171,9 @@ CellResult measure_deform_cell(const CellSpec& spec) {
   r.set("fps", 1.0 / r.get("frame_s"), "1/s");
   add_memory(r, *d);
   r.set("mean_displacement", (g.V - ec.mesh.V).rowwise().norm().mean() / bbox_diagonal(ec.mesh.V), "bbox_diagonal");
+  // The thesis' memory is the full mode's: the peak before the responses (and the read-rate probe's array) exist.
   r.set("peak_rss_bytes", static_cast<double>(peak_rss_bytes()), "bytes");
+  if (c.handle_frames) add_handle_frames(r, *d, ec.edit.transform, c.frames, g.V);
   if (!c.out_mesh.empty()) {
     Mesh m = ec.mesh;
     m.V = g.V;

@@ -4,11 +4,18 @@
 //! file with the library's defaults); the tracking suite can list such cells as data.
 //!
 //! Spec keys (DeformCell::to_spec / from_spec): model, mesh | edit, method, build, backend, ordering,
-//! constraints, frames, handle, anchors, drag, factor_dir, memory_budget_bytes, out_mesh.
+//! constraints, frames, handle, anchors, drag, factor_dir, memory_budget_bytes, out_mesh, handle_frames.
 //! Measures: vertices, faces, handle, fixed, n, nnz, nnz_factor, factor_flops, min_pivot_ratio, build_s,
 //! analyze_s, factorize_s, init_s, frames, frame_s, rhs_s, solve_s, write_s (medians over the frames), fps,
 //! matrix_bytes, factor_bytes, held_bytes:<matrix>, held_total_bytes, peak_rss_bytes (VmHWM),
 //! baseline_rss_bytes (after reading the mesh), mean_displacement (last frame, / bbox diagonal).
+//! With handle_frames=1, after the drag the same factored systems switch to handle-mode frames
+//! (Deformer::precompute_handle_frames) and the drag runs again: precompute_s, init_precompute_s,
+//! frame_handle_s, response_s, handle_rhs_s, handle_solve_s, orthonormalize_s (medians; LRI's position part stays
+//! per frame), fps_handle, response_bytes, handle_vs_full (largest distance between the
+//! two modes' last frames / bbox diagonal), peak_rss_handle_bytes (VmHWM after them; peak_rss_bytes is taken
+//! before), memory_read (GB/s, MachineRates::read_bandwidth right after) and
+//! response_pass_s (response_bytes at that rate: the least a handle frame could take).
 //! Strings: ordering_used, mesh_name, constraints, build, backend.
 #include <cstddef>
 #include <string>
@@ -35,6 +42,7 @@ struct DeformCell {
   ThesisEditOptions thesis;                 //!< with `mesh`
   std::size_t memory_budget_bytes = 0;      //!< DeformOptions::memory_budget (the systems layer's own check)
   std::string out_mesh;                     //!< when set, the last frame's mesh is written here
+  bool handle_frames = false;               //!< also measure handle-mode frames (issue 16)
 
   CellSpec to_spec() const;
   //! \throw UsageError on an unknown key, a malformed number, or not exactly one of mesh / edit.

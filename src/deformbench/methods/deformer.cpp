@@ -19,6 +19,14 @@ ConstraintMode parse_constraints(const std::string& s) {
 
 std::string to_string(ConstraintMode m) { return m == ConstraintMode::Hard ? "hard" : "soft"; }
 
+FrameMode parse_frame_mode(const std::string& s) {
+  if (s == "full") return FrameMode::Full;
+  if (s == "handle") return FrameMode::Handle;
+  throw InputError("unknown frame mode '" + s + "' (expected full or handle)");
+}
+
+std::string to_string(FrameMode m) { return m == FrameMode::Full ? "full" : "handle"; }
+
 std::size_t Deformer::matrix_bytes() const {
   std::size_t s = 0;
   for (const auto& r : systems_) s += r.matrix_bytes;

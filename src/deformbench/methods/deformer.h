@@ -21,6 +21,13 @@ enum class ConstraintMode { Hard, Soft };
 ConstraintMode parse_constraints(const std::string& s);  //!< "hard" | "soft"
 std::string to_string(ConstraintMode m);
 
+//! Full: every frame forms its right-hand side and solves (the thesis' frame). Handle: the solution is affine in
+//! the handle transform, so the responses are solved for once after the factorization (systems/handle_response.h)
+//! and a frame only streams them (LRI: its frame system; the position solve stays per frame).
+enum class FrameMode { Full, Handle };
+FrameMode parse_frame_mode(const std::string& s);  //!< "full" | "handle"
+std::string to_string(FrameMode m);
+
 struct DeformOptions {
   std::string method = "lap";  //!< "lap", "tf" or "lri" (see make_deformer)
   Weights weights = Weights::Uniform;
@@ -46,13 +53,17 @@ struct DeformOptions {
   std::string lri_frames = "first";
   std::string lri_orthonormalize = "gram_schmidt";
   unsigned lri_seed = 1;
+  FrameMode frame_mode = FrameMode::Full;
 };
 
 struct PhaseTimes {
   double build = 0, analyze = 0, factorize = 0;  //!< seconds, once per edit
+  double precompute = 0;  //!< seconds, once per edit after init: the handle responses (FrameMode::Handle), else 0
   double rhs = 0, solve = 0, write = 0;          //!< seconds, last frame
+  double response = 0;  //!< seconds, last frame: streaming the handle responses (FrameMode::Handle), else 0
+  double orthonormalize = 0;  //!< LRI, last frame: the part of rhs that orthonormalizes the solved frames
   double init() const { return build + analyze + factorize; }
-  double frame() const { return rhs + solve + write; }
+  double frame() const { return rhs + solve + write + response; }
 };
 
 class Deformer {
@@ -65,9 +76,18 @@ class Deformer {
   const std::vector<SystemReport>& systems() const { return systems_; }
   std::size_t matrix_bytes() const;  //!< bytes of the system matrices handed to the solvers
   std::size_t factor_bytes() const;
+  FrameMode frame_mode() const { return frame_mode_; }
+  //! Switches to FrameMode::Handle on the factored systems (what DeformOptions::frame_mode = Handle does after
+  //! the factorization): a deformer can measure full frames, then handle frames, from one init. Sets
+  //! times().precompute. \throw SolverError for a failed or non-finite solve.
+  virtual void precompute_handle_frames() = 0;
+  //! FrameMode::Handle: bytes of the stored responses one frame streams (HandleResponse::bytes), else 0.
+  std::size_t response_bytes() const { return response_bytes_; }
 
  protected:
   PhaseTimes times_;
+  FrameMode frame_mode_ = FrameMode::Full;
+  std::size_t response_bytes_ = 0;
   std::vector<SystemReport> systems_;
 };
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "core/error.h"
 #include "core/resources.h"
 #include "core/timer.h"
@@ -50,7 +52,9 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   times_.analyze = ordering_seconds + mqwf_.analyze_seconds();
   times_.factorize = mqwf_.factorize_seconds();
   if (!vertex_ordering.empty()) mqwf_.report().factor.ordering_used = vertex_ordering + "-vertex-graph";
-  set_varying();
+  normalize_scale_ = options.tf_normalize_scale;
+  if (options.frame_mode == FrameMode::Handle) precompute_handle_frames();
+  else set_varying();
   systems_.push_back(mqwf_.report());
   if (options.tf_normalize_scale) precompute_rescale(mesh.F, options, so);
 }
@@ -167,7 +171,61 @@ void LaplacianDeformer::constraint_values(const Mat4& T) {
   fill(unk_.soft_vertices, soft_);
 }
 
+void LaplacianDeformer::precompute_handle_frames() {
+  if (normalize_scale_)
+    throw InputError("handle-mode frames: TF with normalized scale is not affine in the handle map (its second "
+                     "pass rotates by the fitted rotations); use full frames");
+  const int b = mqwf_.system().block;
+  const int m = b == 1 ? 4 : 12;  // parameter 4c + j: entry (c, j) of the handle map's top 3 x 4
+  constraint_values(Mat4::Identity());
+  // A handle vertex's target coordinate c is sum_j T(c, j) P_j with P = [p 1]: its basis column j (LAP; shared by
+  // x, y, z) or 4c + j (TF, in the vertex's row c).
+  auto basis = [&](const std::vector<int>& vertices, DenseMat& M) {
+    M.setZero(static_cast<Eigen::Index>(b) * static_cast<Eigen::Index>(vertices.size()), m);
+    for (std::size_t k = 0; k < vertices.size(); ++k) {
+      const int v = vertices[k];
+      if (edit_.roles[v] != Role::Handle) continue;
+      const Eigen::Vector4d P(Vn_(v, 0), Vn_(v, 1), Vn_(v, 2), 1.0);
+      for (int c = 0; c < b; ++c)
+        for (int j = 0; j < 4; ++j) M(b * static_cast<Eigen::Index>(k) + c, b == 1 ? j : 4 * c + j) = P(j);
+    }
+  };
+  DenseMat xh_basis, soft_basis;
+  basis(unk_.hard_vertices, xh_basis);
+  basis(unk_.soft_vertices, soft_basis);
+  std::vector<int> source(Vn_.rows() * b);  // output row b v + c: vertex v's coordinate c (LAP: its row)
+  for (int v = 0; v < static_cast<int>(Vn_.rows()); ++v)
+    for (int c = 0; c < b; ++c)
+      source[static_cast<std::size_t>(b * v + c)] = unk_.unknown_of[v] >= 0
+                                                        ? b * unk_.unknown_of[v] + c
+                                                        : -(b * unk_.hard_of[v] + c) - 1;
+  response_.precompute(mqwf_, xh_, soft_, xh_basis, soft_basis, source);
+  response_.scale_and_shift(1.0 / norm_.scale, norm_.center);  // frames write restored positions
+  times_.precompute = response_.seconds();
+  response_bytes_ = response_.bytes();
+  frame_mode_ = FrameMode::Handle;
+}
+
+Points LaplacianDeformer::deform_handle(const Mat4& handle_transform) {
+  Timer t;
+  const Mat4 D = norm_.conjugate(handle_transform) - Mat4::Identity();
+  const bool lap = mqwf_.system().block == 1;
+  DenseMat theta(lap ? 4 : 12, lap ? 3 : 1);
+  for (int c = 0; c < 3; ++c)
+    for (int j = 0; j < 4; ++j) (lap ? theta(j, c) : theta(4 * c + j, 0)) = D(c, j);
+  Points out(Vn_.rows(), 3);
+  if (!response_.evaluate(theta, out.data()))
+    for (Eigen::Index v = 0; v < out.rows(); ++v)
+      if (!out.row(v).allFinite())
+        throw InputError(fmt::format("deformed vertex {}: a coordinate is beyond the largest double; scale the mesh "
+                                     "down", v));
+  times_.rhs = times_.solve = times_.write = 0;
+  times_.response = t.seconds();
+  return out;
+}
+
 Points LaplacianDeformer::deform(const Mat4& handle_transform) {
+  if (frame_mode_ == FrameMode::Handle) return deform_handle(handle_transform);
   const int b = mqwf_.system().block;
   double base_seconds = 0;
   if (mqwf_.base_pending()) {

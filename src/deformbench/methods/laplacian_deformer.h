@@ -16,6 +16,7 @@
 #include "methods/deformer.h"
 #include "methods/normalization.h"
 #include "operators/energy_operator.h"
+#include "systems/handle_response.h"
 
 namespace db {
 
@@ -23,6 +24,9 @@ class LaplacianDeformer : public Deformer {
  public:
   LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind, const DeformOptions& options);
   Points deform(const Mat4& handle_transform) override;
+  //! The rest solution and the responses to the 12 parameters of the handle's affine map (LAP: 4, shared by x, y,
+  //! z), laid out per vertex, restored (systems/handle_response.h).
+  void precompute_handle_frames() override;
 
   //! The assembled system (for cross-checks between builds). Its K (or K_dense) is empty: the solver consumed
   //! it while factoring (LinearSolver::factorize_consuming, factorize_dense).
@@ -35,9 +39,11 @@ class LaplacianDeformer : public Deformer {
   Points Vn_;  // normalized rest positions
   Unknowns unk_;
   MinQuadWithFixed mqwf_;
+  HandleResponse response_;  // FrameMode::Handle: every vertex's restored position, affine in the handle map
   DenseMat xh_, soft_, x_;  // per-frame buffers, reused
   // TF with normalized scale: the LAP operator (its rows and TF's 1-ring fit) and system of the second pass.
   std::unique_ptr<EnergyOperator> lap_op_;
+  bool normalize_scale_ = false;
   MinQuadWithFixed rescale_;
 
   //! Orders the unknowns (structured builds) and builds the system; `vertex_ordering` is the ordering used
@@ -54,6 +60,7 @@ class LaplacianDeformer : public Deformer {
   Points rescale(const Points& Vn1);
   //! Normalized positions of all vertices from a solve's unknowns `x` and the hard values `xh` in layout `block`.
   Points positions(const DenseMat& x, const DenseMat& xh, int block) const;
+  Points deform_handle(const Mat4& T);
 };
 
 }  // namespace db

@@ -48,6 +48,53 @@ LriDeformer::LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions
   times_.factorize = frames_mqwf_.factorize_seconds() + positions_mqwf_.factorize_seconds();
   systems_.push_back(frames_mqwf_.report());
   systems_.push_back(positions_mqwf_.report());
+  if (options.frame_mode == FrameMode::Handle) precompute_handle_frames();
+}
+
+void LriDeformer::precompute_handle_frames() {
+  frame_rhs(Mat3::Identity());  // xhf_, softf_: the rest frames
+  // A handle frame's target row c is row c of Rh F = sum_j Rh(c, j) F(j, :): basis column j holds row j of F.
+  auto basis = [&](const std::vector<int>& vertices, DenseMat& M) {
+    M.setZero(3 * static_cast<Eigen::Index>(vertices.size()), 3);
+    for (std::size_t s = 0; s < vertices.size(); ++s) {
+      const int v = vertices[s];
+      if (edit_.roles[v] != Role::Handle) continue;
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j) M(3 * static_cast<Eigen::Index>(s) + k, j) = frames_.F[v](j, k);
+    }
+  };
+  DenseMat xh_basis, soft_basis;
+  basis(unk_.hard_vertices, xh_basis);
+  basis(unk_.soft_vertices, soft_basis);
+  std::vector<int> source(3 * Vn_.rows());
+  for (int v = 0; v < static_cast<int>(Vn_.rows()); ++v)
+    for (int k = 0; k < 3; ++k)
+      source[static_cast<std::size_t>(3 * v + k)] =
+          unk_.unknown_of[v] >= 0 ? 3 * unk_.unknown_of[v] + k : -(3 * unk_.hard_of[v] + k) - 1;
+  frame_response_.precompute(frames_mqwf_, xhf_, softf_, xh_basis, soft_basis, source);
+  times_.precompute = frame_response_.seconds();
+  response_bytes_ = frame_response_.bytes();
+  xf_all_.resize(3 * Vn_.rows(), 3);
+  frame_mode_ = FrameMode::Handle;
+}
+
+void LriDeformer::solve_frames(const Mat3& Rh, double& rhs_s, double& solve_s) {
+  if (frame_mode_ == FrameMode::Handle) {
+    Timer t;
+    DenseMat theta(3, 3);
+    for (int c = 0; c < 3; ++c)
+      for (int j = 0; j < 3; ++j) theta(j, c) = Rh(c, j) - (c == j ? 1.0 : 0.0);
+    if (!frame_response_.evaluate(theta, xf_all_.data()))
+      throw SolverError("LRI: the frame responses produced non-finite values");
+    times_.response = t.seconds();
+    rhs_s = solve_s = 0;
+    return;
+  }
+  rhs_s = frame_rhs(Rh);
+  Timer t;
+  frames_mqwf_.solve(xf_);
+  solve_s = t.seconds();
+  if (!xf_.allFinite()) throw SolverError("LRI: the frame solve produced non-finite values");
 }
 
 double LriDeformer::frame_rhs(const Mat3& Rh) {
@@ -74,16 +121,15 @@ double LriDeformer::position_rhs(const Mat4& T) {
   // Orthonormalize, then the position targets F'_i d_ij of every directed edge.
   raw_.resize(n);
   solved_.resize(n);
+  const bool handle = frame_mode_ == FrameMode::Handle;
   for (int v = 0; v < n; ++v) {
     const int u = unk_.unknown_of[v];
-    if (u < 0) {
-      raw_[v] = solved_[v] = xhf_.middleRows(3 * unk_.hard_of[v], 3).transpose();  // its target
-      continue;
-    }
     for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) raw_[v](c, k) = xf_(3 * u + k, c);
-    solved_[v] = orthonormalize(raw_[v], ortho_, v);
+      for (int c = 0; c < 3; ++c)
+        raw_[v](c, k) = handle ? xf_all_(3 * v + k, c) : u >= 0 ? xf_(3 * u + k, c) : xhf_(3 * unk_.hard_of[v] + k, c);
+    solved_[v] = u >= 0 ? orthonormalize(raw_[v], ortho_, v) : raw_[v];  // a hard frame is its target
   }
+  times_.orthonormalize = t.seconds();
   lri_position_targets(adj_, solved_, forms_, tpos_);
   auto fill = [&](const std::vector<int>& vertices, DenseMat& M) {
     M.resize(static_cast<Eigen::Index>(vertices.size()), 3);
@@ -104,13 +150,10 @@ Points LriDeformer::deform(const Mat4& handle_transform) {
   const Mat4 T = norm_.conjugate(handle_transform);
   // Frames only rotate: a scaling or shearing handle transform reaches the frames through its rotation part.
   const Mat3 Rh = nearest_rotation(T.topLeftCorner<3, 3>());
-  double rhs_s = frame_rhs(Rh);
-  Timer t;
-  frames_mqwf_.solve(xf_);
-  double solve_s = t.seconds();
-  if (!xf_.allFinite()) throw SolverError("LRI: the frame solve produced non-finite values");
+  double rhs_s = 0, solve_s = 0;
+  solve_frames(Rh, rhs_s, solve_s);
   rhs_s += position_rhs(T);
-  t.reset();
+  Timer t;
   positions_mqwf_.solve(xp_);
   solve_s += t.seconds();
   if (!xp_.allFinite()) throw SolverError("LRI: the position solve produced non-finite positions");

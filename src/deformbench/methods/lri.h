@@ -24,6 +24,7 @@
 #include "methods/normalization.h"
 #include "operators/frames.h"
 #include "operators/lri_rows.h"
+#include "systems/handle_response.h"
 #include "systems/lri_system.h"
 #include "systems/min_quad_with_fixed.h"
 
@@ -36,6 +37,8 @@ class LriDeformer : public Deformer {
   LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
   //! \throw SolverError non-finite result or a degenerate solved frame; InputError a singular handle transform.
   Points deform(const Mat4& handle_transform) override;
+  //! The frame system's rest solution and its 3 responses to the handle rotation (systems/handle_response.h).
+  void precompute_handle_frames() override;
 
   FrameStrategy strategy() const { return strategy_; }
   Orthonormalization orthonormalization() const { return ortho_; }
@@ -61,6 +64,10 @@ class LriDeformer : public Deformer {
   FrameField frames_;
   std::vector<Vec3> forms_;
   MinQuadWithFixed frames_mqwf_, positions_mqwf_;
+  //! FrameMode::Handle: every vertex's solved frame, affine in the handle rotation (3 responses shared by the
+  //! world components x, y, z), rows 3v+k = column k of F'_v.
+  HandleResponse frame_response_;
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> xf_all_;  // its output, per frame
   std::vector<Mat3> raw_, solved_;
   DenseMat xhf_, softf_, xf_, tpos_, xhp_, softp_, xp_;  // per-frame buffers, reused
 
@@ -69,6 +76,9 @@ class LriDeformer : public Deformer {
   //! From the solved frames xf_: raw_, solved_ and the position system's right-hand side for the handle
   //! transform T; returns its time.
   double position_rhs(const Mat4& T);
+  //! The solved frames xf_ (full) or xf_all_ (handle) for the handle rotation Rh; returns the seconds of rhs and
+  //! solve, or of streaming the responses.
+  void solve_frames(const Mat3& Rh, double& rhs_s, double& solve_s);
 };
 
 //! The `lri` branch of make_deformer.

@@ -1,5 +1,7 @@
 #include "systems/min_quad_with_fixed.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "core/error.h"
@@ -82,28 +84,42 @@ void MinQuadWithFixed::set_base(const DenseMat& xh, const DenseMat& soft) {
 
 void MinQuadWithFixed::form_rhs(const DenseMat& xh, const DenseMat& soft,
                                 const std::function<void(DenseMat&)>& linear) {
-  const bool hard = num_hard_ > 0;
   if (linear && sys_.At.size() > 0) throw Error("form_rhs: a system that keeps A^T forms its linear term itself");
-  if (sys_.At.size() > 0) {  // the naive build's kept A^T: a product with A^T per frame
-    if (hard) rhs_.noalias() = sys_.At * DenseMat(sys_.targets - sys_.Ah * xh);
-    else rhs_.noalias() = sys_.At * sys_.targets;
+  if (linear) {
+    rhs_.setZero(static_cast<Eigen::Index>(report_.n), sys_.rhs_cols);
+    linear(rhs_);
+    add_constraints(xh, soft, rhs_);
   } else {
-    if (sys_.g0.size() > 0 && !linear) {
-      rhs_ = sys_.g0;
-    } else {
-      rhs_.setZero(static_cast<Eigen::Index>(report_.n), sys_.rhs_cols);
-      if (linear) linear(rhs_);
-    }
-    if (hard) {
-      if (sys_.build == Build::Dense) rhs_.noalias() -= sys_.C_dense * xh;
-      else rhs_.noalias() -= sys_.C * xh;
-    }
+    rhs_of(xh, soft, /*constant=*/true, rhs_);
+  }
+}
+
+void MinQuadWithFixed::rhs_of(const DenseMat& xh, const DenseMat& soft, bool constant, DenseMat& out) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(report_.n);
+  const Eigen::Index cols = constant ? sys_.rhs_cols : std::max(xh.cols(), soft.cols());
+  if (sys_.At.size() > 0) {  // the naive build's kept A^T: a product with A^T per frame
+    if (constant && num_hard_ > 0) out.noalias() = sys_.At * DenseMat(sys_.targets - sys_.Ah * xh);
+    else if (constant) out.noalias() = sys_.At * sys_.targets;
+    else if (num_hard_ > 0) out.noalias() = -(sys_.At * DenseMat(sys_.Ah * xh));
+    else out.setZero(n, cols);
+    add_constraints(DenseMat(), soft, out);
+    return;
+  }
+  if (constant && sys_.g0.size() > 0) out = sys_.g0;
+  else out.setZero(n, cols);
+  add_constraints(xh, soft, out);
+}
+
+void MinQuadWithFixed::add_constraints(const DenseMat& xh, const DenseMat& soft, DenseMat& out) const {
+  if (num_hard_ > 0 && xh.size() > 0) {
+    if (sys_.build == Build::Dense) out.noalias() -= sys_.C_dense * xh;
+    else out.noalias() -= sys_.C * xh;
   }
   const int b = sys_.block;
   for (std::size_t s = 0; s < soft_unknowns_.size(); ++s)
     for (int r = 0; r < b; ++r)
-      for (Eigen::Index c = 0; c < rhs_.cols(); ++c)
-        rhs_(b * soft_unknowns_[s] + r, c) += w2_ * soft(static_cast<Eigen::Index>(b * s + r), c);
+      for (Eigen::Index c = 0; c < out.cols(); ++c)
+        out(b * soft_unknowns_[s] + r, c) += w2_ * soft(static_cast<Eigen::Index>(b * s + r), c);
 }
 
 void MinQuadWithFixed::solve(DenseMat& xu) {

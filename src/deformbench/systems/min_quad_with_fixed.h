@@ -73,9 +73,18 @@ class MinQuadWithFixed {
   //! Unknowns::soft_vertices. `linear`: when given, adds this frame's linear term, in place of g0, to the zeroed
   //! right-hand side it is handed (LRI's positions: A_u^T t for this frame's targets t).
   void form_rhs(const DenseMat& xh, const DenseMat& soft, const std::function<void(DenseMat&)>& linear = {});
+  //! The right-hand side of these values into `out`, with the constant term (g0; the naive build's A_u^T b) when
+  //! `constant`, or only the part linear in (xh, soft) without it: -C xh + W u (the naive build: -A_u^T A_h xh +
+  //! W u), with as many columns as xh and soft have (a handle-response basis, systems/handle_response.h).
+  void rhs_of(const DenseMat& xh, const DenseMat& soft, bool constant, DenseMat& out) const;
+  //! X = K^-1 B for any number of columns in one multi-right-hand-side solve (LinearSolver::solve), never the
+  //! per-frame fast path. \throw SolverError from the backend.
+  void solve_columns(const DenseMat& B, DenseMat& X) const { solver_->solve(B, X); }
   //! x_u (b#unknowns x cols) of the last form_rhs (the fast path's solve_changed once set_base was given).
   //! \throw SolverError from the backend, e.g. for a non-finite result (LinearSolver::solve).
   void solve(DenseMat& xu);
+  //! Scalar unknowns (rows of x_u) and hard values (rows of x_h).
+  int num_unknown_rows() const { return static_cast<int>(report_.n); }
 
   //! The system as built; after factorize(true) its K is empty (the solver took it), and a dense K_dense always.
   const NormalSystem& system() const { return sys_; }
@@ -85,6 +94,9 @@ class MinQuadWithFixed {
   double factorize_seconds() const { return factorize_seconds_; }
 
  private:
+  //! out -= C xh (skipped for an empty xh), out += W u.
+  void add_constraints(const DenseMat& xh, const DenseMat& soft, DenseMat& out) const;
+
   NormalSystem sys_;
   std::unique_ptr<LinearSolver> solver_;
   SystemReport report_;
