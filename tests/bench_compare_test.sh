@@ -6,7 +6,7 @@ set -u
 SRC=$(cd "$1" && pwd)
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
-[ -f /usr/share/benchmark/compare.py ] || { echo "libbenchmark-tools missing: skipped"; exit 77; }
+[ -f /usr/share/benchmark/compare.py ] || { echo "FAIL /usr/share/benchmark/compare.py is missing: install libbenchmark-tools (./run does)"; exit 1; }
 fails=0
 fail() { echo "FAIL $*"; fails=$((fails + 1)); }
 ok() { echo "ok   $*"; }
