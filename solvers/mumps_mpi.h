@@ -4,7 +4,7 @@
 //! Initialization on first use: a process that never called MPI_Init gets MPI_Init_thread(SERIALIZED) the first
 //! time a MUMPS backend (or anything here) needs MPI, and MPI_Finalize at exit. Started without mpirun it is an
 //! MPI singleton (one rank); then OMPI_MCA_ess_singleton_isolated=1 is set unless the environment sets it, so
-//! Open MPI does not start its runtime daemon (that takes ~1 s and a forked process for every test binary).
+//! Open MPI does not start its runtime daemon (a forked process and a noticeable start-up for every test binary).
 //! Running as root needs nothing for a singleton; mpirun itself refuses root without --allow-run-as-root (or
 //! OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1), which scripts/mpirun.sh adds.
 #include <cstddef>

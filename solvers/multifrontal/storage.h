@@ -97,8 +97,8 @@ class Mapping {
   bool on_file() const { return on_file_; }
   //! On a file: copies the `count` doubles at `from` (inside this mapping) to `out` with pread(), from the page
   //! cache or the disk, without mapping them into this process. Why: pages released from the mapping cost a
-  //! page fault each to map again, and on a virtual machine that is dear (a released 2 GB range read back at
-  //! 0.8 GB/s through the mapping, at 5-7 GB/s with pread). \throw Error when the read fails.
+  //! page fault each to map again, and on a virtual machine that is dear (pread was several times faster; the
+  //! measurement is in commit 90b63c7). \throw Error when the read fails.
   void read(const double* from, std::size_t count, double* out) const;
 
  private:
