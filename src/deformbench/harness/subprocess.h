@@ -54,7 +54,7 @@ struct CellOutcome {
 CellOutcome run_guarded_cell(const std::function<void()>& measure);
 
 //! Caps this process's address space (bytes; 0: no cap), so an underpredicted cell fails with bad_alloc
-//! instead of being OOM-killed.
+//! instead of being OOM-killed. No cap in an AddressSanitizer build (its shadow memory needs the address space).
 void limit_address_space(std::size_t bytes);
 
 }  // namespace db::harness
