@@ -3,6 +3,8 @@
 //   deformbench solvers                              the linear-solver backends, with what each accepts
 //   deformbench provenance                           what result rows record about this machine and build
 //   deformbench coat|transplant SOURCE TARGET --out FILE   the applications (apps/commands/)
+//   mpirun -np N deformbench deform <edit> --solver mumps ...   one edit on N ranks (MUMPS distributed; rank 0
+//                                                                prints and writes)
 // Options are checked before any work: a value out of range, an option the chosen method or backend does not use,
 // or an output that could not be written is a usage error (exit 1) before a mesh is read.
 #include <algorithm>
@@ -26,6 +28,7 @@
 #include "methods/deformer.h"
 #include "methods/drag.h"
 #include "operators/frames.h"
+#include "solvers/mumps_mpi.h"
 #include "systems/min_quad_with_fixed.h"
 
 namespace {
@@ -244,8 +247,19 @@ FrameMedians run_frames(Deformer& deformer, const Mat4& T, long long frames, Poi
   return {median(frame), median(rhs), median(solve), median(write), median(response), median(ortho)};
 }
 
+// Every rank's peak RSS on rank 0 (one entry without a launcher); collective under one.
+std::vector<double> rank_peak_rss(int ranks) {
+  return ranks > 1 ? mpi::gather_to_root(double(peak_rss_bytes())) : std::vector<double>{double(peak_rss_bytes())};
+}
+
+std::string joined(const std::vector<double>& v, double unit) {
+  std::string s;
+  for (double x : v) s += (s.empty() ? "" : " ") + fmt::format("{:.0f}", x / unit);
+  return s;
+}
+
 void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& deformer, long long frames,
-                  const FrameMedians& m) {
+                  const FrameMedians& m, const std::vector<double>& rss) {
   const PhaseTimes& t = deformer.times();
   fmt::print("mesh {} ({} vertices, {} faces), edit {}: {} fixed, {} free, {} handle\n", ec.mesh.name,
              ec.mesh.num_vertices(), ec.mesh.num_faces(), ec.edit.name, ec.edit.count(Role::Fixed),
@@ -279,11 +293,14 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
   fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",
              deformer.matrix_bytes() / 1e6, deformer.factor_bytes() / 1e6,
              t.factorize > 0 ? flops / 1e9 / t.factorize : 0.0, peak_rss_bytes() / 1e6);
+  if (rss.size() > 1)
+    fmt::print("{} ranks (MUMPS distributed; times are rank 0's) | peak RSS per rank MB: {} | max {:.1f} MB\n",
+               rss.size(), joined(rss, 1e6), *std::max_element(rss.begin(), rss.end()) / 1e6);
   fmt::print("{}\n", provenance_summary());
 }
 
 CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& deformer, long long frames,
-                   const FrameMedians& m) {
+                   const FrameMedians& m, const std::vector<double>& rss) {
   const PhaseTimes& t = deformer.times();
   const SystemReport& sys = deformer.systems().front();
   CsvTable csv;
@@ -315,13 +332,27 @@ CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& d
            {"response_bytes", std::to_string(deformer.response_bytes())},
            {"matrix_bytes", std::to_string(deformer.matrix_bytes())},
            {"factor_bytes", std::to_string(deformer.factor_bytes())},
-           {"peak_rss_bytes", std::to_string(peak_rss_bytes())}});
+           {"peak_rss_bytes", std::to_string(peak_rss_bytes())},
+           {"ranks", std::to_string(rss.size())},
+           {"peak_rss_rank_bytes", joined(rss, 1)}});
   return csv;
+}
+
+// Under a launcher with N > 1 ranks every rank runs the whole command (the same system on each); only the `mumps`
+// backend then works with the others (solvers/mumps_ranks_solver.cpp). Returns N (1 without a launcher).
+int check_ranks(const DeformArgs& a) {
+  const int ranks = mpi::launched() ? mpi::size() : 1;
+  if (ranks > 1 && backend(a) != "mumps")
+    throw UsageError(fmt::format("started on {} ranks: only --solver mumps runs distributed under mpirun; --solver {} "
+                                 "runs in one process (start it without mpirun)",
+                                 ranks, backend(a)));
+  return ranks;
 }
 
 int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   refuse_unused(d, a);
   check_backend(d, a);
+  const int ranks = check_ranks(a);
   const DeformOptions o = deform_options(a);
   // Outputs before any mesh is read: a run that could not write its results fails at once, not after the solve.
   const std::vector<std::string> inputs = edit_case_files(a.edit);
@@ -335,13 +366,15 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
   Points result;
   const FrameMedians m = run_frames(*deformer, ec.edit.transform, a.frames, result);
+  const std::vector<double> rss = rank_peak_rss(ranks);
+  if (ranks > 1 && mpi::rank() != 0) return 0;  // rank 0 prints and writes
 
   StagedOutputs outputs;  // the mesh and the CSV row land together or not at all
   Mesh deformed = ec.mesh;
   deformed.V = std::move(result);
   write_mesh(outputs.stage(a.out), deformed);
-  print_report(ec, o, *deformer, a.frames, m);
-  if (!a.csv.empty()) csv_table(ec, o, *deformer, a.frames, m).write(outputs.stage(a.csv));
+  print_report(ec, o, *deformer, a.frames, m, rss);
+  if (!a.csv.empty()) csv_table(ec, o, *deformer, a.frames, m, rss).write(outputs.stage(a.csv));
   outputs.commit();
   fmt::print("wrote {}{}\n", a.out, a.csv.empty() ? "" : " and " + a.csv);
   return 0;
@@ -379,7 +412,7 @@ int main(int argc, char** argv) {
   CLI::App* solvers = app.add_subcommand("solvers", "list the linear-solver backends and the orderings each accepts");
   CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");
   const std::vector<commands::Command> apps = {commands::add_coat(app), commands::add_transplant(app)};
-  return cli::run(app, argc, argv, [&] {
+  const int code = cli::run(app, argc, argv, [&] {
     for (const commands::Command& c : apps)
       if (c.app->parsed()) return c.run();
     if (deform->parsed()) return cmd_deform(*deform, a);
@@ -387,4 +420,7 @@ int main(int argc, char** argv) {
     if (prov->parsed()) return cmd_provenance();
     return 1;
   });
+  // A failure on some ranks would leave the others waiting in a collective call: end them all with its code.
+  if (code != 0 && mpi::launched() && mpi::size() > 1) mpi::abort_all(code);
+  return code;
 }

@@ -4,12 +4,14 @@
 #                                                           interleaved, ROUNDS times (default 2)
 #   scripts/mumps_ranks.sh analysis MESH OUT.csv ["NP..."]  MUMPS's analysis only on each NP ranks (default
 #                                                           "1 2 3 4 5 6 7 8"); rank 0 passes every entry
+#   scripts/mumps_ranks.sh threads MESH OUT.csv [ROUNDS]   mumps on 1 rank with every core's BLAS thread, on 1
+#                                                           rank with 1 BLAS thread, on 2 ranks, interleaved
 # Every run is one row of OUT.csv (rows appended in run order, one header). Threads: the one-process runs use
 # the machine's cores (BLAS and the multifrontal's threads); on N ranks each rank's BLAS gets cores/N threads, at
 # least 1, so the ranks share the cores rather than oversubscribe them. The 2-rank solutions are compared with
 # the multifrontal one of the same round (max_diff_vs_compare, units of the bounding-box diagonal).
 set -euo pipefail
-(($# >= 3)) || { sed -n 2,9p "$0" >&2; exit 1; }
+(($# >= 3)) || { sed -n 2,11p "$0" >&2; exit 1; }
 mode=$1 mesh=$2 out=$3
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 EXE=$ROOT/build/exp_mumps_ranks
@@ -18,12 +20,12 @@ cores=$(nproc)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 k=0
-row() { # NP ARGS...: one run into the next row file (NP 0: one process, no launcher)
+row() { # NP ARGS...: one run into the next row file (NP 0: one process, no launcher); BLAS_THREADS overrides
   local np=$1; shift
   k=$((k + 1))
-  local threads=$((cores / (np > 0 ? np : 1))); ((threads >= 1)) || threads=1
-  echo "[mumps_ranks.sh] np=$np $*" >&2
-  if ((np == 0)); then "$EXE" --mesh "$mesh" "$@" --csv "$tmp/$k.csv" >&2
+  local threads=${BLAS_THREADS:-$((cores / (np > 0 ? np : 1)))}; ((threads >= 1)) || threads=1
+  echo "[mumps_ranks.sh] np=$np blas_threads=$threads $* (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
+  if ((np == 0)); then OPENBLAS_NUM_THREADS=$threads "$EXE" --mesh "$mesh" "$@" --csv "$tmp/$k.csv" >&2
   else OPENBLAS_NUM_THREADS=$threads "$ROOT/scripts/mpirun.sh" "$np" "$EXE" --mesh "$mesh" "$@" --csv "$tmp/$k.csv" >&2
   fi
 }
@@ -33,6 +35,12 @@ case $mode in
       row 0 --solver multifrontal --positions "$tmp/mf.bin" --label "$(basename "$mesh" .off)"
       row 1 --compare "$tmp/mf.bin"
       row 2 --compare "$tmp/mf.bin"
+    done ;;
+  threads)
+    for ((r = 1; r <= ${4:-2}; ++r)); do
+      row 1
+      BLAS_THREADS=1 row 1
+      row 2
     done ;;
   analysis)
     for np in ${4:-1 2 3 4 5 6 7 8}; do row "$np" --analysis-only --input root; done ;;

@@ -28,8 +28,12 @@ std::unique_ptr<LinearSolver> make_umfpack(const SolverOptions& options);
 //! Conjugate gradients, Jacobi (`ichol` false) or incomplete-Cholesky preconditioned.
 std::unique_ptr<LinearSolver> make_cg(bool ichol, const SolverOptions& options);
 
-//! MUMPS's multifrontal LDL^T (symmetric positive definite) on this process; MPI initialized on first use.
+//! MUMPS's multifrontal LDL^T (symmetric positive definite) on this process; MPI initialized on first use. Under a
+//! launcher with more than one rank (mpi::launched(), mpi::size() > 1): make_mumps_on_ranks().
 std::unique_ptr<LinearSolver> make_mumps(const SolverOptions& options);
+//! MUMPS on every rank of MPI_COMM_WORLD behind the LinearSolver contract: every rank calls each phase with the
+//! same system and passes MUMPS its own share of the columns; every rank gets the solution.
+std::unique_ptr<LinearSolver> make_mumps_on_ranks(const SolverOptions& options);
 //! The orderings it accepts (SCOTCH's where Debian's ptscotch build of MUMPS is linked).
 std::vector<std::string> mumps_orderings();
 

@@ -40,6 +40,16 @@ void check_ooc_dir(const std::string& dir, const std::string& who) {
 
 }  // namespace
 
+const SpMat& upper_triangle(const SpMat& m, SpMat& storage) {
+  bool lower = false;
+  for (Index j = 0; j < m.outerSize() && !lower; ++j)
+    for (SpMat::InnerIterator it(m, j); it; ++it) lower = lower || it.row() > j;
+  if (!lower) return m;
+  storage = m.triangularView<Eigen::Upper>();
+  storage.makeCompressed();
+  return storage;
+}
+
 std::string error_text(int e, int i2) {
   switch (e) {
     case -1: return fmt::format("an error on process {}", i2);

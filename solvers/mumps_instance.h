@@ -36,6 +36,10 @@ namespace db::mumps {
 
 //! 1 / sqrt(d_k) for each diagonal entry, 1 for a non-positive one (its pivot fails anyway).
 std::vector<double> diagonal_scaling(const std::vector<double>& diagonal);
+//! `m` without its entries below the diagonal: `m` itself when it has none, else a copy in `storage`. The contract
+//! passes the upper triangle; MUMPS would add a mirrored entry to its twin, so anything below is dropped, as the
+//! other backends ignore it.
+const SpMat& upper_triangle(const SpMat& m, SpMat& storage);
 //! MUMPS's meaning of an error code INFOG(1) < 0, with INFOG(2) where it says more.
 std::string error_text(int infog1, int infog2);
 //! Name of an ordering MUMPS reports in INFOG(7) ("amd", "amf", "scotch", "pord", "metis", "qamd", "given").

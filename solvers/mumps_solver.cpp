@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "solvers/backends.h"
 #include "solvers/mumps_instance.h"
+#include "solvers/mumps_mpi.h"
 #include "solvers/ordering/graph_ordering.h"
 #include "solvers/solver_util.h"
 
@@ -27,7 +28,7 @@ class MumpsSolver final : public LinearSolver {
     check_square(upper_in, name());
     SpMat storage;
     const SpMat& input = compressed(upper_in, storage);
-    const SpMat& upper = upper_only(input);
+    const SpMat& upper = mumps::upper_triangle(input, lower_free_);
     mumps_ = std::make_unique<mumps::Instance>(MPI_COMM_SELF, options_, name());
     coordinates(upper);
     std::vector<int> perm_in;
@@ -49,7 +50,7 @@ class MumpsSolver final : public LinearSolver {
 
   void factorize(const SpMat& upper_in) override {
     SpMat storage;
-    const SpMat& upper = upper_only(prepare_factorize(*this, guard_, upper_in, storage));
+    const SpMat& upper = mumps::upper_triangle(prepare_factorize(*this, guard_, upper_in, storage), lower_free_);
     // The COO coordinates were laid out in the CSC order of this pattern (guarded): the values are passed as they
     // lie, without a copy.
     const DenseVec d = diagonal_of(upper);
@@ -76,18 +77,6 @@ class MumpsSolver final : public LinearSolver {
   FactorStats stats() const override { return stats_; }
 
  private:
-  //! The contract passes the upper triangle; MUMPS would add a mirrored entry to its twin, so anything below the
-  //! diagonal is dropped here (into lower_free_), as the other backends ignore it.
-  const SpMat& upper_only(const SpMat& m) {
-    bool lower = false;
-    for (Index j = 0; j < m.outerSize() && !lower; ++j)
-      for (SpMat::InnerIterator it(m, j); it; ++it) lower = lower || it.row() > j;
-    if (!lower) return m;
-    lower_free_ = m.triangularView<Eigen::Upper>();
-    lower_free_.makeCompressed();
-    return lower_free_;
-  }
-
   //! 1-based COO coordinates in CSC order.
   void coordinates(const SpMat& upper) {
     irn_.resize(std::size_t(upper.nonZeros()));
@@ -119,7 +108,7 @@ class MumpsSolver final : public LinearSolver {
   SolverOptions options_;
   std::unique_ptr<mumps::Instance> mumps_;
   std::vector<MUMPS_INT> irn_, jcn_;
-  SpMat lower_free_;
+  SpMat lower_free_;  //!< the input without what lies below its diagonal, when it had any
   PatternGuard guard_;
   FactorStats stats_;
 };
@@ -129,6 +118,8 @@ class MumpsSolver final : public LinearSolver {
 std::vector<std::string> backends::mumps_orderings() { return mumps::orderings(); }
 
 std::unique_ptr<LinearSolver> backends::make_mumps(const SolverOptions& options) {
+  // Under a launcher with several ranks every rank takes part (mumps_ranks_solver.cpp).
+  if (mpi::launched() && mpi::size() > 1) return make_mumps_on_ranks(options);
   return std::make_unique<MumpsSolver>(options);
 }
 

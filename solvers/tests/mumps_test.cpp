@@ -1,7 +1,8 @@
 // The mumps backend beyond the conformance suite: its pivot statistic against a dense LDL^T in MUMPS's own
 // elimination order, every ordering it accepts, the out-of-core factor and its files, MUMPS's errors explained;
-// and DistributedMumps, whose tests run on however many ranks started this binary: one under plain ctest (an MPI
-// singleton, initialized on first use), two in the ctest case solvers_mumps_2ranks (scripts/mpirun.sh 2).
+// and DistributedMumps and the `mumps` backend on ranks (MumpsOnRanks), whose tests run on however many ranks
+// started this binary: one under plain ctest (an MPI singleton, initialized on first use), two in the ctest case
+// solvers_mumps_2ranks (scripts/mpirun.sh 2). Under 2 ranks make_solver("mumps") is itself the backend on ranks.
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -348,6 +349,50 @@ TEST(DistributedMumps, OutOfCore) {
   }
   if (db::mpi::rank() == 0) {
     EXPECT_LT(rel(X[1], X[0]), 1e-12);
+  }
+}
+
+// The `mumps` backend of the registry on every rank at once (on one rank: one process): each rank passes the same
+// system, every rank gets the solution, equal to CHOLMOD's, for a given order and one MUMPS computes; the phases
+// run again after a refactorization; a solve before any factorization fails on every rank.
+TEST(MumpsOnRanks, EveryRankGetsTheSolution) {
+  const SpMat U = grid_system(23, 19, 3, 0.5);
+  const DenseMat B = DenseMat::Random(U.rows(), 2);  // the same on every rank (Eigen's fixed seed)
+  db::SolverOptions o;
+  o.block_size = 3;
+  const DenseMat Xref = solve_with("cholmod_supernodal", o, U, B);
+  for (const std::string ordering : {"natural", "default"}) {
+    SCOPED_TRACE(fmt::format("{} on {} ranks", ordering, db::mpi::size()));
+    o.ordering = ordering;
+    auto s = db::make_solver("mumps", o);
+    EXPECT_EQ(s->name(), "mumps");
+    DenseMat X;
+    EXPECT_THROW(s->solve(B, X), db::SolverError);
+    s->analyze(U);
+    for (int round = 0; round < 2; ++round) {
+      s->factorize(U);
+      s->solve(B, X);
+      EXPECT_LT(rel(X, Xref), 1e-10);
+    }
+    const db::FactorStats st = s->stats();
+    EXPECT_EQ(st.n, std::size_t(U.rows()));
+    EXPECT_GT(st.nnz_factor, std::size_t(U.rows()));
+    EXPECT_GT(st.min_pivot_ratio, 0);
+  }
+}
+
+// On several ranks, ranks that pass different matrices (here: the last passes the transposed grid's, the same size)
+// are refused together.
+TEST(MumpsOnRanks, DifferentMatricesAreRefused) {
+  if (db::mpi::size() < 2) GTEST_SKIP() << "needs 2 ranks (ctest solvers_mumps_2ranks)";
+  const bool last = db::mpi::rank() == db::mpi::size() - 1;
+  const SpMat U = last ? grid_system(19, 23, 1, 0.5) : grid_system(23, 19, 1, 0.5);
+  auto s = db::make_solver("mumps", {});
+  try {
+    s->analyze(U);
+    ADD_FAILURE() << "expected SolverError";
+  } catch (const db::SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("different matrices"), std::string::npos) << e.what();
   }
 }
 

@@ -1,0 +1,109 @@
+//! "mumps" under a launcher with more than one rank (make_mumps picks it): the LinearSolver contract on every
+//! rank of MPI_COMM_WORLD at once. Every rank runs the same caller (the deformers build the same system on each
+//! rank) and calls analyze / factorize / solve in the same order; each passes MUMPS only its share of K's columns
+//! (DistributedMumps, distributed assembled input), and every rank gets the solution (broadcast from rank 0), so
+//! the callers on all ranks go on in step.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "solvers/backends.h"
+#include "solvers/mumps_distributed.h"
+#include "solvers/mumps_instance.h"
+#include "solvers/mumps_mpi.h"
+#include "solvers/solver_util.h"
+
+namespace db {
+namespace {
+
+using namespace solver_util;
+
+class MumpsOnRanks final : public LinearSolver {
+ public:
+  explicit MumpsOnRanks(const SolverOptions& options) : options_(options) { check_options(options, name()); }
+
+  std::string name() const override { return "mumps"; }
+
+  void analyze(const SpMat& upper_in) override {
+    check_square(upper_in, name());
+    SpMat storage, lower_free;
+    const SpMat& input = compressed(upper_in, storage);
+    const SpMat& upper = mumps::upper_triangle(input, lower_free);
+    same_on_every_rank(upper);
+    const int b = options_.block_size > 1 && upper.cols() % options_.block_size == 0 ? options_.block_size : 1;
+    const long long blocks = upper.cols() / b, r = mpi::rank(), N = mpi::size();
+    c0_ = Index(b * (r * blocks / N));
+    c1_ = Index(b * ((r + 1) * blocks / N));
+    std::vector<int> rows, cols;
+    for (Index c = c0_; c < c1_; ++c)
+      for (SpMat::InnerIterator it(upper, c); it; ++it) {
+        rows.push_back(int(it.row()));
+        cols.push_back(int(c));
+      }
+    mumps_ = std::make_unique<DistributedMumps>(options_);
+    mumps_->analyze(upper.cols(), std::move(rows), std::move(cols));
+    guard_.remember(input);
+    factored_ = false;
+    stats_ = mumps_->stats();
+    stats_.factor_on_disk = !options_.factor_dir.empty();
+  }
+
+  void factorize(const SpMat& upper_in) override {
+    SpMat storage, lower_free;
+    const SpMat& upper = mumps::upper_triangle(prepare_factorize(*this, guard_, upper_in, storage), lower_free);
+    // The values of this rank's columns, in the order analyze() passed their coordinates.
+    const int* p = upper.outerIndexPtr();
+    std::vector<double> values(upper.valuePtr() + p[c0_], upper.valuePtr() + p[c1_]);
+    factored_ = false;
+    mumps_->factorize(std::move(values));
+    factored_ = true;
+    stats_ = mumps_->stats();
+  }
+
+  void solve(const DenseMat& B, DenseMat& X) override {
+    if (!factored_) throw SolverError("mumps: solve() before a successful factorize()");
+    check_rhs(B, Index(stats_.n), name());
+    // Rank 0's right-hand sides are solved (every rank's are the same); the solution is broadcast.
+    X = mpi::rank() == 0 ? B : DenseMat();
+    mumps_->solve(X);
+    std::vector<double> x(X.data(), X.data() + X.size());
+    mpi::broadcast(x);
+    X = Eigen::Map<const DenseMat>(x.data(), B.rows(), B.cols());
+  }
+
+  FactorStats stats() const override { return stats_; }
+
+ private:
+  //! Ranks that built different systems (another mesh, another order of the unknowns) would factor a mixture:
+  //! refused. Compared: the size and a hash of the pattern (each 32-bit half exact in a double).
+  static void same_on_every_rank(const SpMat& upper) {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+    const auto mix = [&h](const int* p, Index count) {
+      for (Index k = 0; k < count; ++k) h = (h ^ std::uint32_t(p[k])) * 1099511628211ull;
+    };
+    mix(upper.outerIndexPtr(), upper.cols() + 1);
+    mix(upper.innerIndexPtr(), upper.nonZeros());
+    for (const double v : {double(upper.cols()), double(h >> 32), double(h & 0xffffffffu)})
+      if (mpi::max_all(v) != mpi::min_all(v))
+        throw SolverError("mumps on ranks: the ranks passed different matrices (each rank must build the same "
+                          "system: the same input and the same order of the unknowns)");
+  }
+
+  SolverOptions options_;
+  std::unique_ptr<DistributedMumps> mumps_;
+  Index c0_ = 0, c1_ = 0;  //!< this rank's columns
+  bool factored_ = false;
+  PatternGuard guard_;
+  FactorStats stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> backends::make_mumps_on_ranks(const SolverOptions& options) {
+  return std::make_unique<MumpsOnRanks>(options);
+}
+
+}  // namespace db

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# `deformbench deform --solver mumps` on 2 ranks of this machine (scripts/mpirun.sh: oversubscribed, as root too),
+# end to end: the BS08 cylinder's LAP and TF edits; the mesh rank 0 writes must equal the single-process
+# multifrontal one to 1e-8 of the bounding-box diagonal, its CSV row names 2 ranks and each rank's peak RSS, and
+# rank 0 alone prints the report (with its per-rank line). Another backend under 2 ranks is refused (exit 1).
+#   mumps_deform_test.sh SOURCE_DIR BUILD_DIR
+set -u
+SRC=$1
+EXE=$2/deformbench
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+cd "$SRC" || exit 1
+fails=0
+fail() { echo "FAIL $*"; fails=$((fails + 1)); }
+ok() { echo "ok   $*"; }
+export OPENBLAS_NUM_THREADS=1
+E=data/bs08/cylinder
+
+# Largest vertex difference of two OFF meshes over the first one's bounding-box diagonal.
+diff_off() {
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import sys
+import numpy as np
+def verts(p):
+    t = open(p).read().split()
+    nv = int(t[1])
+    return np.array(t[4:4 + 3 * nv], dtype=float).reshape(nv, 3)
+a, b = verts(sys.argv[1]), verts(sys.argv[2])
+assert a.shape == b.shape, (a.shape, b.shape)
+print(np.abs(a - b).max() / np.linalg.norm(a.max(0) - a.min(0)))
+PY
+}
+
+for m in lap tf; do
+  "$EXE" deform $E --method $m --solver multifrontal --out "$T/mf_$m.off" >"$T/mf.out" 2>&1 ||
+    { fail "$m multifrontal: $(tail -c 300 "$T/mf.out")"; continue; }
+  scripts/mpirun.sh 2 "$EXE" deform $E --method $m --solver mumps --frames 2 --out "$T/r2_$m.off" \
+    --csv "$T/r2_$m.csv" >"$T/r2.out" 2>&1 || { fail "$m 2 ranks: $(tail -c 400 "$T/r2.out")"; continue; }
+  d=$(diff_off "$T/mf_$m.off" "$T/r2_$m.off")
+  /usr/bin/python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) <= 1e-8 else 1)" "$d" &&
+    ok "$m: 2 ranks = multifrontal to $d of the diagonal (<= 1e-8)" || fail "$m: 2 ranks differ by $d"
+  [ "$(grep -c '^build .* | init ' "$T/r2.out")" = 1 ] && grep -q "^2 ranks .* peak RSS per rank MB: [0-9]* [0-9]*" "$T/r2.out" &&
+    ok "$m: rank 0 alone prints, with each rank's peak RSS" || fail "$m: report: $(head -c 600 "$T/r2.out")"
+  /usr/bin/python3 - "$T/r2_$m.csv" <<'PY' && ok "$m: the row names 2 ranks, both RSS, provenance" || fail "$m: CSV row"
+import csv, sys
+r = list(csv.DictReader(open(sys.argv[1])))
+sys.exit(0 if len(r) == 1 and r[0]["ranks"] == "2" and len(r[0]["peak_rss_rank_bytes"].split()) == 2
+         and r[0]["backend"] == "mumps" and r[0].get("git_sha") else 1)
+PY
+done
+scripts/mpirun.sh 2 "$EXE" deform $E --method tf --solver multifrontal --out "$T/no.off" >"$T/s.out" 2>&1
+[ $? -eq 1 ] && grep -q "only --solver mumps runs distributed" "$T/s.out" && [ ! -e "$T/no.off" ] &&
+  ok "another backend under 2 ranks refused (exit 1)" || fail "multifrontal under 2 ranks: $(tail -c 300 "$T/s.out")"
+scripts/mpirun.sh 2 "$EXE" deform $E.nope --solver mumps --out "$T/no.off" >"$T/b.out" 2>&1
+rc=$?
+[ $rc -ne 0 ] && [ ! -e "$T/no.off" ] && ok "bad input under 2 ranks fails on every rank (exit $rc)" ||
+  fail "bad input under 2 ranks: exit $rc: $(tail -c 300 "$T/b.out")"
+
+if ((fails)); then echo "$fails failure(s)"; exit 1; fi
+echo "all passed"
