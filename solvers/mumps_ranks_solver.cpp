@@ -51,16 +51,15 @@ class MumpsOnRanks final : public LinearSolver {
     stats_.factor_on_disk = !options_.factor_dir.empty();
   }
 
-  void factorize(const SpMat& upper_in) override {
-    SpMat storage, lower_free;
-    const SpMat& upper = mumps::upper_triangle(prepare_factorize(*this, guard_, upper_in, storage), lower_free);
-    // The values of this rank's columns, in the order analyze() passed their coordinates.
-    const int* p = upper.outerIndexPtr();
-    std::vector<double> values(upper.valuePtr() + p[c0_], upper.valuePtr() + p[c1_]);
-    factored_ = false;
-    mumps_->factorize(std::move(values));
-    factored_ = true;
-    stats_ = mumps_->stats();
+  void factorize(const SpMat& upper_in) override { factorize_values(own_values(upper_in)); }
+
+  //! Each rank drops the whole matrix as soon as its share of the values is copied, before MUMPS factors: the
+  //! rank's peak then holds its share and its part of the factor, not the whole matrix besides.
+  void factorize_consuming(SpMat& upper) override {
+    const ClearOnExit clear{upper};
+    std::vector<double> values = own_values(upper);
+    upper = SpMat();
+    factorize_values(std::move(values));
   }
 
   void solve(const DenseMat& B, DenseMat& X) override {
@@ -77,6 +76,22 @@ class MumpsOnRanks final : public LinearSolver {
   FactorStats stats() const override { return stats_; }
 
  private:
+  //! The values of this rank's columns, in the order analyze() passed their coordinates (analyzing first when
+  //! nothing was; the pattern checked against the analyzed one, the values finite).
+  std::vector<double> own_values(const SpMat& upper_in) {
+    SpMat storage, lower_free;
+    const SpMat& upper = mumps::upper_triangle(prepare_factorize(*this, guard_, upper_in, storage), lower_free);
+    const int* p = upper.outerIndexPtr();
+    return std::vector<double>(upper.valuePtr() + p[c0_], upper.valuePtr() + p[c1_]);
+  }
+
+  void factorize_values(std::vector<double> values) {
+    factored_ = false;
+    mumps_->factorize(std::move(values));
+    factored_ = true;
+    stats_ = mumps_->stats();
+  }
+
   //! Ranks that built different systems (another mesh, another order of the unknowns) would factor a mixture:
   //! refused. Compared: the size and a hash of the pattern (each 32-bit half exact in a double).
   static void same_on_every_rank(const SpMat& upper) {

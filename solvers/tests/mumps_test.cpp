@@ -353,8 +353,8 @@ TEST(DistributedMumps, OutOfCore) {
 }
 
 // The `mumps` backend of the registry on every rank at once (on one rank: one process): each rank passes the same
-// system, every rank gets the solution, equal to CHOLMOD's, for a given order and one MUMPS computes; the phases
-// run again after a refactorization; a solve before any factorization fails on every rank.
+// system, every rank gets the solution, equal to CHOLMOD's, for a given order and one MUMPS computes, again after
+// a refactorization that consumes the matrix; a solve before any factorization fails on every rank.
 TEST(MumpsOnRanks, EveryRankGetsTheSolution) {
   const SpMat U = grid_system(23, 19, 3, 0.5);
   const DenseMat B = DenseMat::Random(U.rows(), 2);  // the same on every rank (Eigen's fixed seed)
@@ -369,8 +369,11 @@ TEST(MumpsOnRanks, EveryRankGetsTheSolution) {
     DenseMat X;
     EXPECT_THROW(s->solve(B, X), db::SolverError);
     s->analyze(U);
-    for (int round = 0; round < 2; ++round) {
-      s->factorize(U);
+    for (int round = 0; round < 2; ++round) {  // the second consumes its matrix
+      SpMat consumed = U;
+      if (round == 0) s->factorize(U);
+      else s->factorize_consuming(consumed);
+      EXPECT_EQ(consumed.nonZeros(), round == 0 ? U.nonZeros() : 0);
       s->solve(B, X);
       EXPECT_LT(rel(X, Xref), 1e-10);
     }
