@@ -52,12 +52,6 @@ SpMat tf_like(int nx, int ny, std::mt19937& rng, double shift = 0) {
   return K;
 }
 
-SpMat upper_of(const SpMat& full) {
-  SpMat U = full.triangularView<Eigen::Upper>();
-  U.makeCompressed();
-  return U;
-}
-
 //! Column j of the chunk equals column j of the whole lower triangle, rows and values.
 void expect_columns(const MatrixChunk& M, const SpMat& lower, int c0, int c1) {
   for (int j = c0; j < c1; ++j) {
@@ -73,7 +67,8 @@ void expect_columns(const MatrixChunk& M, const SpMat& lower, int c0, int c1) {
 TEST(MatrixChunk, RunsHoldTheLowerTriangle) {
   std::mt19937 rng(7);
   // The analysis' natural order keeps the matrix as given; its supernodes are those of the factorization.
-  const SpMat upper = upper_of(tf_like(40, 30, rng));  // 3600 unknowns: runs of several supernodes, and more than one
+  // 3600 unknowns: runs of several supernodes, and more than one run.
+  const SpMat upper = tf_like(40, 30, rng).triangularView<Eigen::Upper>();
   const db::multifrontal::Symbolic S = db::multifrontal::analyze_blocks(upper, 3, "natural");
   const SpMat lower = upper.transpose();
   const std::vector<int> counts = MatrixChunk::lower_counts(upper);
@@ -99,7 +94,7 @@ TEST(MatrixChunk, RunsHoldTheLowerTriangle) {
 TEST(MatrixChunk, MultifrontalMatchesSimplicialOnSeveralRuns) {
   std::mt19937 rng(11);
   const SpMat full = tf_like(36, 30, rng, 0.1);  // 3240 unknowns; shifted: well conditioned
-  const SpMat upper = upper_of(full);
+  const SpMat upper = full.triangularView<Eigen::Upper>();
   DenseMat B = DenseMat::Random(full.rows(), 3);
   Eigen::SimplicialLLT<SpMat, Eigen::Upper> ref(upper);
   ASSERT_EQ(ref.info(), Eigen::Success);
