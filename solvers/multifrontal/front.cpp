@@ -64,7 +64,7 @@ void FrontFactorization::assemble_child(int c, int p, Workspace& ws, Part part) 
 //! product has written it (beta = 0), so it is never zero-filled: that fill was a visible part of the
 //! extend-add time. Mapped update matrices come zeroed from the kernel anyway: they take the children whole
 //! first, so that the largest children's matrices are not kept any longer.
-bool FrontFactorization::factor_supernode(const SpMat& A, int s, Workspace& ws) {
+bool FrontFactorization::factor_supernode(const MatrixChunk& M, int s, Workspace& ws) {
   const int nr = S_.nrows(s) - S_.ncols(s);
   const FactorBlock L = block(s);
   const int* kids = S_.child.data() + S_.cptr[std::size_t(s)];
@@ -73,7 +73,7 @@ bool FrontFactorization::factor_supernode(const SpMat& A, int s, Workspace& ws) 
   const bool fresh_heap = nr > 0 && !updates_[std::size_t(s)] && !UpdateBlock::mapped(nr);
   for (int q = 0; q < nkids; ++q)
     if (updates_[std::size_t(kids[q])]) assemble_child(kids[q], s, ws, fresh_heap ? kPivot : kBoth);
-  add_matrix_entries(A, s, L, ws);
+  add_matrix_entries(M, s, L, ws);
   if (!factor_panels(s, L, ws)) return false;
   if (nr > 0) {
     form_update(s, L, fresh_heap);
@@ -84,23 +84,18 @@ bool FrontFactorization::factor_supernode(const SpMat& A, int s, Workspace& ws) 
   return true;
 }
 
-//! Matrix entries A(i, j), j in supernode s, i >= j: the upper triangle holds them as A(j, i) in column i, and
-//! every such i is a row of the front.
-void FrontFactorization::add_matrix_entries(const SpMat& A, int s, const FactorBlock& L, Workspace& ws) const {
+//! Matrix entries A(i, j), j in supernode s, i >= j: every such i is a row of the front.
+void FrontFactorization::add_matrix_entries(const MatrixChunk& M, int s, const FactorBlock& L, Workspace& ws) const {
   const int f = S_.col0[std::size_t(s)], nc = S_.ncols(s), m = S_.nrows(s);
   const int* R = S_.rows.data() + S_.rptr[std::size_t(s)];
   for (int k = 0; k < m; ++k) ws.map[std::size_t(R[k])] = k;
-  const int* Ap = A.outerIndexPtr();
-  const int* Ai = A.innerIndexPtr();
-  const double* Ax = A.valuePtr();
-  for (int k = 0; k < m; ++k) {
-    const int i = R[k];
-    const int* b = Ai + Ap[i];
-    const int* e = Ai + Ap[i + 1];
-    const int last = std::min(i, f + nc - 1);
-    for (const int* p = std::lower_bound(b, e, f); p != e && *p <= last; ++p) {
-      const FrontColumn col = front_column(L, *p - f);
-      (k < col.split ? col.tri[k] : col.rect[k - col.split]) += Ax[p - Ai];
+  for (int j = f; j < f + nc; ++j) {
+    const FrontColumn col = front_column(L, j - f);
+    const int* rows = M.rows(j);
+    const double* values = M.values(j);
+    for (int t = 0, e = M.count(j); t < e; ++t) {
+      const int k = ws.map[std::size_t(rows[t])];
+      (k < col.split ? col.tri[k] : col.rect[k - col.split]) += values[t];
     }
   }
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "solvers/multifrontal/matrix_chunk.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
 
@@ -34,8 +35,8 @@ class FrontFactorization {
   FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots, std::size_t pool_bytes = 0);
 
   //! Assembles and factors the front of supernode s and forms its update matrix; false (and failed_column()
-  //! set) when a pivot is not positive.
-  bool factor_supernode(const SpMat& A, int s, Workspace& ws);
+  //! set) when a pivot is not positive. `M`: a run of supernodes' matrix entries that holds s's.
+  bool factor_supernode(const MatrixChunk& M, int s, Workspace& ws);
   //! Extend-add of `part` of child c's update matrix into supernode p's factor block and update matrix (with
   //! kUpdate, p's update matrix is allocated zeroed here if it has none yet); frees the child's matrix once
   //! nothing of it is left to move. The caller makes sure no other thread works on p meanwhile.
@@ -48,7 +49,7 @@ class FrontFactorization {
 
  private:
   FactorBlock block(int s) const { return {values_ + S_.xptr[std::size_t(s)], S_.nrows(s), S_.ncols(s)}; }
-  void add_matrix_entries(const SpMat& A, int s, const FactorBlock& L, Workspace& ws) const;
+  void add_matrix_entries(const MatrixChunk& M, int s, const FactorBlock& L, Workspace& ws) const;
   bool factor_panels(int s, const FactorBlock& L, Workspace& ws);
   void form_update(int s, const FactorBlock& L, bool fresh_heap);
 

@@ -59,7 +59,7 @@ class MultifrontalSolver final : public LinearSolver {
   //! `consumed`: the caller's matrix (the same object as upper_in), whose memory may be handed back as the
   //! factorization no longer needs it; null to leave the matrix alone.
   void factorize_impl(const SpMat& upper_in, SpMat* consumed);
-  //! Upper triangle of P A P^T with sorted columns (the front assembly searches them).
+  //! Upper triangle of P A P^T with sorted columns (MatrixChunk searches them).
   SpMat permuted(const SpMat& given) const;
   //! Factors every supernode of A by factor_plan_ into values_; false when a pivot failed (fronts says where).
   bool factor_tree(const SpMat& A, bool may_release, FrontFactorization& fronts);
@@ -186,13 +186,19 @@ SpMat MultifrontalSolver::permuted(const SpMat& given) const {
 bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFactorization& fronts) {
   std::atomic<bool> ok{true};
   std::mutex top_mutex;
+  const std::vector<int> counts = MatrixChunk::lower_counts(A);
   run_subtrees(factor_plan_.subtrees.size(), [&](std::size_t t) {
     Workspace ws(S_.n);
+    MatrixChunk chunk;
     ColumnRelease release(A, may_release);
     for (int root : factor_plan_.subtrees[t]) {
       release.start(S_.col0[std::size_t(S_.first[std::size_t(root)])]);
-      for (int s = S_.first[std::size_t(root)]; s <= root; ++s) {
-        if (!ok.load(std::memory_order_relaxed) || !fronts.factor_supernode(A, s, ws)) {
+      for (int s = S_.first[std::size_t(root)], loaded = -1; s <= root; ++s) {
+        if (s > loaded) {
+          loaded = MatrixChunk::run_end(S_, s, root);
+          chunk.load(A, counts, S_, s, loaded);
+        }
+        if (!ok.load(std::memory_order_relaxed) || !fronts.factor_supernode(chunk, s, ws)) {
           ok = false;
           return;
         }
@@ -211,10 +217,12 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
   if (!ok) return false;
   fronts.close_pool();
   Workspace ws(S_.n);
+  MatrixChunk chunk;
   ColumnRelease release(A, may_release);
   for (int s : factor_plan_.top) {
     release.start(S_.col0[std::size_t(s)]);
-    if (!fronts.factor_supernode(A, s, ws)) return false;
+    chunk.load(A, counts, S_, s, s);
+    if (!fronts.factor_supernode(chunk, s, ws)) return false;
     release_block(s);
     release.dead_before(S_.col0[std::size_t(s) + 1], true);
   }
