@@ -71,7 +71,7 @@ NamedValues coat_measures(const Coating& coating, const CoatedTarget& t, const M
              (t.result.V - target.V).rowwise().norm().maxCoeff());
   add_soundness(v, target, t.result);
   // core: the vertices whose detail error is measured (coat: the patch's interior); coat joins nothing
-  v.insert(v.end(), {{"band_faces", 0.0}, {"welded", 0.0}, {"rho", 1.0}, {"total_s", total_s},
+  v.insert(v.end(), {{"band_faces", 0.0}, {"welded", 0.0}, {"band_by_diagonal", 0.0}, {"rho", 1.0}, {"total_s", total_s},
                      {"detail_scale", t.scale}, {"detail_error", t.detail_error},
                      {"core_vertices", static_cast<double>(t.patch.num_vertices() - t.patch.boundary.size())}});
   return v;
@@ -86,7 +86,8 @@ NamedValues transplant_measures(const Transplant& t, const Mesh& target, double 
              (t.result.V - t.placed).rowwise().norm().maxCoeff());
   add_soundness(v, target, t.result);
   // core: the source vertices with blend 1, whose detail error is measured
-  v.insert(v.end(), {{"band_faces", t.band_faces}, {"welded", t.welded ? 1.0 : 0.0}, {"rho", t.rho},
+  v.insert(v.end(), {{"band_faces", t.band_faces}, {"welded", t.welded ? 1.0 : 0.0},
+                     {"band_by_diagonal", t.band_by_diagonal ? 1.0 : 0.0}, {"rho", t.rho},
                      {"total_s", total_s}, {"detail_scale", t.scale}, {"detail_error", t.detail_error},
                      {"core_vertices", t.core_vertices}});
   return v;

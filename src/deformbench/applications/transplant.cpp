@@ -11,6 +11,7 @@
 #include "applications/zipper.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "operators/frames.h"
 
 namespace db {
 namespace {
@@ -65,24 +66,24 @@ double loop_angle(const UV& uv, int v) {
   return a < 0 ? a + 2 * M_PI : a;
 }
 
-ZipperLoop zipper_loop(const DiskPatch& p, const UV& uv, const std::vector<int>& result_id) {
+ZipperLoop zipper_loop(const DiskPatch& p, const UV& uv, const std::vector<int>& result_id, const Points& at) {
   ZipperLoop l;
   for (int v : p.boundary) {
     l.ids.push_back(result_id[v]);
     l.angle.push_back(loop_angle(uv, v));
   }
+  l.at.resize(static_cast<Eigen::Index>(l.ids.size()), 3);
+  for (std::size_t k = 0; k < l.ids.size(); ++k) l.at.row(static_cast<Eigen::Index>(k)) = at.row(l.ids[k]);
   return l;
 }
 
-// The joined mesh's vertex numbering and faces (kept target faces, source faces, band); positions left to fill.
-void join(Transplant& t, const Mesh& target, const UV& uv_t, const UV& uv_s) {
+// The joined mesh's vertex numbering: the target's vertices outside the region's interior, then the source
+// patch's (its boundary onto the hole's loop when welded).
+void number_vertices(Transplant& t, const Mesh& target, std::vector<int>& new_id) {
   const DiskPatch &p = t.patch, &s = t.source_patch;
-  std::vector<char> removed(static_cast<std::size_t>(target.num_vertices()), 0), in_patch(removed);
-  for (int l = 0; l < p.num_vertices(); ++l) {
-    in_patch[p.parent[l]] = 1;
-    removed[p.parent[l]] = !p.on_boundary[l];
-  }
-  std::vector<int> new_id(static_cast<std::size_t>(target.num_vertices()), -1);
+  std::vector<char> removed(static_cast<std::size_t>(target.num_vertices()), 0);
+  for (int l = 0; l < p.num_vertices(); ++l) removed[p.parent[l]] = !p.on_boundary[l];
+  new_id.assign(static_cast<std::size_t>(target.num_vertices()), -1);
   for (int v = 0; v < target.num_vertices(); ++v)
     if (!removed[v]) {
       new_id[v] = static_cast<int>(t.kept.size());
@@ -95,19 +96,42 @@ void join(Transplant& t, const Mesh& target, const UV& uv_t, const UV& uv_s) {
   int next = t.kept_vertices;
   for (int& r : t.source_in_result)
     if (r < 0) r = next++;
+  t.result.V.resize(next, 3);
+  t.result.name = target.name + "_transplant";
+}
+
+// The band between the hole's loop (outer) and the source's boundary (inner), zippered in the target's shape `Xt`
+// (positions on the joined mesh): by parameter angle, or, with the target's normals along the hole's loop, by
+// the shorter diagonal avoiding folds (applications/zipper.h).
+Faces band_faces(const Transplant& t, const Mesh& target, const UV& uv_t, const UV& uv_s,
+                 const std::vector<int>& new_id, const Points& Xt, bool by_diagonal) {
+  const DiskPatch& p = t.patch;
+  std::vector<int> outer_id(static_cast<std::size_t>(p.num_vertices()), -1);
+  for (int l : p.boundary) outer_id[l] = new_id[p.parent[l]];
+  ZipperLoop outer = zipper_loop(p, uv_t, outer_id, Xt);
+  if (by_diagonal) {
+    const Points N = vertex_normals(target.V, target.F);
+    outer.normal.resize(outer.at.rows(), 3);
+    for (std::size_t k = 0; k < p.boundary.size(); ++k)
+      outer.normal.row(static_cast<Eigen::Index>(k)) = N.row(p.parent[p.boundary[k]]);
+  }
+  return zipper_band(outer, zipper_loop(t.source_patch, uv_s, t.source_in_result, Xt));
+}
+
+// The joined mesh's faces: the target's outside the region, the source patch's, then the band.
+void join_faces(Transplant& t, const Mesh& target, const std::vector<int>& new_id, const Faces& band) {
+  std::vector<char> in_patch(static_cast<std::size_t>(target.num_vertices()), 0);
+  for (int v : t.patch.parent) in_patch[v] = 1;
   std::vector<int> faces;
   for (int f = 0; f < target.num_faces(); ++f) {
     const auto c = target.F.row(f);
     if (in_patch[c(0)] && in_patch[c(1)] && in_patch[c(2)]) continue;  // a region face: cut out
-    if (removed[c(0)] || removed[c(1)] || removed[c(2)])
+    if (new_id[c(0)] < 0 || new_id[c(1)] < 0 || new_id[c(2)] < 0)
       throw InputError(fmt::format("target face {} touches the region's interior from outside it: the region's "
                                    "neighbourhood is not manifold", f));
     faces.push_back(f);
   }
-  std::vector<int> outer_id(static_cast<std::size_t>(p.num_vertices()), -1);
-  for (int l : p.boundary) outer_id[l] = new_id[p.parent[l]];
-  const Faces band = t.welded ? Faces(0, 3) : zipper_band(zipper_loop(p, uv_t, outer_id),
-                                                          zipper_loop(s, uv_s, t.source_in_result));
+  const DiskPatch& s = t.source_patch;
   t.band_faces = static_cast<int>(band.rows());
   Faces& F = t.result.F;
   F.resize(static_cast<Eigen::Index>(faces.size()) + s.mesh.num_faces() + band.rows(), 3);
@@ -116,8 +140,6 @@ void join(Transplant& t, const Mesh& target, const UV& uv_t, const UV& uv_s) {
   for (int f = 0; f < s.mesh.num_faces(); ++f)
     for (int c = 0; c < 3; ++c) F(r + f, c) = t.source_in_result[s.mesh.F(f, c)];
   F.bottomRows(band.rows()) = band;
-  t.result.V.resize(next, 3);
-  t.result.name = target.name + "_transplant";
 }
 
 // Positions on the joined mesh: the kept target's own, and per source vertex `src` (a row per patch vertex).
@@ -138,16 +160,30 @@ double smoothstep(double x) {
 
 namespace {
 
-// Places the source: first onto the hole's own loop (rho = 1), welding when the loops coincide; otherwise at
-// the inner ring's radius. `shape` gets the target surface at each source vertex's (scaled) parameter point.
-void place(Transplant& t, const UV& uv_t, const UV& uv_s, Points& placed, Points& shape) {
-  shape = surface_at(t.patch, uv_t, uv_s);
+// Places the source at parameter radius rho: `shape` gets the target surface at each source vertex's scaled
+// parameter point, `placed` the source moved by the similarity that fits its boundary onto `shape`'s.
+void place_at(Transplant& t, const UV& uv_t, const UV& uv_s, double rho, Points& placed, Points& shape) {
+  t.rho = rho;
+  shape = surface_at(t.patch, uv_t, rho * uv_s);
   placed = place_source(t.source_patch, shape, t.scale);
-  t.welded = loops_coincide(t, placed);
-  if (t.welded) return;
-  t.rho = inner_ring_radius(t.patch, uv_t);
-  shape = surface_at(t.patch, uv_t, t.rho * uv_s);
-  placed = place_source(t.source_patch, shape, t.scale);
+}
+
+// Joins with the band zippered by angle, unless the one zippered by the shorter diagonal has a smaller largest
+// dihedral angle along it in the target's shape: the angle's order follows the parameterization, which near a
+// staircase of the hole's loop folds the band in space; the diagonal's follows the geometry.
+void join_with_band(Transplant& t, const Mesh& target, const UV& uv_t, const UV& uv_s,
+                    const std::vector<int>& new_id, const Points& Xt) {
+  double best = 0;
+  for (bool by_diagonal : {false, true}) {
+    const Faces band = band_faces(t, target, uv_t, uv_s, new_id, Xt, by_diagonal);
+    join_faces(t, target, new_id, band);
+    const double angle = band_angles(Mesh{Xt, t.result.F, ""}, t.result.num_faces() - t.band_faces).max_deg;
+    if (!by_diagonal || angle < best) {
+      best = angle;
+      t.band_by_diagonal = by_diagonal;
+    }
+  }
+  if (!t.band_by_diagonal) join_faces(t, target, new_id, band_faces(t, target, uv_t, uv_s, new_id, Xt, false));
 }
 
 // Detail error over the source vertices with blend 1 (against `wanted`, the placed source's Laplacian
@@ -180,16 +216,21 @@ void measure(Transplant& t, const Mesh& target, const Points& wanted, const Adja
 Transplant transplant_patch(const Mesh& source, const std::vector<int>& source_region, const Mesh& target,
                             const std::vector<int>& target_region, const TransplantOptions& options) {
   Transplant out;
-  out.source_patch = extract_disk_patch(source, source_region, "source");
-  out.patch = extract_disk_patch(target, target_region, "target");
+  out.source_patch = extract_disk_patch(source, trim_ears(source, source_region), "source");
+  out.patch = extract_disk_patch(target, trim_ears(target, target_region), "target");
   Timer t;
   const UV uv_s = tutte_parameterization(out.source_patch), uv_t = tutte_parameterization(out.patch);
   out.parameterize_s = t.seconds();
   t.reset();
   Points placed, shape;
-  place(out, uv_t, uv_s, placed, shape);
-  join(out, target, uv_t, uv_s);
+  place_at(out, uv_t, uv_s, 1.0, placed, shape);  // onto the hole's own loop: welded when they coincide
+  out.welded = loops_coincide(out, placed);
+  std::vector<int> new_id;
+  number_vertices(out, target, new_id);
+  if (!out.welded) place_at(out, uv_t, uv_s, inner_ring_radius(out.patch, uv_t), placed, shape);
   const Points Xs = joined_positions(out, target, placed), Xt = joined_positions(out, target, shape);
+  if (out.welded) join_faces(out, target, new_id, Faces(0, 3));
+  else join_with_band(out, target, uv_t, uv_s, new_id, Xt);
   const Adjacency adj = vertex_adjacency(out.result);
   const Points Ls = uniform_delta(Mesh{Xs, out.result.F, ""}, adj), Lt = uniform_delta(Mesh{Xt, out.result.F, ""}, adj);
   // The target's shape everywhere, the source's blended in over the source's vertices.

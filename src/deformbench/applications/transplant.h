@@ -38,6 +38,7 @@ struct Transplant {
   std::vector<int> source_in_result;  //!< source patch vertex -> result vertex
   int kept_vertices = 0, band_faces = 0;
   bool welded = false;            //!< the loops coincided and were welded (no band)
+  bool band_by_diagonal = false;  //!< the band was zippered by the shorter diagonal (else by parameter angle)
   double rho = 1;                 //!< the parameter radius the source patch was placed at
   Points placed;                  //!< per result vertex: the start (kept target, source placed by the similarity)
   std::vector<double> blend;      //!< per source patch vertex: the source's share of its Laplacian coordinates
