@@ -1,14 +1,16 @@
 // The LSE report's two other applications on bundled data (data/experiments/applications.toml): coating transfer
 // (the BS08 plane's bumps onto the CGAL bunny and a procedural plane) and transplanting (a bump of the BS08 plane
-// grafted onto the bunny; a patch grafted back where it was cut, which must leave the surface as it was). One row
+// grafted onto the bunny; a fine bumpy patch onto a coarse plane; a patch grafted back where it was cut, which
+// must leave the surface as it was). One row
 // per case: sizes, phase times, detail preservation, boundary continuity (applications/application_measures.h)
 // and the cell's peak RSS; each case is a cell (kind "application") in a fresh child process. With --meshes the
-// cells write CASE__{source,target,result}.ply and CASE__{source_patch,patch}.txt (the vertex ids of the source
-// and target patches) for plots/render_app.py.
+// cells write CASE__{source,target,result}.ply and CASE__{source_patch,patch,result_patch}.txt (the vertex ids of
+// the source and target patches, and of the transferred or grafted part of the result) for plots/render_app.py.
 //
 // Cases, "NAME: APP key=value ..." with APP coat or transplant; keys source=, target= (a mesh path relative to
 // --data, or plane:NX:NY:SIZE:HEIGHT:BUMPS), source_region=, target_region= (the selection forms of .edit files,
 // default all), smooth_weight=, amplitude= (coat), zone= (transplant). A case whose mesh is absent is skipped.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -110,8 +112,9 @@ void write_ids(const std::string& path, const std::vector<int>& ids) {
   if (!out) throw Error("cannot write " + path);
 }
 
+// `result_patch`: the result's vertices that the render colours as the transferred or grafted part.
 void write_meshes(const CellSpec& s, const Mesh& source, const Mesh& target, const Mesh& result, const DiskPatch& sp,
-                  const DiskPatch& p) {
+                  const DiskPatch& p, const std::vector<int>& result_patch) {
   const fs::path dir = s.get("meshes");
   const std::string stem = (dir / s.get("name")).string() + "__";
   write_mesh(stem + "source.ply", source);
@@ -119,6 +122,15 @@ void write_meshes(const CellSpec& s, const Mesh& source, const Mesh& target, con
   write_mesh(stem + "result.ply", result);
   write_ids(stem + "patch.txt", p.parent);
   write_ids(stem + "source_patch.txt", sp.parent);
+  write_ids(stem + "result_patch.txt", result_patch);
+}
+
+// The graft in the result: the source patch's vertices and the hole's loop (so the band's faces count too).
+std::vector<int> graft_vertices(const Transplant& t) {
+  std::vector<int> ids = t.source_in_result;
+  for (int l : t.patch.boundary)  // kept is ascending in the target's ids
+    ids.push_back(static_cast<int>(std::lower_bound(t.kept.begin(), t.kept.end(), t.patch.parent[l]) - t.kept.begin()));
+  return ids;
 }
 
 CellResult measure_application(const CellSpec& s) {
@@ -137,14 +149,14 @@ CellResult measure_application(const CellSpec& s) {
     const CoatedTarget res = transfer_coating(c, target, tr, o);
     for (const auto& [k, v] : coat_measures(c, res, target, t.seconds())) r.set(k, v);
     r.set_text("backend", res.solve.system.backend);
-    if (s.has("meshes")) write_meshes(s, source, target, res.result, c.patch, res.patch);
+    if (s.has("meshes")) write_meshes(s, source, target, res.result, c.patch, res.patch, res.patch.parent);
   } else {
     TransplantOptions o;
     o.zone = s.real("zone", o.zone, 0.01, 1);
     const Transplant res = transplant_patch(source, sr, target, tr, o);
     for (const auto& [k, v] : transplant_measures(res, target, t.seconds())) r.set(k, v);
     r.set_text("backend", res.solve.system.backend);
-    if (s.has("meshes")) write_meshes(s, source, target, res.result, res.source_patch, res.patch);
+    if (s.has("meshes")) write_meshes(s, source, target, res.result, res.source_patch, res.patch, graft_vertices(res));
   }
   r.set("source_vertices", source.num_vertices());
   r.set("peak_rss_bytes", static_cast<double>(peak_rss_bytes()), "bytes");

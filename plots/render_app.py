@@ -3,8 +3,9 @@
 panels source (its patch orange), target (its patch orange), result, and the result's patch close up beside the
 target's (the same camera), so the transferred detail and the seam can be checked by eye.
 
-Reads results/meshes/applications/CASE__{source,target,result}.ply and CASE__{source_patch,patch}.txt (the
-vertex ids of the source and target patches); writes OUT/render_app_CASE.png. Drawing as plots/render_meshes.py (flat shading, orthographic, painter's
+Reads results/meshes/applications/CASE__{source,target,result}.ply and CASE__{source_patch,patch,result_patch}.txt
+(the vertex ids of the source and target patches, and of the result's transferred or grafted part: a transplant's
+result is a joined mesh with its own faces, the graft and the zippered band blue); writes OUT/render_app_CASE.png. Drawing as plots/render_meshes.py (flat shading, orthographic, painter's
 algorithm), whose helpers it imports.
 
 usage: /usr/bin/python3 plots/render_app.py --results results --out plots [--cases SUBSTRING]
@@ -61,7 +62,7 @@ def limits(V, cam, pad=0.05):
 def render_case(case, d, out_dir):
     Vs, Fs = read_ply(os.path.join(d, f"{case}__source.ply"))
     Vt, Ft = read_ply(os.path.join(d, f"{case}__target.ply"))
-    Vr, _ = read_ply(os.path.join(d, f"{case}__result.ply"))
+    Vr, Fr = read_ply(os.path.join(d, f"{case}__result.ply"))
     patch = np.loadtxt(os.path.join(d, f"{case}__patch.txt"), dtype=np.int64, ndmin=1)
     in_patch = np.zeros(len(Vt), bool)
     in_patch[patch] = True
@@ -80,14 +81,20 @@ def render_case(case, d, out_dir):
     panel(axes[0], Vs, Fs, shade(Vs, Fs, scol, sl / np.linalg.norm(sl)), scam, limits(Vs, scam), "source (patch orange)")
     colors = np.where(face_in[:, None], PATCH, BASE)
     panel(axes[1], Vt, Ft, shade(Vt, Ft, colors, light), cam, limits(Vt, cam), "target (patch orange)")
-    rc = np.where(face_in[:, None], RESULT, BASE)
-    panel(axes[2], Vr, Ft, shade(Vr, Ft, rc, light), cam, limits(Vr, cam), "result")
+    rpatch = np.loadtxt(os.path.join(d, f"{case}__result_patch.txt"), dtype=np.int64, ndmin=1)
+    r_in = np.zeros(len(Vr), bool)
+    r_in[rpatch] = True
+    rc = np.where(r_in[Fr].all(axis=1)[:, None], RESULT, BASE)
+    panel(axes[2], Vr, Fr, shade(Vr, Fr, rc, light), cam, limits(Vr, cam), "result")
     # Close-up: the patch and a margin around it, before and after in one frame.
-    near = np.linalg.norm(Vt - Vt[patch].mean(0), axis=1) <= 1.4 * np.linalg.norm(Vt[patch] - Vt[patch].mean(0), axis=1).max()
-    fz = near[Ft].all(axis=1)
-    lim = limits(np.vstack([Vr[near], Vt[near]]), cam)
-    panel(axes[3], Vr, Ft[fz], shade(Vr, Ft[fz], rc[fz], light), cam, lim, "result, close up (patch blue)")
-    fig.suptitle(f"{case}: source {len(Vs)} vertices, target {len(Vt)}, patch {len(patch)}", fontsize=11)
+    c0 = Vt[patch].mean(0)
+    radius = 1.4 * np.linalg.norm(Vt[patch] - c0, axis=1).max()
+    near = np.linalg.norm(Vr - c0, axis=1) <= radius
+    fz = near[Fr].all(axis=1)
+    lim = limits(np.vstack([Vr[near], Vt[np.linalg.norm(Vt - c0, axis=1) <= radius]]), cam)
+    panel(axes[3], Vr, Fr[fz], shade(Vr, Fr[fz], rc[fz], light), cam, lim, "result, close up (patch blue)")
+    fig.suptitle(f"{case}: source {len(Vs)} vertices, target {len(Vt)}, patch {len(patch)}, result {len(Vr)}",
+                 fontsize=11)
     fig.tight_layout()
     path = os.path.join(out_dir, f"render_app_{case}.png")
     fig.savefig(path, dpi=80)

@@ -2,7 +2,11 @@
 // the parameterization's bijectivity, the transferred detail, and the refusals of non-disk or empty patches.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <iostream>
+#include <map>
+#include <set>
 #include <numeric>
 
 #include "applications/coating_transfer.h"
@@ -10,6 +14,7 @@
 #include "applications/disk_patch.h"
 #include "applications/parameter_map.h"
 #include "applications/transplant.h"
+#include "applications/zipper.h"
 #include "edit/selection.h"
 #include "test_util.h"
 
@@ -108,26 +113,127 @@ TEST(CoatingTransfer, PutsTheBumpsOnAFlatPatch) {
   EXPECT_LT(t.detail_error, 0.2);
 }
 
-// The test: a patch grafted onto the surface it was cut from leaves it unchanged.
+// Each face as its corners in `ids` numbering, rotated to start at the smallest: the set of triangles, whatever
+// the order of faces and vertices.
+std::set<std::array<int, 3>> face_set(const Faces& F, const std::vector<int>& ids) {
+  std::set<std::array<int, 3>> out;
+  for (int f = 0; f < F.rows(); ++f) {
+    std::array<int, 3> c = {ids[F(f, 0)], ids[F(f, 1)], ids[F(f, 2)]};
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    out.insert(c);
+  }
+  return out;
+}
+
+// The result's vertices -> the target's (kept ones) or the source's (grafted ones, offset by the target's count).
+std::vector<int> result_origin(const Transplant& t, int target_vertices) {
+  std::vector<int> o(static_cast<std::size_t>(t.result.num_vertices()), -1);
+  for (int r = 0; r < t.kept_vertices; ++r) o[r] = t.kept[r];
+  for (int l = 0; l < t.source_patch.num_vertices(); ++l)
+    if (t.source_in_result[l] >= t.kept_vertices) o[t.source_in_result[l]] = target_vertices + t.source_patch.parent[l];
+  return o;
+}
+
+int count_boundary_edges(const Mesh& m) {
+  std::map<std::pair<int, int>, int> uses;
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) ++uses[std::minmax(m.F(f, c), m.F(f, (c + 1) % 3))];
+  return static_cast<int>(std::count_if(uses.begin(), uses.end(), [](const auto& e) { return e.second == 1; }));
+}
+
+// One sound surface: manifold, no degenerate face, no boundary beyond the target's (the seam is closed).
+void expect_joined(const Transplant& t, const Mesh& target) {
+  EXPECT_TRUE(find_non_manifold(t.result).empty()) << find_non_manifold(t.result).summary();
+  EXPECT_NO_THROW(validate_mesh(t.result, Manifold::Required));
+  EXPECT_EQ(count_boundary_edges(t.result), count_boundary_edges(target));
+}
+
+// The test: a patch grafted onto the surface it was cut from leaves it unchanged: the loops coincide and
+// are welded, and the result is the same vertices at the same places (1e-9) with the same triangles.
 TEST(Transplant, PatchOntoItsOwnSurfaceLeavesItUnchanged) {
   const Mesh m = bumpy();
   const std::vector<int> region = select_sphere(m, Vec3(0.1, -0.2, 0), 0.7);
   const Transplant t = transplant_patch(m, region, m, region, TransplantOptions{});
+  EXPECT_TRUE(t.welded);
+  EXPECT_EQ(t.band_faces, 0);
   EXPECT_NEAR(t.scale, 1.0, 1e-12);
-  EXPECT_LT(rel_max(t.result.V, m.V), 1e-9);
+  ASSERT_EQ(t.result.num_vertices(), m.num_vertices());
+  ASSERT_EQ(t.result.num_faces(), m.num_faces());
+  expect_joined(t, m);
+  std::vector<int> origin = result_origin(t, 0);  // source = target: the source's parents are target ids
+  Points back(m.num_vertices(), 3);
+  for (int r = 0; r < t.result.num_vertices(); ++r) back.row(origin[r]) = t.result.V.row(r);
+  EXPECT_LT(rel_max(back, m.V), 1e-9);
+  std::vector<int> same(static_cast<std::size_t>(m.num_vertices()));
+  std::iota(same.begin(), same.end(), 0);
+  EXPECT_EQ(face_set(t.result.F, origin), face_set(m.F, same));
   EXPECT_GT(t.core_vertices, 0);
+  EXPECT_LT(t.detail_error, 1e-9);
 }
 
-TEST(Transplant, GraftsTheSourceShapeAndKeepsTheRest) {
+TEST(Transplant, JoinsTheSourcePatchAndKeepsTheRest) {
   const Mesh src = bumpy(), dst = flat();
   const std::vector<int> sr = select_sphere(src, Vec3(0, 0, 0), 0.9), tr = select_sphere(dst, Vec3(0, 0, 0), 0.6);
   const Transplant t = transplant_patch(src, sr, dst, tr, TransplantOptions{});
+  EXPECT_FALSE(t.welded);
+  const int interior = t.patch.num_vertices() - static_cast<int>(t.patch.boundary.size());
+  EXPECT_EQ(t.kept_vertices, dst.num_vertices() - interior);
+  EXPECT_EQ(t.result.num_vertices(), t.kept_vertices + t.source_patch.num_vertices());
+  EXPECT_EQ(t.band_faces, static_cast<int>(t.patch.boundary.size() + t.source_patch.boundary.size()));
+  EXPECT_EQ(t.result.num_faces(),
+            dst.num_faces() - t.patch.mesh.num_faces() + t.source_patch.mesh.num_faces() + t.band_faces);
+  expect_joined(t, dst);
+  for (int r = 0; r < t.kept_vertices; ++r) EXPECT_EQ(t.result.V.row(r), dst.V.row(t.kept[r]));
   EXPECT_GT(t.result.V.col(2).cwiseAbs().maxCoeff(), 0.01);
-  for (int v = 0; v < dst.num_vertices(); ++v)
-    if (dst.V.row(v).norm() > 0.61) {
-      EXPECT_EQ(t.result.V.row(v), dst.V.row(v));
-    }
-  EXPECT_LT(t.detail_error, 0.2);
+  std::cout << "band " << t.band_faces << " faces, seam " << t.seam_before.max_deg << " -> " << t.seam_after.max_deg
+            << " deg max, detail error " << t.detail_error << "\n";
+  EXPECT_LT(t.detail_error, 0.05);
+}
+
+// A graft from a finer mesh keeps its own vertices and triangles, and away from the seam its Laplacian
+// coordinates (scaled and rotated by the placing similarity) are the source's.
+TEST(Transplant, AFinerGraftKeepsItsVerticesAndDetail) {
+  const Mesh src = make_bumpy_plane(72, 72, 2.0, 0.08, 3), dst = flat();
+  const std::vector<int> sr = select_sphere(src, Vec3(0, 0, 0), 0.9), tr = select_sphere(dst, Vec3(0, 0, 0), 0.6);
+  const Transplant t = transplant_patch(src, sr, dst, tr, TransplantOptions{});
+  EXPECT_GT(t.source_patch.num_vertices(), 4 * t.patch.num_vertices());
+  EXPECT_EQ(t.result.num_vertices(), t.kept_vertices + t.source_patch.num_vertices());
+  expect_joined(t, dst);
+  // The source's triangles are the result's, renumbered.
+  const std::vector<int> origin = result_origin(t, dst.num_vertices());
+  std::vector<int> src_ids(static_cast<std::size_t>(t.source_patch.num_vertices()));
+  for (int l = 0; l < t.source_patch.num_vertices(); ++l) src_ids[l] = dst.num_vertices() + t.source_patch.parent[l];
+  const auto all = face_set(t.result.F, origin);
+  for (const auto& f : face_set(t.source_patch.mesh.F, src_ids)) EXPECT_TRUE(all.count(f));
+  std::cout << "core " << t.core_vertices << " vertices, detail error " << t.detail_error << ", seam "
+            << t.seam_before.max_deg << " -> " << t.seam_after.max_deg << " deg\n";
+  EXPECT_GT(t.core_vertices, t.source_patch.num_vertices() / 4);
+  EXPECT_LT(t.detail_error, 0.05);
+}
+
+TEST(Zipper, TriangulatesTheBandBetweenTwoLoops) {
+  // Two concentric polygons, 7 outside and 4 inside (ids 0..6 and 7..10), both counter-clockwise from angle 0.
+  ZipperLoop outer, inner;
+  UV uv(11, 2);
+  for (int k = 0; k < 11; ++k) {
+    const bool out = k < 7;
+    const double a = 2 * M_PI * (out ? k : k - 7) / (out ? 7 : 4), r = out ? 1.0 : 0.5;
+    uv.row(k) << r * std::cos(a), r * std::sin(a);
+    (out ? outer : inner).ids.push_back(k);
+    (out ? outer : inner).angle.push_back(a);
+  }
+  const Faces F = zipper_band(outer, inner);
+  ASSERT_EQ(F.rows(), 11);
+  std::map<std::pair<int, int>, int> directed;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector2d a = uv.row(F(f, 0)), b = uv.row(F(f, 1)), c = uv.row(F(f, 2));
+    const Eigen::Vector2d e1 = b - a, e2 = c - a;
+    EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0) << "face " << f;
+    for (int i = 0; i < 3; ++i) ++directed[{F(f, i), F(f, (i + 1) % 3)}];
+  }
+  for (int k = 0; k < 7; ++k) EXPECT_EQ(directed[std::make_pair(k, (k + 1) % 7)], 1);           // outer edges forwards
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(directed[std::make_pair(7 + (k + 1) % 4, 7 + k)], 1);   // inner edges backwards
+  for (const auto& [e, n] : directed) EXPECT_EQ(n, 1);  // no edge twice in one direction: a manifold strip
 }
 
 TEST(CoatingTransfer, RefusesACoatingWhoseArraysDisagree) {

@@ -13,10 +13,10 @@ Command add_transplant(CLI::App& tool) {
   auto a = std::make_shared<PatchArgs>();
   auto o = std::make_shared<TransplantOptions>();
   CLI::App* app = tool.add_subcommand(
-      "transplant", "transplanting: graft a source patch onto a target region, the LSE solve blending the two "
-                    "surfaces' detail over a transition zone");
+      "transplant", "transplanting: cut a target region out and join a source patch in its place (a zippered "
+                    "seam), the LSE solve blending the two surfaces' detail over a transition zone");
   add_patch_options(*app, *a, "the mesh the grafted patch comes from (.off, .ply, .obj)");
-  app->add_option("--zone", o->zone, "width of the transition zone, a fraction of the region's parameter radius")
+  app->add_option("--zone", o->zone, "transition zone width, a fraction of the source patch's parameter radius")
       ->type_name("Z")->check(cli::Real(0.01, 1))->capture_default_str();
   return {app, [app, a, o] {
             const PatchInputs in = load_patch_inputs(*app, *a);

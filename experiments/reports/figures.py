@@ -3,6 +3,7 @@ example mapped to the frames study's cases, each with its render (plots/render_C
 the measures of frames.csv beside it. Reads frames.csv and checks which renders exist; measures nothing. The setups
 (meshes, selections, transforms) are the cases of data/experiments/frames.toml and the edits under data/edits/.
 """
+import math
 import os
 
 from common import isnan, number, provenance, read_rows, write_atomically
@@ -68,9 +69,18 @@ FIGURES = [
              "same transform that moves the handle positions (methods/lri.h). The renders show that coordinated "
              "case (the dino's head turned 90 degrees, the BS08 cactus), with LAP, which constrains positions only, "
              "beside it.",
-     "differs": "There is no uncoordinated mode (frames rotated by one transform, positions moved by another), so "
-                "the thesis' bad half of the figure has no render of ours. Adding it would take a separate frame "
-                "transform per edit."},
+     "differs": "There is no uncoordinated LRI mode, so the thesis' bad half of the figure has no render of ours. The "
+                "thesis (section 3.4.2) gives no setup for it, only that the frame control and the position control "
+                "disagree. The plainest disagreement, the handle moved and turned but its frames left unrotated "
+                "(R_h = I in the frame targets R_h F_i, a one-line switch in LriDeformer::deform), needs no render to "
+                "predict: with every frame constraint at its rest value the frame solve returns the rest frames "
+                "exactly, and the position solve then asks every edge for its rest vector F_i d_ij = x_j - x_i, an "
+                "edge-vector Laplacian edit without rotation, close kin to the LAP panel beside it (LAP asks for the "
+                "rest sums of edge vectors, not each edge): the turned head keeps its rest orientation along the "
+                "neck and the neck shears, as LAP's does. Not added in this branch: it belongs to methods/ and the "
+                "frames experiment (exp_frames, its renders), which other work changes at the same time, and any "
+                "other disagreement (frames turned by another angle than the positions) would be a setup of ours "
+                "the thesis does not give."},
     {"title": "Thesis fig. 4-1: multi-turn rotation keeps the detail",
      "thesis": "LRI keeps the local detail through rotations of several full turns.",
      "cases": ["bar_twist720", "bar_twist1080"], "configs": METHODS,
@@ -98,8 +108,15 @@ FIGURES = [
      "differs": "results/frames.md derives and measures why the frame choice cannot matter with polar "
                 "orthonormalization and matters only through Gram-Schmidt's first axis; at exactly 180 degrees the "
                 "linear frame solve collapses mid-bend for every frame choice. The thesis' clear improvement is not "
-                "reproduced: against first-neighbour frames the principal-direction frames are closer to the ideal in "
-                "some cases and farther in others (the comparison above the tables).",
+                "reproduced: by how much is the comparison line above the tables (RMS distance to the ideal, "
+                "principal-direction against first-neighbour frames, per case and as a geometric mean; a ratio near "
+                "1, closer in some cases and farther in others). Why, as we read it: the frame solve is linear and "
+                "least-squares, so its solved frames average rotations whatever basis each vertex starts from; the "
+                "basis enters the result only through Gram-Schmidt's first axis (polar orthonormalization removes "
+                "it), and at 180 degrees and more the averaging, not the basis, dominates. The thesis shows one "
+                "picture per variant without a measure, so a visual gain there may come from its model's detail "
+                "(principal directions are well defined on its scanned shapes, ill defined on our cylinder's flat "
+                "axis and the bar's faces) rather than from the method.",
      "compare": ("lri-curvature-gram_schmidt", "lri-first-gram_schmidt", "ideal_rms")},
     {"title": "Thesis fig. 4-5: more edits",
      "thesis": "Further LRI edits on scanned models (the dinosaur's head turned among them).",
@@ -147,13 +164,19 @@ def metrics_table(by_config, configs):
 def comparison(fig, cases):
     """`a` against `b` on the figure's cases: 'case x vs y (+z%)' for the measure of fig['compare']."""
     a, b, m = fig["compare"]
-    parts = []
+    parts, ratios = [], []
     for case in fig["cases"]:
         x, y = (number(cases.get(case, {}).get(c, {}).get(m, "")) for c in (a, b))
-        if not isnan(x) and not isnan(y) and y > 0:
+        if not isnan(x) and not isnan(y) and y > 0 and x > 0:
             parts.append(f"`{case}` {fmt(x)} vs {fmt(y)} ({100 * (x / y - 1):+.0f}%)")
-    return (f"{LABELS.get(a, a)} against {LABELS.get(b, b)}, {dict(MEASURES)[m]}: " + "; ".join(parts) + ".\n"
-            if parts else "")
+            ratios.append(x / y)
+    if not parts:
+        return ""
+    g = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
+    better = sum(r < 1 for r in ratios)
+    return (f"{LABELS.get(a, a)} against {LABELS.get(b, b)}, {dict(MEASURES)[m]}: " + "; ".join(parts) +
+            f". Over these {len(ratios)} cases: geometric mean ratio {g:.3f} ({100 * (g - 1):+.1f}%), closer in "
+            f"{better} of {len(ratios)}.\n")
 
 
 def section(fig, cases, plots_dir):

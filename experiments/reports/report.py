@@ -2,9 +2,9 @@
 """The report step: the Markdown reports from the CSVs the experiment drivers wrote (measuring apart from
 reporting: nothing here measures, and a report can be rewritten after editing this code without rerunning a cell).
 
-  experiments/reports/report.py [--results DIR] [--plots DIR] [--only table_2_1,solvers,frames,figures]
+  experiments/reports/report.py [--results DIR] [--plots DIR] [--only table_2_1,solvers,frames,applications,figures]
 
-Writes RESULTS/table_2_1.md, solvers.md, frames.md and figures.md, each only when its CSV exists (figures.md: the
+Writes RESULTS/table_2_1.md, solvers.md, frames.md, applications.md and figures.md, each only when its CSV exists (figures.md: the
 thesis' figures mapped to the frames study's renders under --plots, default the results directory's sibling
 plots/; ./run writes it after the plots). Standard library only; ./run runs it with /usr/bin/python3 like the
 plots.
@@ -15,12 +15,14 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
+import applications  # noqa: E402
 import figures  # noqa: E402
 import frames  # noqa: E402
 import solvers  # noqa: E402
 import table_2_1  # noqa: E402
 
-REPORTS = {"table_2_1": table_2_1.write, "solvers": solvers.write, "frames": frames.write, "figures": figures.write}
+REPORTS = {"table_2_1": table_2_1.write, "solvers": solvers.write, "frames": frames.write,
+           "applications": applications.write, "figures": figures.write}
 CSV_OF = {"figures": "frames"}  # a report named after no CSV of its own
 
 

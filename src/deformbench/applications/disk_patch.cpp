@@ -113,4 +113,25 @@ DiskPatch extract_disk_patch(const Mesh& mesh, const std::vector<int>& region, c
   return p;
 }
 
+std::vector<int> trim_ears(const Mesh& mesh, const std::vector<int>& region) {
+  std::vector<char> in(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (int v : region)
+    if (v >= 0 && v < mesh.num_vertices()) in[v] = 1;  // out of range: extract_disk_patch names it
+  for (bool changed = true; changed;) {
+    std::vector<int> faces(in.size(), 0);
+    for (int f = 0; f < mesh.num_faces(); ++f)
+      if (in[mesh.F(f, 0)] && in[mesh.F(f, 1)] && in[mesh.F(f, 2)])
+        for (int c = 0; c < 3; ++c) ++faces[mesh.F(f, c)];
+    changed = false;
+    for (std::size_t v = 0; v < in.size(); ++v)
+      if (in[v] && faces[v] == 1) in[v] = 0, changed = true;
+  }
+  std::vector<int> out;
+  for (int v : region)
+    if (v < 0 || v >= mesh.num_vertices() || in[v]) out.push_back(v);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 }  // namespace db

@@ -24,4 +24,9 @@ struct DiskPatch {
 //! (holes, an annulus).
 DiskPatch extract_disk_patch(const Mesh& mesh, const std::vector<int>& region, const std::string& what);
 
+//! `region` without its ears: vertices in exactly one of the region's whole faces (a triangle sticking out of
+//! the patch, whose boundary goes out to the tip and straight back), removed until none is left. A selection
+//! by distance on a grid leaves such ears; a seam zippered along them folds. Sorted, without duplicates.
+std::vector<int> trim_ears(const Mesh& mesh, const std::vector<int>& region);
+
 }  // namespace db

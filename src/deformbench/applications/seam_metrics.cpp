@@ -3,18 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <utility>
-#include <vector>
 
 namespace db {
+namespace {
 
-SeamAngles seam_angles(const Mesh& mesh, const DiskPatch& patch) {
-  // The faces of each boundary edge, by the edge's parent ids.
-  std::map<std::pair<int, int>, std::vector<Vec3>> normals;
-  const std::size_t m = patch.boundary.size();
-  auto key = [](int a, int b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
-  for (std::size_t k = 0; k < m; ++k)
-    normals[key(patch.parent[patch.boundary[k]], patch.parent[patch.boundary[(k + 1) % m]])];
+std::pair<int, int> key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+}  // namespace
+
+SeamAngles dihedral_angles(const Mesh& mesh, const std::vector<std::pair<int, int>>& edges) {
+  std::map<std::pair<int, int>, std::vector<Vec3>> normals;  // the unit normals of each edge's faces
+  for (const auto& [a, b] : edges) normals[key(a, b)];
   for (int f = 0; f < mesh.num_faces(); ++f)
     for (int c = 0; c < 3; ++c) {
       const auto it = normals.find(key(mesh.F(f, c), mesh.F(f, (c + 1) % 3)));
@@ -32,6 +31,21 @@ SeamAngles seam_angles(const Mesh& mesh, const DiskPatch& patch) {
   }
   if (s.edges > 0) s.mean_deg /= s.edges;
   return s;
+}
+
+SeamAngles seam_angles(const Mesh& mesh, const DiskPatch& patch) {
+  std::vector<std::pair<int, int>> edges;
+  const std::size_t m = patch.boundary.size();
+  for (std::size_t k = 0; k < m; ++k)
+    edges.emplace_back(patch.parent[patch.boundary[k]], patch.parent[patch.boundary[(k + 1) % m]]);
+  return dihedral_angles(mesh, edges);
+}
+
+SeamAngles band_angles(const Mesh& mesh, int first_face) {
+  std::vector<std::pair<int, int>> edges;
+  for (int f = first_face; f < mesh.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) edges.emplace_back(mesh.F(f, c), mesh.F(f, (c + 1) % 3));
+  return dihedral_angles(mesh, edges);
 }
 
 }  // namespace db
