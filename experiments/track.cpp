@@ -1,14 +1,15 @@
 // The regression-tracking suite (issue 15): the cells of a config (data/experiments/track.toml: deformation cells
 // of every method and build on three tiers, each solver backend's factorize / solve) run in fresh child processes
-// (harness/runner.h), `--repeats` rounds over the whole suite, so a slow window of this shared machine touches one
-// repeat of many cells rather than every repeat of one. Between consecutive cells the driver measures the BLAS dgemm
-// and memory read rates (harness/machine_rates.h): each run of a cell gets the rates just before and just after it,
-// by which the gate (scripts/track_gate.py) normalizes its times.
+// (harness/runner.h), `--repeats` rounds over the whole suite (a cell's key rounds=N: the first N only), so a slow
+// window of this shared machine touches one repeat of many cells rather than every repeat of one. Everything runs
+// single-threaded, so that each phase's CPU time (harness/cpu_timer.h) is its own work: the time the gate compares.
+// Between consecutive cells the driver measures the BLAS dgemm and memory read rates (harness/machine_rates.h):
+// each run of a cell gets the rates just before and just after it, by which the gate normalizes wall times.
 //
 // Writes one tidy history file (--out, or HISTORY_DIR/<UTC>_<commit>_<machine>.csv): a row per (cell, measure,
 // repeat) with the commit, date, machine id, the measure's class (deterministic: compared exactly; memory: peak
-// RSS; time: normalized by `rate`) and the rates around that run. Deterministic measures are recorded once.
-// scripts/track.py runs this, picks a baseline history and gates. Options: --help.
+// RSS; cpu: CPU time; time: wall time, normalized by `rate`; info) and the rates around that run. Deterministic
+// measures are recorded once. scripts/track.py runs this, picks a baseline history and gates. Options: --help.
 #include <fnmatch.h>
 #include <unistd.h>
 
