@@ -83,6 +83,28 @@ class CpuTimeRule(unittest.TestCase):
         self.assertEqual(wall[(CELL, "factorize_s")].verdict, "FAIL")
         self.assertEqual(verdicts(timed([1.0] * 5), timed([3.0] * 5))[(CELL, "factorize_s")].verdict, "not gated")
 
+    def test_a_suite_wide_drift_is_excused_one_cell_is_not(self):
+        # Twelve cells whose CPU times all grew by 20% (contention with other processes, the same in every cell):
+        # the rounds' drift excuses them; one cell 30% slower than a suite that did not move fails.
+        rng = random.Random(14)
+
+        def suite(factor, slow_cell=None):
+            rows = []
+            for k in range(12):
+                f = factor * (1.3 if k == slow_cell else 1.0)
+                for i, t in enumerate(noisy(0.5 * f, 5, 0.02, rng)):
+                    rows.append(row("init_cpu_s", "cpu", "", t, i + 1, cell=f"deform/c{k}"))
+            return g.History.from_rows(rows)
+
+        base = suite(1.0)
+        drifted = g.compare(base, suite(1.2), g.Settings())
+        self.assertFalse([c for c in drifted if c.verdict == "FAIL"])
+        self.assertTrue(all(c.ratio > 1.1 and abs(float(c.note.split()[1]) - 1) < 0.1 for c in drifted), drifted)
+        self.assertEqual(g.compare(base, suite(1.2), g.Settings(drift_cells=0))[0].verdict, "FAIL")
+        one = {c.cell: c.verdict for c in g.compare(base, suite(1.0, slow_cell=3), g.Settings())}
+        self.assertEqual(one.pop("deform/c3"), "FAIL")
+        self.assertEqual(set(one.values()), {"ok"})
+
     def test_too_few_runs_tiny_times_other_machine_not_gated(self):
         self.assertEqual(verdicts(cpu([1.0] * 4), cpu([2.0] * 4))[CPU].note, "4 runs < 5")
         self.assertEqual(verdicts(cpu([1e-4] * 5), cpu([2e-4] * 5))[CPU].verdict, "not gated")
