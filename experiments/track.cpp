@@ -1,21 +1,26 @@
 // The regression-tracking suite (issue 15): the cells of a config (data/experiments/track.toml: deformation cells
 // of every method and build on three tiers, each solver backend's factorize / solve) run in fresh child processes
-// (harness/runner.h), `--repeats` rounds over the whole suite, so a slow window of this shared machine touches one
-// repeat of many cells rather than every repeat of one. Between consecutive cells the driver measures the BLAS dgemm
-// and memory read rates (harness/machine_rates.h): each run of a cell gets the rates just before and just after it,
-// by which the gate (scripts/track_gate.py) normalizes its times.
+// (harness/runner.h), `--repeats` rounds over the whole suite (a cell's key rounds=N: the first N only), so a slow
+// window of this shared machine touches one repeat of many cells rather than every repeat of one. Everything runs
+// single-threaded, so that each phase's CPU time (harness/cpu_timer.h) is its own work: the time the gate compares.
+// Between consecutive cells the driver measures the BLAS dgemm and memory read rates (harness/machine_rates.h):
+// each run of a cell gets the rates just before and just after it, by which the gate normalizes wall times.
 //
 // Writes one tidy history file (--out, or HISTORY_DIR/<UTC>_<commit>_<machine>.csv): a row per (cell, measure,
 // repeat) with the commit, date, machine id, the measure's class (deterministic: compared exactly; memory: peak
-// RSS; time: normalized by `rate`) and the rates around that run. Deterministic measures are recorded once.
-// scripts/track.py runs this, picks a baseline history and gates. Options: --help.
+// RSS; cpu: CPU time; time: wall time, normalized by `rate`; info) and the rates around that run. Deterministic
+// measures are recorded once. scripts/track.py runs this, picks a baseline history and gates. Options: --help.
 #include <fnmatch.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -59,7 +64,8 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--default", o.defaults, "rules '[key=value ...]: key=value ...' setting keys a cell lacks");
   app.add_option("--override", o.overrides, "rules replacing keys of the cells they match (recorded in the history)");
   app.add_option("--only", o.only, "run only the cells whose name matches one of these globs")->delimiter(',');
-  app.add_option("--repeats", o.repeats, "rounds over the suite (timed measures need >= 5 for the gate)")
+  app.add_option("--repeats", o.repeats, "rounds over the suite (a cell's key rounds=N: only the first N; timed "
+                 "measures need >= 5 for the gate)")
       ->check(cli::Integer(1, 1000))->capture_default_str();
   app.add_option("--rate-gemm-n", o.rate_gemm_n, "the dgemm rate probe's matrix order (between every two cells)")
       ->check(cli::Integer(64, 4096))->capture_default_str();
@@ -100,8 +106,21 @@ struct Planned {
   std::string name;  // deform/TIER/METHOD/BUILD/BACKEND or solve/TIER/SYSTEM/BACKEND/ORDERING
   CellSpec spec;
   std::vector<Measure> predicted;  // parent-side deterministic measures (predicted bytes)
+  int rounds = 0;                  // the rounds it runs in (the first ones): its key "rounds", else --repeats
   bool failed = false;
 };
+
+// The key "rounds" (a cell's own number of rounds, fewer than the suite's for its costliest cells) is the
+// driver's, not the child's: taken out of the spec. 0 when absent.
+int take_rounds(CellSpec& s) {
+  if (!s.has("rounds")) return 0;
+  const int rounds = static_cast<int>(s.integer("rounds", 0, 1, 1000));
+  CellSpec rest;
+  for (const auto& [k, v] : s.items())
+    if (k != "rounds") rest.set(k, v);
+  s = rest;
+  return rounds;
+}
 
 std::map<std::string, std::string> tier_paths(const Options& o) {
   std::map<std::string, std::string> paths;
@@ -146,10 +165,11 @@ std::vector<Planned> plan(const Options& o) {
       s.set("mesh", tier->second);
       for (const CellRule& r : defaults) apply_cell_rule(r, s, false);
       for (const CellRule& r : overrides) apply_cell_rule(r, s, true);
+      const int rounds = take_rounds(s);
       const std::string name = cell_name(s);
       if (std::any_of(suite.begin(), suite.end(), [&](const Planned& p) { return p.name == name; }))
         throw UsageError(fmt::format("cell {} listed twice", name));
-      if (selected(o, name)) suite.push_back({name, s, {}});
+      if (selected(o, name)) suite.push_back({name, s, {}, rounds ? std::min(rounds, o.repeats) : o.repeats});
     }
   if (suite.empty()) throw UsageError("no cell to run (--cells, or --only matching none)");
   return suite;
@@ -185,11 +205,12 @@ void predict(std::vector<Planned>& suite) {
 }
 
 // ------------------------------------------------------------------------------------------------ measures
-// What the history keeps of a cell, by class. rate: what the gate normalizes a time by (read: the memory read
-// rate; dgemm: the BLAS dgemm rate; mixed: init_s = build_s + analyze_s at the read rate + factorize_s at dgemm's).
+// What the history keeps of a cell, by class (deterministic, memory, cpu: gated; time: wall time, reported;
+// info). rate: what the gate normalizes a wall time by (read: the memory read rate; dgemm: the BLAS dgemm rate;
+// mixed: init_s = build_s + analyze_s at the read rate + factorize_s at dgemm's).
 struct Tracked {
   const char* name;
-  const char* cls;  // deterministic | memory | time
+  const char* cls;  // deterministic | memory | cpu | time | info
   const char* rate;
   const char* kinds;  // the cell kinds that report it
 };
@@ -204,6 +225,12 @@ const std::vector<Tracked>& tracked_measures() {
       {"analyze_s", "time", "read", "deform solve"},       {"factorize_s", "time", "dgemm", "deform solve"},
       {"init_s", "time", "mixed", "deform"},               {"frame_s", "time", "read", "deform"},
       {"solve_s", "time", "read", "solve"},
+      // CPU time of the child (harness/cpu_timer.h; cells run single-threaded): what the gate compares.
+      {"init_cpu_s", "cpu", "", "deform"},       {"frame_cpu_s", "cpu", "", "deform"},
+      {"build_cpu_s", "cpu", "", "solve"},       {"analyze_cpu_s", "cpu", "", "solve"},
+      {"factorize_cpu_s", "cpu", "", "solve"},   {"solve_cpu_s", "cpu", "", "solve"},
+      // The whole child, for the suite's own length: recorded, never gated.
+      {"cell_wall_s", "info", "", "deform solve"}, {"cell_cpu_s", "info", "", "deform solve"},
   };
   return t;
 }
@@ -231,6 +258,19 @@ struct Run {
   int unstable = 0;
 };
 
+// The spec as the history keeps it: a path under the working directory (the repository, where scripts/track.py
+// runs this) relative to it, so that histories read the same in every clone.
+std::string history_spec(const CellSpec& s) {
+  const fs::path cwd = fs::current_path();
+  CellSpec out;
+  for (auto [key, value] : s.items()) {
+    const fs::path rel = fs::path(value).lexically_relative(cwd);
+    if (fs::path(value).is_absolute() && !rel.empty() && *rel.begin() != "..") value = rel.string();
+    out.set(key, value);
+  }
+  return out.text();
+}
+
 void add_row(Run& run, const Planned& p, const Tracked& m, const Measure& v, int repeat, const Rates& before,
              const Rates& after, double load, const std::string& message = "") {
   CsvTable::Row row{{"commit", run.commit},  {"date", run.date},        {"machine_id", run.machine},
@@ -240,7 +280,7 @@ void add_row(Run& run, const Planned& p, const Tracked& m, const Measure& v, int
                     {"repeat", std::to_string(repeat)},
                     {"blas_dgemm_before", num(before.dgemm)},  {"blas_dgemm_after", num(after.dgemm)},
                     {"memory_read_before", num(before.read)},  {"memory_read_after", num(after.read)},
-                    {"load_avg_1m", num(load)},  {"spec", p.spec.text()}, {"overrides", run.overrides},
+                    {"load_avg_1m", num(load)},  {"spec", history_spec(p.spec)}, {"overrides", run.overrides},
                     {"message", message}};
   row.insert(row.end(), run.parts.begin(), run.parts.end());
   run.csv.add(std::move(row));
@@ -302,9 +342,9 @@ void log_cell(const Planned& p, const CellResult& r, int round) {
     return;
   }
   const double t = r.has("init_s") ? r.get("init_s") : r.get("factorize_s");
-  std::cerr << fmt::format("[track] {:48s} round {}  {} {:8.4f} s  peak {:7.1f} MiB  wall {:.2f} s\n", p.name, round,
-                           r.has("init_s") ? "init     " : "factorize", t, r.get("peak_rss_bytes") / 1048576.0,
-                           r.get("cell_wall_s"));
+  std::cerr << fmt::format("[track] {:48s} round {}  {} {:8.4f} s  peak {:7.1f} MiB  wall {:.2f} s  cpu {:.2f} s\n",
+                           p.name, round, r.has("init_s") ? "init     " : "factorize", t,
+                           r.get("peak_rss_bytes") / 1048576.0, r.get("cell_wall_s"), r.get("cell_cpu_s"));
 }
 
 // `repeats` rounds over the suite, the machine rates measured between consecutive cells.
@@ -314,7 +354,7 @@ void run_rounds(const Options& o, std::vector<Planned>& suite, Run& run) {
   Rates before = measure_rates(o);
   for (int round = 1; round <= o.repeats; ++round)
     for (Planned& p : suite) {
-      if (p.failed) continue;
+      if (p.failed || round > p.rounds) continue;
       const CellResult r = run_cell(self_executable(), p.spec, ro);
       const Rates after = measure_rates(o);
       log_cell(p, r, round);
@@ -331,7 +371,7 @@ int run(Options& o) {
   }
   std::vector<Planned> suite = plan(o);
   if (o.dry_run) {
-    for (const Planned& p : suite) std::cout << p.name << "  " << p.spec.text() << "\n";
+    for (const Planned& p : suite) std::cout << p.name << "  " << p.spec.text() << "  rounds=" << p.rounds << "\n";
     return 0;
   }
   Run run = start_run(o);
@@ -340,8 +380,9 @@ int run(Options& o) {
   else cli::check_output("--out", o.out, {".csv"});
   resolve_meshes(o, suite);
   predict(suite);
-  std::cerr << fmt::format("[track] {} cells x {} rounds; machine {}; {}\n", suite.size(), o.repeats, run.machine,
-                           provenance_summary());
+  const int runs = std::accumulate(suite.begin(), suite.end(), 0, [](int n, const Planned& p) { return n + p.rounds; });
+  std::cerr << fmt::format("[track] {} cells, {} rounds, {} runs; machine {}; {}\n", suite.size(), o.repeats, runs,
+                           run.machine, provenance_summary());
   run_rounds(o, suite, run);
   if (!fs::path(out).parent_path().empty()) fs::create_directories(fs::path(out).parent_path());
   run.csv.write(out);
@@ -352,11 +393,30 @@ int run(Options& o) {
   return failed ? 3 : 0;
 }
 
+// The suite runs single-threaded (BLAS, OpenMP, the structured assembly), so that a cell's CPU time is its own
+// work and time-slicing by other processes does not enter it. The BLAS reads its thread count when it is loaded:
+// the variables are set and the driver re-executed (its children inherit them).
+// Returns only when it is (else exec failed: false).
+bool run_single_threaded(char** argv) {
+  const char* const vars[] = {"OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "DEFORMBENCH_THREADS"};
+  if (std::all_of(std::begin(vars), std::end(vars), [](const char* v) {
+        const char* e = std::getenv(v);
+        return e && std::string(e) == "1";
+      }))
+    return true;
+  for (const char* v : vars) ::setenv(v, "1", 1);
+  ::execv(self_executable().c_str(), argv);
+  std::cerr << fmt::format("exp_track: error: cannot re-execute {} single-threaded: {}\n", self_executable(),
+                           std::strerror(errno));
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (is_cell_invocation(argc, argv))
     return cell_main(argc, argv, {deform_kind(), solver_kind(), loop_subdivide_kind()});
+  if (!run_single_threaded(argv)) return 2;
   CLI::App app("The regression-tracking suite: its cells in fresh child processes, repeated in rounds, the machine "
                "rates measured around each; one tidy history file per run.",
                "exp_track");

@@ -2,7 +2,7 @@
 """Regression tracking of init time and memory across commits (`./run track`; README "Regression tracking").
 
   track.py [--baseline REV | --baseline-file CSV] [--repeats N] [--only GLOBS] [--override RULE]...
-           [--threshold PCT] [--save-reference] [--no-plots]
+           [--threshold PCT] [--gate-wall] [--save-reference] [--no-plots]
   track.py --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
 
 run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
@@ -87,7 +87,7 @@ class Context:
         self.jobs = os.environ.get("JOBS", "2")
         hook = os.environ.get("DEFORMBENCH_TRACK_MEASURE")
         self.hook = shlex.split(hook) if hook else None
-        self.threshold, self.alpha, self.repeats = a.threshold, a.alpha, a.repeats
+        self.threshold, self.alpha, self.repeats, self.gate_wall = a.threshold, a.alpha, a.repeats, a.gate_wall
         self.only, self.overrides, self.build_current = a.only, a.override or [], not a.no_build
 
 
@@ -130,7 +130,9 @@ def measure(ctx, src, build_dir, out, commit, only, overrides):
         cmd += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
         for o in overrides:
             cmd += ["--override", o]
-    env = dict(os.environ, DEFORMBENCH_SOURCE_DIR=str(src), DEFORMBENCH_GIT_SHA=short_sha(src))
+    # Single-threaded as exp_track makes itself: also for a baseline commit whose driver predates that.
+    env = dict(os.environ, DEFORMBENCH_SOURCE_DIR=str(src), DEFORMBENCH_GIT_SHA=short_sha(src),
+               OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", DEFORMBENCH_THREADS="1")
     log(f"measuring {commit[:12]} ({src}) -> {out}")
     p = subprocess.run(cmd, cwd=str(ctx.repo), env=env, stdout=subprocess.DEVNULL)
     if p.returncode not in (0, 3) or not out.exists():  # 3: a cell failed; the history says which
@@ -262,7 +264,7 @@ def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=F
     except track_gate.InputError as e:
         raise Failure(str(e))
     s = track_gate.Settings(threshold=ctx.threshold / 100, alpha=ctx.alpha, cells=tuple(cells),
-                            measures=tuple(measures))
+                            measures=tuple(measures), gate_wall=ctx.gate_wall)
     cmps = track_gate.compare(base, now, s)
     if not quiet:
         track_gate.print_report(base, now, cmps, s, False)
@@ -353,7 +355,7 @@ def bisect(ctx, a, good, bad, machine):
     step = [PY, str(Path(__file__).resolve()), "--repo", str(ctx.repo), "--work-dir", str(ctx.work),
             "--history-dir", str(ctx.history), "--config", str(ctx.config),
             "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure,
-            "--threshold", str(ctx.threshold), "--alpha", str(ctx.alpha)]
+            "--threshold", str(ctx.threshold), "--alpha", str(ctx.alpha)] + (["--gate-wall"] if ctx.gate_wall else [])
     step += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
     git(wt, "bisect", "reset", check=False)
     try:
@@ -400,14 +402,16 @@ def parse_args(argv):
                     "--cell regressed")
     ap.add_argument("--cell", help="bisect: the cell (its name in the history, e.g. deform/armadillo/tf/structured/"
                     "multifrontal)")
-    ap.add_argument("--measure", help="bisect: the measure (e.g. nnz_factor, init_s, peak_rss_bytes)")
+    ap.add_argument("--measure", help="bisect: the measure (e.g. nnz_factor, init_cpu_s, peak_rss_bytes)")
     ap.add_argument("--repeats", type=int, help="rounds over the suite (default the config's, 5; timed measures "
                     "need >= 5 to be gated)")
     ap.add_argument("--only", help="only cells matching these globs (comma-separated)")
     ap.add_argument("--override", action="append", help="a rule 'key=value ...: key=value ...' changing the cells "
                     "it matches (e.g. 'kind=deform method=tf: ordering=natural'); such a run is never a baseline")
-    ap.add_argument("--threshold", type=float, default=15, help="time: allowed slowdown, percent (15)")
-    ap.add_argument("--alpha", type=float, default=0.05, help="time: significance of the U test (0.05)")
+    ap.add_argument("--threshold", type=float, default=15, help="CPU time: allowed slowdown, percent (15)")
+    ap.add_argument("--alpha", type=float, default=0.05, help="CPU time: significance of the U test (0.05)")
+    ap.add_argument("--gate-wall", action="store_true", help="gate wall times too (normalized by the machine "
+                    "rates): for a quiet machine")
     ap.add_argument("--config", help="the suite (default data/experiments/track.toml)")
     ap.add_argument("--save-reference", action="store_true", help="make this run the machine's committed reference")
     ap.add_argument("--no-plots", action="store_true", help="skip plots/history.py")

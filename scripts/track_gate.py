@@ -7,14 +7,25 @@ By measure class (the `class` column the driver writes):
   deterministic  nnz(L), flops, factor / matrix bytes, predicted bytes, n, nnz, iterations: compared exactly;
                  any change is reported, an increase over --det-threshold (0.5%) fails
   memory         peak RSS (the child's VmHWM): the median over repeats fails above --rss-threshold (5%)
-  time           each run's time normalized by the machine rates measured just before and after it (its `rate`:
-                 the memory read rate for builds, analyses and solves, the BLAS dgemm rate for factorizations,
-                 both for init = build + analyze + factorize), scaled to the baseline cell's median rates; fails
-                 only when the median is more than --threshold (15%) slower AND a one-sided Mann-Whitney U test
-                 (scipy, exact for small samples without ties) gives p < --alpha (0.05) AND the raw (unnormalized)
-                 median is also more than --threshold slower (the rate probes are themselves noisy under bursty
-                 load: normalization may excuse a slow window, never make a failure); needs >= --min-repeats (5)
-                 runs on each side, and baseline medians under --min-time-s (5 ms) are reported, not gated
+  cpu            CPU time of a phase (init, frame; build, analyze, factorize, solve), the cells running
+                 single-threaded: time-slicing by other processes does not lengthen it, so it is compared as it
+                 is; fails only when the median is more than --threshold (15%) slower AND a one-sided
+                 Mann-Whitney U test (scipy, exact for small samples without ties) on the runs normalized by
+                 their round's drift gives p < --alpha (0.05) AND the normalized median is also more than
+                 --threshold slower. A round's drift: the median ratio of all the CPU times of that round to
+                 their baseline medians, when >= --drift-cells (10) are compared (contention for caches and
+                 memory with other processes moves every cell of a round; one cell's regression does not move
+                 the median);
+                 needs >= --min-repeats (5) runs on each side; baseline medians under --min-time-s (5 ms) are
+                 reported, not gated
+  time           wall time of the same phases, each run normalized by the machine rates measured just before and
+                 after it (its `rate`: the memory read rate for builds, analyses and solves, the BLAS dgemm rate
+                 for factorizations, both for init = build + analyze + factorize), scaled to the baseline cell's
+                 median rates: reported; gated only with --gate-wall (for a quiet machine), by the cpu rule plus
+                 the raw (unnormalized) median also more than --threshold slower (normalization may excuse a slow
+                 window, never make a failure). On a shared machine wall time moves with the load by up to 5x
+                 between runs minutes apart, and the rate probes do not follow it
+  info           the whole child's wall and CPU time: recorded, never compared
 A cell that failed in NOW fails the gate. Across machines (different machine_id) only deterministic measures are
 gated. Prints the comparisons that are not plain "ok" (all of them with --all) and writes the full report as
 Markdown with --markdown. Exit: 0 pass, 1 regression (or usage), 2 unreadable history.
@@ -119,6 +130,8 @@ class Settings:
     min_time_s: float = 0.005
     cells: tuple = ()
     measures: tuple = ()
+    gate_wall: bool = False
+    drift_cells: int = 10
 
 
 def _ref_rates(h, cell):
@@ -151,14 +164,9 @@ def u_test_greater(now, base):
     return float(mannwhitneyu(now, base, alternative="greater").pvalue)
 
 
-def _compare_time(c, base, now, key, rate, s, same_machine):
-    ref = _ref_rates(base, key[0])
-    b, n = normalized(base, *key, rate, ref), normalized(now, *key, rate, ref)
-    raw_b, raw_n = (statistics.median(v for v in h.values[key].values() if not math.isnan(v)) for h in (base, now))
-    c.base, c.now = statistics.median(b), statistics.median(n)
-    c.ratio = c.now / c.base if c.base > 0 else math.nan
-    raw = raw_n / raw_b if raw_b > 0 else math.nan
-    c.note = f"raw {raw:.3f}" if raw_b > 0 else ""
+def _time_verdict(c, b, n, raw_b, s, same_machine):
+    """The rule of the timed classes: not gated across machines, with too few runs or under min_time_s; else FAIL
+    when the median is more than the threshold slower and the U test significant."""
     if not same_machine:
         c.verdict, c.note = "not gated", "other machine"
     elif min(len(b), len(n)) < s.min_repeats:
@@ -167,16 +175,87 @@ def _compare_time(c, base, now, key, rate, s, same_machine):
         c.verdict, c.note = "not gated", f"under {s.min_time_s * 1e3:g} ms"
     else:
         c.p = u_test_greater(n, b)
-        if c.ratio > 1 + s.threshold and c.p < s.alpha:
-            # The probes around a short cell are noisy under bursty load: a slowdown that only the normalization
-            # makes (raw time within the threshold) is reported, not failed.
-            if raw > 1 + s.threshold:
-                c.verdict = "FAIL"
-            else:
-                c.note += ": raw time within the threshold, not failed"
+        return c.ratio > 1 + s.threshold and c.p < s.alpha
+    return False
 
 
-def compare_one(base, now, key, s, same_machine):
+def _runs(h, key):
+    return [v for v in h.values.get(key, {}).values() if not math.isnan(v)]
+
+
+@dataclass
+class Drift:
+    """Per round of each history, the factor by which its CPU times stood above the baseline's medians."""
+    base: dict = field(default_factory=dict)  # round -> factor
+    now: dict = field(default_factory=dict)
+
+    def normalized(self, h, key, side):
+        factors = self.base if side == "base" else self.now
+        return [v / factors.get(r, 1.0) for r, v in sorted(h.values[key].items()) if not math.isnan(v)]
+
+
+def cpu_drift(base, now, s):
+    """The load's share of the CPU times, round by round: in round r of a history, the median over every CPU-time
+    measure the rule compares (whatever --cell / --measure pick) of (its run in round r / its baseline median);
+    1 where fewer than --drift-cells measures ran. The other cells of the same round (a minute or two of the
+    run) are the probe of what the load did to CPU time then (caches and memory bandwidth shared with other
+    processes): the same kind of work, measured at the same time; one cell's regression does not move the
+    median."""
+    ref = {}
+    for key, (cls, _) in now.classes.items():
+        if cls == "cpu" and key in base.values:
+            b, n = _runs(base, key), _runs(now, key)
+            if min(len(b), len(n)) >= s.min_repeats and statistics.median(b) >= s.min_time_s:
+                ref[key] = statistics.median(b)
+
+    def factors(h):
+        by_round = {}
+        for key, m in ref.items():
+            for r, v in h.values[key].items():
+                if not math.isnan(v):
+                    by_round.setdefault(r, []).append(v / m)
+        return {r: statistics.median(x) for r, x in by_round.items() if s.drift_cells > 0 and len(x) >= s.drift_cells}
+
+    return Drift(factors(base), factors(now))
+
+
+def _compare_cpu(c, base, now, key, s, same_machine, drift):
+    b, n = _runs(base, key), _runs(now, key)
+    c.base, c.now = statistics.median(b), statistics.median(n)
+    c.ratio = c.now / c.base if c.base > 0 else math.nan
+    nb, nn = drift.normalized(base, key, "base"), drift.normalized(now, key, "now")
+    norm = statistics.median(nn) / statistics.median(nb) if statistics.median(nb) > 0 else math.nan
+    c.note = f"normalized {norm:.3f}"
+    # The U test on the runs normalized round by round; both the raw and the normalized medians must be more than
+    # the threshold slower: normalization may excuse a slowdown the whole round shared, never make a failure.
+    if _time_verdict(c, nb, nn, c.base, s, same_machine):
+        if norm > 1 + s.threshold:
+            c.verdict = "FAIL"
+        else:
+            c.note += ": within the threshold once normalized by the round's drift, not failed"
+
+
+def _compare_time(c, base, now, key, rate, s, same_machine):
+    ref = _ref_rates(base, key[0])
+    b, n = normalized(base, *key, rate, ref), normalized(now, *key, rate, ref)
+    raw_b, raw_n = (statistics.median(v for v in h.values[key].values() if not math.isnan(v)) for h in (base, now))
+    c.base, c.now = statistics.median(b), statistics.median(n)
+    c.ratio = c.now / c.base if c.base > 0 else math.nan
+    raw = raw_n / raw_b if raw_b > 0 else math.nan
+    c.note = f"raw {raw:.3f}" if raw_b > 0 else ""
+    if not s.gate_wall:
+        c.verdict = "not gated"
+        c.note += "; wall time (--gate-wall)"
+    elif _time_verdict(c, b, n, raw_b, s, same_machine):
+        # The probes around a short cell are noisy under bursty load: a slowdown that only the normalization
+        # makes (raw time within the threshold) is reported, not failed.
+        if raw > 1 + s.threshold:
+            c.verdict = "FAIL"
+        else:
+            c.note += ": raw time within the threshold, not failed"
+
+
+def compare_one(base, now, key, s, same_machine, drift=Drift()):
     cls, rate = now.classes[key]
     c = Comparison(key[0], key[1], cls)
     if key not in base.values:
@@ -185,12 +264,17 @@ def compare_one(base, now, key, s, same_machine):
     if cls == "time":
         _compare_time(c, base, now, key, rate, s, same_machine)
         return c
+    if cls == "cpu":
+        _compare_cpu(c, base, now, key, s, same_machine, drift)
+        return c
     c.base = statistics.median(base.values[key].values())
     c.now = statistics.median(now.values[key].values())
     c.ratio = c.now / c.base if c.base else (1.0 if c.now == c.base else math.inf)
     if cls == "deterministic":
         if c.now != c.base:
             c.verdict = "FAIL" if c.ratio > 1 + s.det_threshold else "changed"
+    elif cls != "memory":
+        c.verdict = "not gated"
     elif not same_machine:
         c.verdict, c.note = "not gated", "other machine"
     elif c.ratio > 1 + s.rss_threshold:
@@ -206,13 +290,14 @@ def _wanted(cell, measure, s):
 def compare(base, now, s=Settings()):
     """Every (cell, measure) of either history, compared by its class."""
     same_machine = base.meta.get("machine_id") == now.meta.get("machine_id")
+    drift = cpu_drift(base, now, s)
     out = []
     for cell, message in sorted(now.failed.items()):
         if _wanted(cell, "status", s) or (s.measures and _wanted(cell, s.measures[0], s)):
             out.append(Comparison(cell, "status", "status", verdict="FAIL", note=message))
     for key in sorted(now.values):
         if _wanted(*key, s) and key[0] not in now.failed:
-            out.append(compare_one(base, now, key, s, same_machine))
+            out.append(compare_one(base, now, key, s, same_machine, drift))
     for key in sorted(set(base.values) - set(now.values)):
         if _wanted(*key, s) and key[0] not in now.failed:
             out.append(Comparison(key[0], key[1], base.classes[key][0], verdict="missing",
@@ -245,24 +330,32 @@ def describe(h):
     return f"{m.get('git_sha') or m['commit'][:12]} ({m['date']}, machine {m['machine_id']}{extra}) {h.path}"
 
 
-def largest_time_ratios(cmps, k=5):
-    t = [c for c in cmps if c.cls == "time" and not math.isnan(c.ratio) and c.verdict != "new"]
+def largest_time_ratios(cmps, cls="cpu", k=5, min_time_s=0.005):
+    """The comparisons of a timed class with the largest change either way (those compared: same machine,
+    enough runs, over min_time_s)."""
+    t = [c for c in cmps if c.cls == cls and not math.isnan(c.ratio) and c.verdict != "new" and
+         (not math.isnan(c.p) or cls == "time" and c.base >= min_time_s and c.note.startswith("raw"))]
     return sorted(t, key=lambda c: -abs(math.log(c.ratio)) if c.ratio > 0 else 0)[:k]
 
 
 def summary_lines(base, now, cmps, s):
+    drift = cpu_drift(base, now, s)
     fails = [c for c in cmps if c.verdict == "FAIL"]
     counts = {}
     for c in cmps:
         counts[c.verdict] = counts.get(c.verdict, 0) + 1
     lines = [f"baseline: {describe(base)}", f"now:      {describe(now)}",
-             f"rules: deterministic +{s.det_threshold:.1%} | peak RSS +{s.rss_threshold:.0%} | time +{s.threshold:.0%}"
-             f" and U-test p < {s.alpha:g} (normalized by the machine rates, >= {s.min_repeats} runs)",
-             "comparisons: " + ", ".join(f"{v} {n}" for v, n in sorted(counts.items()))]
-    big = largest_time_ratios(cmps)
-    if big:
-        lines.append("largest normalized time changes: " +
-                     ", ".join(f"{c.cell} {c.measure} {c.ratio:.3f}" for c in big))
+             f"rules: deterministic +{s.det_threshold:.1%} | peak RSS +{s.rss_threshold:.0%} | CPU time "
+             f"+{s.threshold:.0%} and U-test p < {s.alpha:g} (>= {s.min_repeats} runs) | wall time "
+             + ("the same, normalized by the machine rates, raw too" if s.gate_wall else "reported (--gate-wall)"),
+             "comparisons: " + ", ".join(f"{v} {n}" for v, n in sorted(counts.items())),
+             "CPU drift by round (median ratio of the round's CPU times to the baseline's medians), baseline / now: "
+             + " / ".join(" ".join(f"{f:.3f}" for _, f in sorted(d.items())) or "none"
+                          for d in (drift.base, drift.now))]
+    for cls, what in (("cpu", "CPU time"), ("time", "normalized wall time")):
+        big = largest_time_ratios(cmps, cls, min_time_s=s.min_time_s)
+        if big:
+            lines.append(f"largest {what} changes: " + ", ".join(f"{c.cell} {c.measure} {c.ratio:.3f}" for c in big))
     lines.append(f"verdict: {'FAIL (' + str(len(fails)) + ' regression(s))' if fails else 'pass'}")
     return lines
 
@@ -312,12 +405,15 @@ def parse_args(argv):
     ap = UsageParser(prog="track_gate", description=__doc__.split("\n")[0], allow_abbrev=False)
     ap.add_argument("baseline")
     ap.add_argument("now")
-    ap.add_argument("--threshold", type=float, default=15, help="time: allowed slowdown, percent (15)")
-    ap.add_argument("--alpha", type=float, default=0.05, help="time: significance level of the U test (0.05)")
+    ap.add_argument("--threshold", type=float, default=15, help="CPU time: allowed slowdown, percent (15)")
+    ap.add_argument("--alpha", type=float, default=0.05, help="CPU time: significance level of the U test (0.05)")
     ap.add_argument("--det-threshold", type=float, default=0.5, help="deterministic: allowed increase, percent")
     ap.add_argument("--rss-threshold", type=float, default=5, help="peak RSS: allowed increase, percent (5)")
     ap.add_argument("--min-repeats", type=int, default=5, help="time: runs needed on each side (5)")
     ap.add_argument("--min-time-s", type=float, default=0.005, help="time: baseline medians under this are not gated")
+    ap.add_argument("--gate-wall", action="store_true", help="gate wall times too (normalized; a quiet machine)")
+    ap.add_argument("--drift-cells", type=int, default=10, help="CPU time: measures needed to measure a "
+                    "round's drift (10; 0 never normalizes)")
     ap.add_argument("--cell", action="append", default=[], help="only cells matching this glob (repeatable)")
     ap.add_argument("--measure", action="append", default=[], help="only this measure (repeatable)")
     ap.add_argument("--markdown", help="write the report here")
@@ -331,7 +427,7 @@ def parse_args(argv):
 def main(argv=None):
     a = parse_args(sys.argv[1:] if argv is None else argv)
     s = Settings(a.threshold / 100, a.alpha, a.det_threshold / 100, a.rss_threshold / 100, a.min_repeats,
-                 a.min_time_s, tuple(a.cell), tuple(a.measure))
+                 a.min_time_s, tuple(a.cell), tuple(a.measure), a.gate_wall, a.drift_cells)
     try:
         base, now = load_history(a.baseline), load_history(a.now)
     except InputError as e:

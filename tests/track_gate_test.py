@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Unit tests of the tracking gate (scripts/track_gate.py) on synthetic histories: a 30% slowdown is flagged, a 5%
-one and pure noise pass, a machine that is slower as a whole passes (normalization by the rates), and the
+"""Unit tests of the tracking gate (scripts/track_gate.py) on synthetic histories: a 30% slowdown of a CPU time is
+flagged, a 5% one and pure noise pass, a loaded machine (wall times x3, CPU times as they were) passes; wall times
+are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
 deterministic, memory and status rules.  Run: tests/track_gate_test.py (ctest `track_gate`)."""
 import math
 import os
@@ -28,14 +29,21 @@ def row(measure, cls, rate, value, repeat, dgemm=30.0, read=20.0, cell=CELL, mac
     return r
 
 
-def timed(times, measure="factorize_s", rate="dgemm", dgemm=30.0, read=20.0, **kw):
+def timed(times, measure="factorize_s", rate="dgemm", dgemm=30.0, read=20.0, cls="time", **kw):
     """A history with one time measure, one row per repeat; dgemm / read may be per-repeat lists."""
     rows = []
     for i, t in enumerate(times):
         d = dgemm[i] if isinstance(dgemm, list) else dgemm
         m = read[i] if isinstance(read, list) else read
-        rows.append(row(measure, "time", rate, t, i + 1, d, m, **kw))
+        rows.append(row(measure, cls, rate, t, i + 1, d, m, **kw))
     return g.History.from_rows(rows)
+
+
+def cpu(times, **kw):
+    return timed(times, measure="factorize_cpu_s", rate="", cls="cpu", **kw)
+
+
+CPU = (CELL, "factorize_cpu_s")
 
 
 def noisy(center, n, sigma, rng):
@@ -46,13 +54,75 @@ def verdicts(base, now, **settings):
     return {(c.cell, c.measure): c for c in g.compare(base, now, g.Settings(**settings))}
 
 
-class TimeRule(unittest.TestCase):
+def wall_verdicts(base, now, **settings):
+    return verdicts(base, now, gate_wall=True, **settings)
+
+
+class CpuTimeRule(unittest.TestCase):
+    def test_thirty_percent_slowdown_fails(self):
+        rng = random.Random(11)
+        for _ in range(20):
+            c = verdicts(cpu(noisy(2.0, 5, 0.05, rng)), cpu(noisy(2.6, 5, 0.05, rng)))[CPU]
+            self.assertEqual(c.verdict, "FAIL", c)
+            self.assertLess(c.p, 0.05)
+            self.assertGreater(c.ratio, 1.15)
+
+    def test_five_percent_slowdown_and_noise_pass(self):
+        rng = random.Random(12)
+        for center in [2.1] * 50 + [2.0] * 200:
+            self.assertNotEqual(verdicts(cpu(noisy(2.0, 5, 0.05, rng)), cpu(noisy(center, 5, 0.05, rng)))[CPU]
+                                .verdict, "FAIL")
+
+    def test_a_loaded_machine_passes_on_cpu_time(self):
+        # Load triples the wall times; the CPU times of the same runs barely move: the CPU rule passes where the
+        # wall rule (the rates probes did not see the load) would fail.
+        rng = random.Random(13)
+        base_cpu, now_cpu = noisy(1.0, 5, 0.03, rng), noisy(1.03, 5, 0.03, rng)
+        self.assertEqual(verdicts(cpu(base_cpu), cpu(now_cpu))[CPU].verdict, "ok")
+        wall = wall_verdicts(timed([t * 1.2 for t in base_cpu]), timed([t * 3.6 for t in now_cpu]))
+        self.assertEqual(wall[(CELL, "factorize_s")].verdict, "FAIL")
+        self.assertEqual(verdicts(timed([1.0] * 5), timed([3.0] * 5))[(CELL, "factorize_s")].verdict, "not gated")
+
+    def test_a_suite_wide_drift_is_excused_one_cell_is_not(self):
+        # Twelve cells whose CPU times all grew by 20% (contention with other processes, the same in every cell):
+        # the rounds' drift excuses them; one cell 30% slower than a suite that did not move fails.
+        rng = random.Random(14)
+
+        def suite(factor, slow_cell=None):
+            rows = []
+            for k in range(12):
+                f = factor * (1.3 if k == slow_cell else 1.0)
+                for i, t in enumerate(noisy(0.5 * f, 5, 0.02, rng)):
+                    rows.append(row("init_cpu_s", "cpu", "", t, i + 1, cell=f"deform/c{k}"))
+            return g.History.from_rows(rows)
+
+        base = suite(1.0)
+        drifted = g.compare(base, suite(1.2), g.Settings())
+        self.assertFalse([c for c in drifted if c.verdict == "FAIL"])
+        self.assertTrue(all(c.ratio > 1.1 and abs(float(c.note.split()[1]) - 1) < 0.1 for c in drifted), drifted)
+        self.assertEqual(g.compare(base, suite(1.2), g.Settings(drift_cells=0))[0].verdict, "FAIL")
+        one = {c.cell: c.verdict for c in g.compare(base, suite(1.0, slow_cell=3), g.Settings())}
+        self.assertEqual(one.pop("deform/c3"), "FAIL")
+        self.assertEqual(set(one.values()), {"ok"})
+
+    def test_too_few_runs_tiny_times_other_machine_not_gated(self):
+        self.assertEqual(verdicts(cpu([1.0] * 4), cpu([2.0] * 4))[CPU].note, "4 runs < 5")
+        self.assertEqual(verdicts(cpu([1e-4] * 5), cpu([2e-4] * 5))[CPU].verdict, "not gated")
+        self.assertEqual(verdicts(cpu([1.0] * 5), cpu([2.0] * 5, machine="m2"))[CPU].note, "other machine")
+
+    def test_info_never_gated(self):
+        c = verdicts(timed([1.0] * 5, measure="cell_cpu_s", cls="info"), timed([9.0] * 5, measure="cell_cpu_s",
+                                                                               cls="info"))
+        self.assertEqual(c[(CELL, "cell_cpu_s")].verdict, "not gated")
+
+
+class WallTimeRule(unittest.TestCase):
     def test_thirty_percent_slowdown_fails(self):
         rng = random.Random(1)
         for _ in range(20):
             base = timed(noisy(2.0, 5, 0.05, rng))
             now = timed(noisy(2.6, 5, 0.05, rng))
-            c = verdicts(base, now)[(CELL, "factorize_s")]
+            c = wall_verdicts(base, now)[(CELL, "factorize_s")]
             self.assertEqual(c.verdict, "FAIL", c)
             self.assertLess(c.p, 0.05)
             self.assertGreater(c.ratio, 1.15)
@@ -62,37 +132,37 @@ class TimeRule(unittest.TestCase):
         for _ in range(50):
             base = timed(noisy(2.0, 5, 0.05, rng))
             now = timed(noisy(2.1, 5, 0.05, rng))
-            self.assertNotEqual(verdicts(base, now)[(CELL, "factorize_s")].verdict, "FAIL")
+            self.assertNotEqual(wall_verdicts(base, now)[(CELL, "factorize_s")].verdict, "FAIL")
 
     def test_pure_noise_passes(self):
         # Noise as between runs on this box (5% per run): the threshold alone keeps every comparison ok.
         rng = random.Random(3)
         for _ in range(200):
             base, now = timed(noisy(2.0, 5, 0.05, rng)), timed(noisy(2.0, 5, 0.05, rng))
-            self.assertNotEqual(verdicts(base, now)[(CELL, "factorize_s")].verdict, "FAIL")
+            self.assertNotEqual(wall_verdicts(base, now)[(CELL, "factorize_s")].verdict, "FAIL")
 
     def test_heavy_noise_fails_at_most_alpha(self):
         # Heavy noise (20% per run) often moves a median of five by 15%; the U test then bounds false alarms by
         # alpha: an exact 5-vs-5 one-sided test has P(p < 0.05) = 12/252 under no change.
         rng = random.Random(3)
-        fails = sum(verdicts(timed(noisy(2.0, 5, 0.2, rng)), timed(noisy(2.0, 5, 0.2, rng)))
+        fails = sum(wall_verdicts(timed(noisy(2.0, 5, 0.2, rng)), timed(noisy(2.0, 5, 0.2, rng)))
                     [(CELL, "factorize_s")].verdict == "FAIL" for _ in range(400))
         self.assertLessEqual(fails, 0.05 * 400 + 3 * math.sqrt(400 * 0.05 * 0.95), f"{fails} of 400 failed")
-        strict = sum(verdicts(timed(noisy(2.0, 5, 0.2, rng)), timed(noisy(2.0, 5, 0.2, rng)), alpha=0.01)
+        strict = sum(wall_verdicts(timed(noisy(2.0, 5, 0.2, rng)), timed(noisy(2.0, 5, 0.2, rng)), alpha=0.01)
                      [(CELL, "factorize_s")].verdict == "FAIL" for _ in range(400))
         self.assertLessEqual(strict, 0.01 * 400 + 3 * math.sqrt(400 * 0.01 * 0.99), f"{strict} of 400 at 0.01")
 
     def test_one_slow_outlier_passes(self):
         base = timed([2.0, 2.02, 1.98, 2.01, 1.99])
         now = timed([2.0, 2.02, 1.98, 2.01, 4.5])  # one run in a slow window: median unmoved, not significant
-        self.assertEqual(verdicts(base, now)[(CELL, "factorize_s")].verdict, "ok")
+        self.assertEqual(wall_verdicts(base, now)[(CELL, "factorize_s")].verdict, "ok")
 
     def test_slower_machine_is_normalized_away(self):
         # The whole machine at half speed: every time doubles and the dgemm rate around it halves.
         rng = random.Random(4)
         base = timed(noisy(2.0, 5, 0.03, rng), dgemm=30.0)
         now = timed([2 * t for t in noisy(2.0, 5, 0.03, rng)], dgemm=15.0)
-        c = verdicts(base, now)[(CELL, "factorize_s")]
+        c = wall_verdicts(base, now)[(CELL, "factorize_s")]
         self.assertEqual(c.verdict, "ok", c)
         self.assertAlmostEqual(c.ratio, 1.0, delta=0.1)
         self.assertAlmostEqual(float(c.note.split()[1]), 2.0, delta=0.2)  # "raw 1.98": the unnormalized ratio
@@ -101,14 +171,14 @@ class TimeRule(unittest.TestCase):
         # Two of five runs in a slow window (time x1.5, rate / 1.5): normalized, the runs agree again.
         base = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=30.0)
         now = timed([3.0, 3.03, 2.0, 2.01, 1.99], dgemm=[20.0, 20.0, 30.0, 30.0, 30.0])
-        self.assertAlmostEqual(verdicts(base, now)[(CELL, "factorize_s")].ratio, 1.0, delta=0.02)
+        self.assertAlmostEqual(wall_verdicts(base, now)[(CELL, "factorize_s")].ratio, 1.0, delta=0.02)
 
     def test_a_slowdown_made_by_the_normalization_alone_does_not_fail(self):
         # Same raw times; the probes around the new runs read a machine twice as fast (a burst of load that ended
         # before the short cell ran): normalized 2x slower, raw unchanged.
         base = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=15.0)
         now = timed([2.0, 2.01, 1.99, 2.02, 1.98], dgemm=30.0)
-        c = verdicts(base, now)[(CELL, "factorize_s")]
+        c = wall_verdicts(base, now)[(CELL, "factorize_s")]
         self.assertAlmostEqual(c.ratio, 2.0, delta=0.05)
         self.assertEqual(c.verdict, "ok", c)
         self.assertIn("not failed", c.note)
@@ -116,7 +186,7 @@ class TimeRule(unittest.TestCase):
     def test_read_rate_for_solves_and_builds(self):
         base = timed([0.1] * 5, measure="frame_s", rate="read", read=20.0)
         now = timed([0.2] * 5, measure="frame_s", rate="read", read=10.0, dgemm=60.0)
-        self.assertAlmostEqual(verdicts(base, now)[(CELL, "frame_s")].ratio, 1.0, delta=1e-9)
+        self.assertAlmostEqual(wall_verdicts(base, now)[(CELL, "frame_s")].ratio, 1.0, delta=1e-9)
 
     def test_init_is_normalized_by_its_parts(self):
         def hist(build, factor, dgemm, read):
@@ -128,16 +198,16 @@ class TimeRule(unittest.TestCase):
             return g.History.from_rows(rows)
         # The build at half the read rate took twice as long; the factorization ran at the same dgemm rate.
         base, now = hist(1.0, 2.0, 30.0, 20.0), hist(2.0, 2.0, 30.0, 10.0)
-        self.assertAlmostEqual(verdicts(base, now)[(CELL, "init_s")].ratio, 1.0, delta=1e-9)
+        self.assertAlmostEqual(wall_verdicts(base, now)[(CELL, "init_s")].ratio, 1.0, delta=1e-9)
 
     def test_too_few_runs_and_tiny_times_are_not_gated(self):
-        v = verdicts(timed([1.0] * 3), timed([2.0] * 3))[(CELL, "factorize_s")]
+        v = wall_verdicts(timed([1.0] * 3), timed([2.0] * 3))[(CELL, "factorize_s")]
         self.assertEqual((v.verdict, v.note), ("not gated", "3 runs < 5"))
-        v = verdicts(timed([1e-4] * 5), timed([2e-4] * 5))[(CELL, "factorize_s")]
+        v = wall_verdicts(timed([1e-4] * 5), timed([2e-4] * 5))[(CELL, "factorize_s")]
         self.assertEqual(v.verdict, "not gated")
 
     def test_other_machine_times_not_gated(self):
-        v = verdicts(timed([1.0] * 5), timed([2.0] * 5, machine="m2"))[(CELL, "factorize_s")]
+        v = wall_verdicts(timed([1.0] * 5), timed([2.0] * 5, machine="m2"))[(CELL, "factorize_s")]
         self.assertEqual((v.verdict, v.note), ("not gated", "other machine"))
 
 

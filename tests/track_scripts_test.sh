@@ -52,7 +52,7 @@ expect "a dirty run is never a baseline" 0 "verdict: pass" --
 expect "--baseline REV without history: measured in a worktree" 1 \
   "$(sha c1 | cut -c1-12) built in a worktree and measured now" -- --baseline c1
 grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/out" &&
-  grep -Eq "fake/cell +factorize_s +time +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/out" &&
+  grep -Eq "fake/cell +factorize_s +cpu +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/out" &&
   ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/out")"
 no_worktrees "--baseline c1"
 expect "--baseline REV with history: reused" 1 "the newest history of $(sha c1 | cut -c1-12) on this machine" -- \

@@ -3,7 +3,8 @@
 # cactus of the data step; it fails naming them when they are missing): strict command line and config, the
 # shipped suite's grid, and a planted regression:
 # the suite run again through scripts/track.py with a worse ordering for the TF cells (--override ordering=natural)
-# against a baseline with the default fails, naming nnz(L) and factor bytes of the TF cells and nothing of LAP's.
+# against a baseline with the default fails, naming nnz(L) and factor bytes of the TF cells and nothing of LAP's;
+# the same worse ordering caught by the CPU-time rule alone (init_cpu_s), where the unchanged cell passes.
 #   track_test.sh SOURCE_DIR BUILD_DIR
 set -u
 SRC=$(cd "$1" && pwd)
@@ -28,9 +29,11 @@ X="$BIN/exp_track"
 # ---------------------------------------------------------------- command line and the shipped suite
 expect "--help" 0 "Usage: exp_track" -- "$X" --help
 expect "misspelled option" 1 "did you mean --repeats" -- "$X" --repeat 3
-expect "the shipped suite" 0 "^solve/armadillo/tf/multifrontal/default " -- "$X" --dry-run
-[ "$(grep -c . "$T/out")" -eq 32 ] && ok "32 cells in the shipped suite" || fail "shipped suite: $(grep -c . "$T/out") cells"
-expect "--only" 0 "^deform/hand/tf/naive/multifrontal +kind=deform model=hand method=tf build=naive .*frames=10" -- \
+expect "the shipped suite" 0 "^solve/armadillo/lap/spqr/default " -- "$X" --dry-run
+[ "$(grep -c . "$T/out")" -eq 29 ] && ok "29 cells in the shipped suite" || fail "shipped suite: $(grep -c . "$T/out") cells"
+grep -Eq "^deform/armadillo_loop1/tf/structured/multifrontal .* rounds=2$" "$T/out" &&
+  grep -Eq "^deform/hand/tf/naive/multifrontal .* rounds=5$" "$T/out" && ok "rounds per cell" || fail "rounds: $(cat "$T/out")"
+expect "--only" 0 "^deform/hand/tf/naive/multifrontal +kind=deform model=hand method=tf build=naive .*frames=5" -- \
   "$X" --dry-run --only 'deform/hand/tf/*'
 expect "--only matching nothing" 1 "no cell to run" -- "$X" --dry-run --only 'nothing*'
 expect "override recorded in the spec" 0 "deform/hand/tf/structured/multifrontal .*ordering=natural" -- \
@@ -72,6 +75,25 @@ grep -E "^deform/[a-z]+/lap/.*FAIL" "$T/out" && fail "a lap cell failed" || ok "
 grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic |" "$T/track.md" &&
   ok "Markdown report names it" || fail "track.md: $(head -20 "$T/track.md")"
 [ "$(ls "$T/history/runs" | wc -l)" -eq 2 ] && ok "one history file per run" || fail "histories: $(ls "$T/history/runs")"
+
+# A planted slowdown caught by the CPU-time rule alone (--measure init_cpu_s): the TF cell of hand in 5 rounds, run
+# again unchanged (passes) and with the natural ordering (more fill: its init does more work, and fails).
+cat >"$T/cpu.toml" <<'EOF'
+tier = ["hand=meshes/hand.off"]
+cells = ["deform hand: method=tf build=structured"]
+default = ["kind=deform: constraints=soft frames=2"]
+repeats = 5
+EOF
+for run in base same slow; do
+  over=(); [ $run = slow ] && over=(--override "kind=deform: ordering=natural")
+  "$X" --config "$T/cpu.toml" --data "$SRC/data" --out "$T/cpu_$run.csv" "${over[@]}" >/dev/null 2>&1 ||
+    fail "cpu run $run did not run"
+done
+GATE=(/usr/bin/python3 "$SRC/scripts/track_gate.py" --measure init_cpu_s "$T/cpu_base.csv")
+expect "CPU time: unchanged passes" 0 "verdict: pass" -- "${GATE[@]}" "$T/cpu_same.csv"
+expect "CPU time: a slower init fails" 1 \
+  "^deform/hand/tf/structured/multifrontal +init_cpu_s +cpu +[0-9.]+ +[0-9.]+ +[0-9.]+ +0.00[0-9]+ +FAIL" -- \
+  "${GATE[@]}" "$T/cpu_slow.csv"
 
 # The trend view of these histories: the run with overrides is left out, the other gives every figure.
 expect "trend view" 0 "1 run\(s\) of machine [0-9a-f]{12} -> $T/plots/history_\*.png" -- \

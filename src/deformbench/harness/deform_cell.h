@@ -7,6 +7,7 @@
 //! constraints, frames, handle, anchors, drag, factor_dir, memory_budget_bytes, out_mesh, handle_frames.
 //! Measures: vertices, faces, handle, fixed, n, nnz, nnz_factor, factor_flops, min_pivot_ratio, build_s,
 //! analyze_s, factorize_s, init_s, frames, frame_s, rhs_s, solve_s, write_s (medians over the frames), fps,
+//! init_cpu_s and frame_cpu_s (CPU time of this process, harness/cpu_timer.h: make_deformer; median per frame),
 //! matrix_bytes, factor_bytes, held_bytes:<matrix>, held_total_bytes, peak_rss_bytes (VmHWM),
 //! baseline_rss_bytes (after reading the mesh), mean_displacement (last frame, / bbox diagonal).
 //! With handle_frames=1, after the drag the same factored systems switch to handle-mode frames

@@ -58,6 +58,7 @@ CellResult run_once(const std::string& exe, const CellSpec& spec, const RunOptio
   r.set("ru_maxrss_bytes", static_cast<double>(c.ru_maxrss_bytes), "bytes");
   r.set("parent_rss_bytes", parent_rss, "bytes");
   r.set("cell_wall_s", c.wall_s, "s");
+  r.set("cell_cpu_s", c.user_s + c.sys_s, "s");  // wait4's rusage: the whole child, user + system
   r.set("runs", 1, "count");
   return r;
 }

@@ -47,10 +47,10 @@ struct RunOptions {
 
 //! Runs one cell: the budget check (with a prediction), then `repeats` fresh children of `exe` (stopping at the
 //! first that fails, whose result is returned as it happened), their median. Measures added by the parent:
-//! load_avg_1m, ru_maxrss_bytes, parent_rss_bytes, cell_wall_s, runs; with machine_rates blas_dgemm_before|after
-//! (GFlop/s) and memory_read_before|after (GB/s), "after" only when the cell succeeded; the prediction's
-//! measures. A child that crashes, is killed, times out or prints no result line gives status "error" with the
-//! reason and the tail of its stderr. Never throws for a failing child.
+//! load_avg_1m, ru_maxrss_bytes, parent_rss_bytes, cell_wall_s, cell_cpu_s (the child's user + system time),
+//! runs; with machine_rates blas_dgemm_before|after (GFlop/s) and memory_read_before|after (GB/s), "after" only
+//! when the cell succeeded; the prediction's measures. A child that crashes, is killed, times out or prints no
+//! result line gives status "error" with the reason and the tail of its stderr. Never throws for a failing child.
 CellResult run_cell(const std::string& exe, const CellSpec& spec, const RunOptions& options,
                     const Prediction* prediction = nullptr);
 

@@ -5,13 +5,13 @@
 #include <limits>
 #include <memory>
 #include <random>
-#include <tuple>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/resources.h"
 #include "core/timer.h"
+#include "harness/cpu_timer.h"
 #include "harness/positions.h"
 #include "harness/stats.h"
 #include "harness/thesis_edit.h"
@@ -42,7 +42,7 @@ struct Problem {
   Unknowns unk;
   EnergyKind kind = EnergyKind::Lap;
   int block = 1;
-  double order_s = 0;  // vertex-graph ordering of the unknowns ("vertex-*" orderings)
+  double order_s = 0, order_cpu_s = 0;  // vertex-graph ordering of the unknowns ("vertex-*" orderings)
 };
 
 Problem make_problem(const SolverCell& c) {
@@ -59,9 +59,11 @@ Problem make_problem(const SolverCell& c) {
   p.kind = parse_energy(c.system);
   p.block = p.kind == EnergyKind::Lap ? 1 : 3;
   if (c.ordering.rfind("vertex-", 0) == 0) {
+    const CpuTimer tc;
     Timer t;
     order_unknowns(p.adj, p.unk, c.ordering.substr(7));
     p.order_s = t.seconds();
+    p.order_cpu_s = tc.seconds();
   }
   return p;
 }
@@ -106,28 +108,34 @@ double rel_residual(const SpMat& upper, const DenseMat& x, const DenseMat& b) {
   return nb > 0 ? r.norm() / nb : r.norm();
 }
 
-// Repeats `f` (at least once, at most `reps` times, and no more once `budget_s` seconds have been spent);
-// returns {median, min, count}.
+// Repeats `f` (at least once, at most `reps` times, and no more once `budget_s` seconds have been spent).
+struct Reps {
+  double median = 0, min = 0, cpu_median = 0;  // wall seconds; the median in CPU seconds (harness/cpu_timer.h)
+  int count = 0;
+};
 template <class F>
-std::tuple<double, double, int> repeat_timed(int reps, double budget_s, F&& f) {
-  std::vector<double> t;
+Reps repeat_timed(int reps, double budget_s, F&& f) {
+  std::vector<double> t, cpu;
   double total = 0;
   for (int i = 0; i < reps; ++i) {
+    const CpuTimer tc;
     Timer tm;
     f();
     t.push_back(tm.seconds());
+    cpu.push_back(tc.seconds());
     total += t.back();
     if (total >= budget_s) break;
   }
-  return {median(t), *std::min_element(t.begin(), t.end()), int(t.size())};
+  return {median(t), *std::min_element(t.begin(), t.end()), median(cpu), int(t.size())};
 }
 
-void add_system(CellResult& r, const Problem& p, const NormalSystem& sys, double build_s) {
+void add_system(CellResult& r, const Problem& p, const NormalSystem& sys, double build_s, double build_cpu_s) {
   r.set("vertices", p.mesh.num_vertices(), "count");
   r.set("n", static_cast<double>(sys.n()), "count");
   r.set("nnz", double(sys.K.nonZeros()), "count");
   r.set("rhs_cols", sys.rhs_cols, "count");
   r.set("build_s", build_s, "s");
+  r.set("build_cpu_s", build_cpu_s, "s");
   r.set("order_s", p.order_s, "s");
   r.set("matrix_bytes", double(sparse_bytes(sys.K)), "bytes");
   r.set("baseline_rss_bytes", double(current_rss_bytes()), "bytes");
@@ -135,24 +143,26 @@ void add_system(CellResult& r, const Problem& p, const NormalSystem& sys, double
 
 // What the factorization and solve phases measured, the same for every kind of solver.
 struct Phases {
-  double analyze_s = 0;
-  std::tuple<double, double, int> factorize, solve;
+  double analyze_s = 0, analyze_cpu_s = 0;
+  Reps factorize, solve;
   FactorStats stats;
 };
 
 void add_phases(CellResult& r, const Phases& ph) {
-  const auto [fmed, fmin, fn] = ph.factorize;
-  const auto [smed, smin, sn] = ph.solve;
+  const Reps &f = ph.factorize, &s = ph.solve;
   r.set("analyze_s", ph.analyze_s, "s");
-  r.set("factorize_s", fmed, "s");
-  r.set("factorize_min_s", fmin, "s");
-  r.set("factorize_reps", fn, "count");
-  r.set("solve_s", smed, "s");
-  r.set("solve_min_s", smin, "s");
-  r.set("solve_reps", sn, "count");
+  r.set("analyze_cpu_s", ph.analyze_cpu_s, "s");
+  r.set("factorize_s", f.median, "s");
+  r.set("factorize_min_s", f.min, "s");
+  r.set("factorize_cpu_s", f.cpu_median, "s");
+  r.set("factorize_reps", f.count, "count");
+  r.set("solve_s", s.median, "s");
+  r.set("solve_min_s", s.min, "s");
+  r.set("solve_cpu_s", s.cpu_median, "s");
+  r.set("solve_reps", s.count, "count");
   r.set("nnz_factor", double(ph.stats.nnz_factor), "count");
   r.set("factor_flops", ph.stats.flops > 0 ? ph.stats.flops : kNaN, "flop");
-  r.set("gflops", ph.stats.flops > 0 && fmin > 0 ? ph.stats.flops / fmin / 1e9 : kNaN, "GFlop/s");  // fastest rep
+  r.set("gflops", ph.stats.flops > 0 && f.min > 0 ? ph.stats.flops / f.min / 1e9 : kNaN, "GFlop/s");  // fastest rep
   r.set("factor_bytes", double(ph.stats.factor_bytes), "bytes");
 }
 
@@ -180,10 +190,11 @@ namespace {
 // A registry backend on the structured K: analyze, factorize (repeated), solve (repeated).
 CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat& x) {
   const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});
+  const CpuTimer tbc;
   Timer tb;
   const NormalSystem sys = build_normal_system(op, p.unk, Build::Structured);
   CellResult r;
-  add_system(r, p, sys, tb.seconds());
+  add_system(r, p, sys, tb.seconds(), tbc.seconds());
   const DenseMat rhs = drag_rhs(p, sys), xref = reference_solution(p, c.seed, sys.rhs_cols);
   const DenseMat bsyn = sys.K.selfadjointView<Eigen::Upper>() * xref;
 
@@ -192,9 +203,11 @@ CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat
   so.ordering = c.ordering.rfind("vertex-", 0) == 0 ? "natural" : c.ordering;
   auto solver = make_solver(c.backend, so);
   Phases ph;
+  const CpuTimer tac;
   Timer ta;
   solver->analyze(sys.K);
   ph.analyze_s = p.order_s + ta.seconds();
+  ph.analyze_cpu_s = p.order_cpu_s + tac.seconds();
   ph.factorize = repeat_timed(c.factor_reps, c.rep_seconds, [&] { solver->factorize(sys.K); });
   ph.solve = repeat_timed(c.solve_reps, c.rep_seconds, [&] { solver->solve(rhs, x); });
   ph.stats = solver->stats();
@@ -238,11 +251,12 @@ std::pair<SpMat, DenseMat> least_squares_system(const Problem& p, const NormalSy
 // SPQR on the naive build's A: QR of A itself, A^T A never formed; accuracy on the normal equations.
 CellResult measure_least_squares(const SolverCell& c, const Problem& p, DenseMat& x) {
   const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});
+  const CpuTimer tbc;
   Timer tb;
   const NormalSystem sys = build_normal_system(op, p.unk, Build::Naive);
   auto [A, b_ls] = least_squares_system(p, sys);
   CellResult r;
-  add_system(r, p, sys, tb.seconds());
+  add_system(r, p, sys, tb.seconds(), tbc.seconds());
   r.set("matrix_bytes", double(sparse_bytes(A)), "bytes");
   const DenseMat rhs = drag_rhs(p, sys), xref = reference_solution(p, c.seed, sys.rhs_cols);
   const DenseMat bsyn = A * xref;
@@ -250,6 +264,7 @@ CellResult measure_least_squares(const SolverCell& c, const Problem& p, DenseMat
   SpqrLeastSquares qr(c.ordering);
   Phases ph;
   ph.analyze_s = p.order_s;
+  ph.analyze_cpu_s = p.order_cpu_s;
   ph.factorize = repeat_timed(c.factor_reps, c.rep_seconds, [&] { qr.factorize(A); });
   ph.solve = repeat_timed(c.solve_reps, c.rep_seconds, [&] { qr.solve(b_ls, x); });
   ph.stats = qr.stats();

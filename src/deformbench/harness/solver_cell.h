@@ -9,6 +9,8 @@
 //! analyze_s, factorize_s / factorize_min_s / factorize_reps, solve_s / solve_min_s / solve_reps, nnz_factor,
 //! factor_flops, gflops, matrix_bytes, factor_bytes, baseline_rss_bytes, peak_rss_bytes, iterations (iterative
 //! backends), residual (||K x - b|| / ||b||), residual_synthetic, error_exact (||x - x_ref|| / ||x_ref||).
+//! build_cpu_s, analyze_cpu_s, factorize_cpu_s, solve_cpu_s: the same phases in CPU time of this process
+//! (harness/cpu_timer.h; factorize and solve: the median per repetition).
 //! String: ordering_used. With positions=PATH the deformed (normalized) positions go there, for the parent's
 //! error_vs_cholmod (harness/positions.h).
 //!
