@@ -23,7 +23,8 @@ std::string to_string(ConstraintMode m);
 
 //! Full: every frame forms its right-hand side and solves (the thesis' frame). Handle: the solution is affine in
 //! the handle transform, so the responses are solved for once after the factorization (systems/handle_response.h)
-//! and a frame only streams them (LRI: its frame system; the position solve stays per frame).
+//! and a frame only streams them (LRI: its frame system; the position solve stays per frame). The same holds for
+//! per-vertex targets (Edit::targets; lap and tf), with responses that grow with the handle.
 enum class FrameMode { Full, Handle };
 FrameMode parse_frame_mode(const std::string& s);  //!< "full" | "handle"
 std::string to_string(FrameMode m);

@@ -182,7 +182,7 @@ bool LaplacianDeformer::within_handle_limit(int m) {
   const double factor = static_cast<double>(mqwf_.report().factor.factor_bytes);
   if (factor > 0 && bytes <= handle_limit_ * factor) return true;
   frame_mode_note_ = fmt::format(
-      "handle mode: the responses to {} per-vertex targets would be {:.1f} MB, {:.2f} times the factor's {:.1f} MB, "
+      "handle mode: the responses to {} per-vertex targets would be {:.3g} MB, {:.2f} times the factor's {:.3g} MB, "
       "above the handle limit {:g} (--handle-limit): a frame streaming them would not beat a solve; full frames "
       "instead",
       handle_vertices_.size(), bytes / 1e6, factor > 0 ? bytes / factor : 0.0, factor / 1e6, handle_limit_);
