@@ -44,6 +44,14 @@ def run_cell(build, spec):
     return {k[2:]: (float(v), fields.get("u." + k[2:], "")) for k, v in fields.items() if k.startswith("m.")}
 
 
+def write_csv(rows, path):
+    with open(path + ".tmp", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(path + ".tmp", path)
+
+
 def provenance(build):
     out = subprocess.run([os.path.join(build, "deformbench"), "provenance"], capture_output=True, text=True, check=True)
     return dict(l.split(": ", 1) for l in out.stdout.splitlines() if ": " in l)
@@ -104,11 +112,7 @@ def main():
                        ["kind=deform", f"edit=data/bs08/{stem}", f"model=bs08_{stem}", f"method={method}",
                         f"constraints={constraints}", "frames=5", "handle_frames=1"])
     os.makedirs(a.results, exist_ok=True)
-    with open(path + ".tmp", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
-    os.replace(path + ".tmp", path)
+    write_csv(rows, path)
     report(rows, os.path.join(a.results, "handle_frames.md"), prov, a.note)
 
 
@@ -195,11 +199,7 @@ def drags(a):
                                  "measure": k, "value": repr(v), "command": cfull + " ; " + chand, **prov})
     os.makedirs(a.results, exist_ok=True)
     path = os.path.join(a.results, "handle_drags.csv")
-    with open(path + ".tmp", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
-    os.replace(path + ".tmp", path)
+    write_csv(rows, path)
     drags_report(rows, os.path.join(a.results, "handle_drags.md"), prov, a.note)
 
 

@@ -113,6 +113,13 @@ Points drag_targets(const Mesh& m, const Edit& e, int frames) {
   return t;
 }
 
+// The tube's edit with `frames` frames of drag_targets.
+Edit tube_drag(const Mesh& m, int frames) {
+  Edit e = tube_edit(m);
+  e.targets = drag_targets(m, e, frames);
+  return e;
+}
+
 // Largest difference between full and handle frames over every frame of the edit's targets, / bbox diagonal.
 double drag_handle_vs_full(const Mesh& m, const Edit& e, DeformOptions o) {
   o.frame_mode = FrameMode::Full;
@@ -137,8 +144,7 @@ double drag_handle_vs_full(const Mesh& m, const Edit& e, DeformOptions o) {
 
 TEST(HandleFrames, PerVertexDragsEqualFullFrames) {
   const Mesh m = tube();
-  Edit e = tube_edit(m);
-  e.targets = drag_targets(m, e, 3);
+  const Edit e = tube_drag(m, 3);
   for (const char* method : {"lap", "tf"})
     for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
       DeformOptions o;
@@ -190,8 +196,7 @@ TEST(HandleFrames, RigidPerVertexDragEqualsTheAffinePath) {
 
 TEST(HandleFrames, LargeDragsFallBackToFullFrames) {
   const Mesh m = tube();
-  Edit e = tube_edit(m);
-  e.targets = drag_targets(m, e, 1);
+  const Edit e = tube_drag(m, 1);
   DeformOptions o;
   o.method = "tf";
   o.frame_mode = FrameMode::Handle;
@@ -206,8 +211,7 @@ TEST(HandleFrames, LargeDragsFallBackToFullFrames) {
 
 TEST(HandleFrames, LriRefusesPerVertexTargets) {
   const Mesh m = tube();
-  Edit e = tube_edit(m);
-  e.targets = drag_targets(m, e, 1);
+  const Edit e = tube_drag(m, 1);
   DeformOptions o;
   o.method = "lri";
   expect_input_error([&] { make_deformer(m, e, o); }, "need --method lap or tf");

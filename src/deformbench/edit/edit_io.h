@@ -64,7 +64,8 @@ EditCase load_edit_case(const std::string& spec);
 
 //! The files load_edit_case(spec) reads, without reading any of them but a .edit file itself: the stem's mesh
 //! (STEM.off when none exists yet), .sel and .def; or the .edit file, its mesh, sel, def, `indices:` selection
-//! files, `def:` transform file and targets file. For refusing an output path that would overwrite an input before any work.
+//! files, `def:` transform file and targets file. For refusing an output path that would overwrite an input
+//! before any work.
 //! \throw InputError as load_edit_case for an unreadable or malformed .edit file.
 std::vector<std::string> edit_case_files(const std::string& spec);
 

@@ -167,7 +167,8 @@ void LaplacianDeformer::constraint_values(const Mat4& T, const Points* targets) 
       const int v = vertices[k];
       const Vec3 p = Vn_.row(v).transpose();
       Vec3 target = p;
-      if (edit_.roles[v] == Role::Handle) target = targets ? Vec3(targets->row(handle_index_[v]).transpose()) : apply(T, p);
+      if (edit_.roles[v] == Role::Handle)
+        target = targets ? Vec3(targets->row(handle_index_[v]).transpose()) : apply(T, p);
       for (int c = 0; c < 3; ++c) at(M, b, static_cast<int>(k), c) = target(c);
     }
   };
