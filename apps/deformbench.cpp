@@ -8,6 +8,7 @@
 // Options are checked before any work: a value out of range, an option the chosen method or backend does not use,
 // or an output that could not be written is a usage error (exit 1) before a mesh is read.
 #include <algorithm>
+#include <functional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -48,7 +49,7 @@ struct DeformArgs {
   std::string ordering = "default", lri_frames = "first", lri_orthonormalize = "gram_schmidt";
   std::string tf_scale = "free";
   std::string frame_mode = "full";
-  double soft_weight = 1.0;
+  double soft_weight = 1.0, handle_limit = DeformOptions::kDefaultHandleLimit;
   unsigned lri_seed = 1;
   bool tf_no_translation = false, no_normalize = false;
   long long frames = 1, memory_budget_mb = 0;
@@ -102,12 +103,17 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
       ->type_name("FILE")->required();
   d.add_option("--csv", a.csv, "also write one tidy CSV row (.csv) of the measurements, with --out, all or nothing")
       ->type_name("FILE");
-  d.add_option("--frames", a.frames, "interpolate the handle transform over N frames; report the median frame")
+  d.add_option("--frames", a.frames, "interpolate the handle transform over N frames; report the median frame (an edit's "
+               "per-vertex targets: N of its frames, cycling; default all of them)")
       ->type_name("N")->check(cli::Integer(1, kMaxFrames))->capture_default_str();
   d.add_option("--frame-mode", a.frame_mode,
                "full: each frame solves; handle: the responses to the handle's affine map are solved for once after "
                "the factorization and each frame streams them (lri: its frame system)")
       ->check(cli::OneOf(names({FrameMode::Full, FrameMode::Handle})))->capture_default_str();
+  d.add_option("--handle-limit", a.handle_limit,
+               "--frame-mode handle with per-vertex targets: keep full frames when the responses would exceed R "
+               "times the factor's bytes (measured: results/handle_drags.md)")
+      ->type_name("R")->check(cli::Real(1e-6, 1e6))->capture_default_str();
   d.add_option("--transform", a.transform,
                "replace the edit's handle transform: translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | "
                "matrix:16 values | def:FILE")
@@ -176,6 +182,7 @@ void refuse_unused(const CLI::App& d, const DeformArgs& a) {
   else if (a.lri_frames != "random")
     refuse("--lri-seed", fmt::format("is used by --lri-frames random only, not {}", a.lri_frames));
   if (a.constraints != "soft") refuse("--soft-weight", "weights soft constraints; it needs --constraints soft");
+  if (a.frame_mode != "handle") refuse("--handle-limit", "bounds handle-mode responses; it needs --frame-mode handle");
   if (a.tf_scale == "normalized" && a.frame_mode == "handle")
     throw UsageError("--frame-mode handle with --tf-scale normalized: its second pass rotates by the fitted "
                      "rotations, so a frame is not affine in the handle map (use --frame-mode full)");
@@ -223,6 +230,7 @@ DeformOptions deform_options(const DeformArgs& a) {
   o.normalize = !a.no_normalize;
   o.memory_budget = static_cast<std::size_t>(a.memory_budget_mb) * 1000000;
   o.frame_mode = parse_frame_mode(a.frame_mode);
+  o.handle_limit = a.handle_limit;
   return o;
 }
 
@@ -230,13 +238,14 @@ struct FrameMedians {
   double frame = 0, rhs = 0, solve = 0, write = 0, response = 0, orthonormalize = 0;
 };
 
-// Drags the handle from the rest pose to T over `frames` frames; the last frame's positions go to `result`.
-FrameMedians run_frames(Deformer& deformer, const Mat4& T, long long frames, Points& result) {
-  std::vector<double> frame, rhs, solve, write, response, ortho;
+// Runs `frames` frames, frame f (1-based) deformed by `frame`; the last frame's positions go to `result`.
+FrameMedians run_frames(Deformer& deformer, long long frames, const std::function<Points(long long)>& frame,
+                        Points& result) {
+  std::vector<double> all, rhs, solve, write, response, ortho;
   for (long long f = 1; f <= frames; ++f) {
-    result = deformer.deform(interpolate_transform(T, static_cast<double>(f) / static_cast<double>(frames)));
+    result = frame(f);
     const PhaseTimes& t = deformer.times();
-    frame.push_back(t.frame());
+    all.push_back(t.frame());
     rhs.push_back(t.rhs);
     solve.push_back(t.solve);
     write.push_back(t.write);
@@ -244,7 +253,21 @@ FrameMedians run_frames(Deformer& deformer, const Mat4& T, long long frames, Poi
     ortho.push_back(t.orthonormalize);
   }
   using harness::median;
-  return {median(frame), median(rhs), median(solve), median(write), median(response), median(ortho)};
+  return {median(all), median(rhs), median(solve), median(write), median(response), median(ortho)};
+}
+
+// The drag: the handle transform interpolated from the rest pose over the frames, or the edit's per-vertex targets
+// frame by frame (cycling when --frames asks for more frames than the targets give).
+FrameMedians drag(Deformer& deformer, const Edit& edit, long long frames, Points& result) {
+  const long long given = edit.target_frames();
+  if (given == 0)
+    return run_frames(deformer, frames, [&](long long f) {
+      return deformer.deform(interpolate_transform(edit.transform, static_cast<double>(f) / static_cast<double>(frames)));
+    }, result);
+  const Eigen::Index h = edit.count(Role::Handle);
+  return run_frames(deformer, frames, [&](long long f) {
+    return deformer.deform_targets(edit.targets.middleRows(((f - 1) % given) * h, h));
+  }, result);
 }
 
 // Every rank's peak RSS on rank 0 (one entry without a launcher); collective under one.
@@ -280,6 +303,7 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
                  s.name, s.factor.min_pivot_ratio, singular_pivot_bound(s.n));
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
+  if (!deformer.frame_mode_note().empty()) fmt::print("note: {}\n", deformer.frame_mode_note());
   if (deformer.frame_mode() == FrameMode::Handle)
     fmt::print("precompute {:.4f} s (handle responses, {:.2f} MB streamed per frame) | init + precompute {:.4f} s\n",
                t.precompute, deformer.response_bytes() / 1e6, t.init() + t.precompute);
@@ -324,6 +348,7 @@ CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& d
            {"analyze_s", num(t.analyze)},
            {"factorize_s", num(t.factorize)},
            {"init_s", num(t.init())},
+           {"drag", ec.edit.targets.rows() > 0 ? "per_vertex" : "affine"},
            {"frame_mode", to_string(deformer.frame_mode())},
            {"precompute_s", num(t.precompute)},
            {"frames", std::to_string(frames)},
@@ -363,9 +388,13 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
 
   EditCase ec = load_edit_case(a.edit);
   if (!a.transform.empty()) ec.edit.transform = transform;
+  const long long frames = ec.edit.target_frames() > 0 && d.count("--frames") == 0 ? ec.edit.target_frames() : a.frames;
+  if (ec.edit.targets.rows() > 0 && !a.transform.empty())
+    throw UsageError(fmt::format("--transform replaces the handle transform, but edit '{}' drags per-vertex targets "
+                                 "(its 'targets' file)", ec.edit.name));
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
   Points result;
-  const FrameMedians m = run_frames(*deformer, ec.edit.transform, a.frames, result);
+  const FrameMedians m = drag(*deformer, ec.edit, frames, result);
   const std::vector<double> rss = rank_peak_rss(ranks);
   if (ranks > 1 && mpi::rank() != 0) return 0;  // rank 0 prints and writes
 
@@ -373,8 +402,8 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   Mesh deformed = ec.mesh;
   deformed.V = std::move(result);
   write_mesh(outputs.stage(a.out), deformed);
-  print_report(ec, o, *deformer, a.frames, m, rss);
-  if (!a.csv.empty()) csv_table(ec, o, *deformer, a.frames, m, rss).write(outputs.stage(a.csv));
+  print_report(ec, o, *deformer, frames, m, rss);
+  if (!a.csv.empty()) csv_table(ec, o, *deformer, frames, m, rss).write(outputs.stage(a.csv));
   outputs.commit();
   fmt::print("wrote {}{}\n", a.out, a.csv.empty() ? "" : " and " + a.csv);
   return 0;

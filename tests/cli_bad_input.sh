@@ -68,6 +68,13 @@ printf '2 3 4\n' >"$T/roi_tf.txt"
 write_edit "$T/good.edit" indices:roi_tf.txt indices:handle.txt
 expect_ok valid_edit_file out.ply -- deform "$T/good.edit" --method tf --frames 3 --out "$OUT"
 expect_ok handle_frames out.ply -- deform "$T/good.edit" --method tf --frames 3 --frame-mode handle --out "$OUT"
+write_drag() { # file targets-file: good.edit's selection, the handle (vertex 4) dragged per vertex
+  printf 'mesh = good.off\nroi = indices:roi_tf.txt\nhandle = indices:handle.txt\ntargets = %s\n' "$2" >"$1"
+}
+printf '0 0 1.1\n0 0.1 1.2\n' >"$T/drag.txt"   # two frames of the one handle vertex
+write_drag "$T/drag.edit" drag.txt
+expect_ok drag_full out.ply -- deform "$T/drag.edit" --method tf --out "$OUT"
+expect_ok drag_handle out.ply -- deform "$T/drag.edit" --method tf --frame-mode handle --handle-limit 1e6 --frames 5 --out "$OUT"
 for k in 1e200 1e-300; do
   scaled_octa "$T/s$k" "$k"
   for m in lap tf; do expect_ok "scaled_${k}_$m" out.ply -- deform "$T/s$k" --method "$m" --out "$OUT"; done
@@ -105,6 +112,9 @@ expect ordering_not_accepted 1 "--ordering nesdis is not accepted by umfpack" --
 expect ordering_with_dense 1 "--ordering does not apply to --build dense" -- deform "$G" --build dense --ordering amd --out "$OUT"
 expect dense_with_sparse_solver 1 "--build dense needs a dense backend" -- deform "$G" --build dense --solver cholmod_supernodal --out "$OUT"
 expect lri_dense 1 "--build dense: lri offers" -- deform "$G" --method lri --build dense --out "$OUT"
+
+expect handle_limit_full 1 "--handle-limit bounds handle-mode responses; it needs --frame-mode handle" -- deform "$T/drag.edit" --handle-limit 2 --out "$OUT"
+expect transform_with_targets 1 "--transform replaces the handle transform, but edit 'drag' drags per-vertex targets" -- deform "$T/drag.edit" --transform translate:0,0,1 --out "$OUT"
 
 echo "== 1 usage: outputs, checked before any mesh is read"
 expect out_missing_dir 1 "directory .* does not exist" -- deform "$G" --out "$O/no/such/dir/out.ply"
@@ -162,6 +172,21 @@ expect empty_handle_sel 2 "handle is empty" -- deform "$T/nohandle" --out "$OUT"
 expect transform_file_missing 2 "cannot open transform file" -- deform "$G" --out "$OUT" --transform "def:$T/none.def"
 scaled_octa "$T/huge" 1e308
 expect coordinates_overflow 2 "vertices 1 and 0 \\(their x coordinates .*\\) lie farther apart than a double can measure" -- deform "$T/huge" --out "$OUT"
+
+echo "== 2 bad input: per-vertex targets"
+printf '0 0 1.1\n0 nan 1.2\n' >"$T/drag_nan.txt"; write_drag "$T/drag_nan.edit" drag_nan.txt
+expect targets_nan 2 "drag_nan.txt: line 2: bad number 'nan'" -- deform "$T/drag_nan.edit" --out "$OUT"
+printf '0 0 1.1 3\n' >"$T/drag_4.txt"; write_drag "$T/drag_4.edit" drag_4.txt
+expect targets_four_numbers 2 "drag_4.txt: line 1: expected 3 numbers \(x y z\), got 4" -- deform "$T/drag_4.edit" --out "$OUT"
+printf '3 4\n' >"$T/handle2.txt"
+printf 'mesh = good.off\nroi = indices:roi_tf.txt\nhandle = indices:handle2.txt\ntargets = drag3.txt\n' >"$T/drag3.edit"
+printf '0 0 1\n0 0 1\n0 0 1\n' >"$T/drag3.txt"
+expect targets_count 2 "3 target positions are not a whole number of frames of the handle's 2 vertices" -- deform "$T/drag3.edit" --out "$OUT"
+: >"$T/drag_empty.txt"; write_drag "$T/drag_empty.edit" drag_empty.txt
+expect targets_empty 2 "drag_empty.txt: no target positions" -- deform "$T/drag_empty.edit" --out "$OUT"
+write_drag "$T/drag_missing.edit" nothere.txt
+expect targets_missing 2 "cannot open targets file" -- deform "$T/drag_missing.edit" --out "$OUT"
+expect targets_lri 2 "per-vertex handle targets .* need --method lap or tf" -- deform "$T/drag.edit" --method lri --out "$OUT"
 
 echo "== 2 bad input: selections name their cause"
 printf '0 1 2\n' >"$T/roi.txt"

@@ -17,6 +17,11 @@ std::vector<int> Edit::vertices(Role r) const {
   return out;
 }
 
+int Edit::target_frames() const {
+  const int h = count(Role::Handle);
+  return h == 0 ? 0 : static_cast<int>(targets.rows() / h);
+}
+
 void validate_edit(const Mesh& mesh, const Edit& edit) {
   const std::string who = edit.name.empty() ? std::string("edit") : "edit '" + edit.name + "'";
   if (static_cast<long>(edit.roles.size()) != mesh.num_vertices())
@@ -31,6 +36,11 @@ void validate_edit(const Mesh& mesh, const Edit& edit) {
   if (last != Eigen::RowVector4d(0, 0, 0, 1))
     throw InputError(fmt::format("{}: the handle transform is not affine (last row {} {} {} {}, expected 0 0 0 1)",
                                  who, last(0), last(1), last(2), last(3)));
+  const long h = edit.count(Role::Handle), rows = static_cast<long>(edit.targets.rows());
+  if (rows % h != 0)
+    throw InputError(fmt::format("{}: {} target positions are not a whole number of frames of the handle's {} vertices",
+                                 who, rows, h));
+  if (!edit.targets.allFinite()) throw InputError(who + ": a target position is not finite");
   if (edit.count(Role::Free) == 0) throw InputError(who + ": no free vertex (the region of interest is only the handle)");
 }
 

@@ -18,13 +18,20 @@ struct Edit {
   std::string name;         //!< for result rows
   std::vector<Role> roles;  //!< one per vertex
   Mat4 transform = Mat4::Identity();  //!< handle transform, applied to original handle positions
+  //! A general drag instead of one transform (`targets = FILE` in a .edit file; empty: none): the target position
+  //! of every handle vertex in every frame, frame f's k-th handle vertex (ascending index) in row f h + k.
+  Points targets;
+
+  //! Frames the targets give (rows / handle count), 0 without targets.
+  int target_frames() const;
 
   int count(Role r) const;
   std::vector<int> vertices(Role r) const;
 };
 
 //! Checks the edit against its mesh and throws InputError naming the problem: size mismatch, empty handle,
-//! a transform that is not finite or not affine (last row != 0 0 0 1), nothing free to solve for.
+//! a transform that is not finite or not affine (last row != 0 0 0 1), nothing free to solve for, targets whose
+//! count is not a whole number of frames of the handle or that are not finite.
 void validate_edit(const Mesh& mesh, const Edit& edit);
 
 //! Applies an affine 4x4 transform to a point.

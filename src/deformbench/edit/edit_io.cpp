@@ -114,7 +114,7 @@ struct Entry {
 // and line.
 std::map<std::string, Entry> read_edit_entries(const std::string& path) {
   std::map<std::string, Entry> kv;
-  static const char* known[] = {"mesh", "name", "sel", "def", "roi", "handle", "transform"};
+  static const char* known[] = {"mesh", "name", "sel", "def", "roi", "handle", "transform", "targets"};
   each_line(path, "edit", [&](int ln, const std::string& line) {
     const std::string s = strip(line);
     if (s.empty()) return;
@@ -122,7 +122,8 @@ std::map<std::string, Entry> read_edit_entries(const std::string& path) {
     if (eq == std::string::npos) throw InputError(fmt::format("{}: line {}: expected 'key = value'", path, ln));
     const std::string key = strip(s.substr(0, eq)), value = strip(s.substr(eq + 1));
     if (std::find(std::begin(known), std::end(known), key) == std::end(known))
-      throw InputError(fmt::format("{}: line {}: unknown key '{}' (known: mesh, name, sel, def, roi, handle, transform)",
+      throw InputError(fmt::format("{}: line {}: unknown key '{}' (known: mesh, name, sel, def, roi, handle, transform, "
+                                   "targets)",
                                    path, ln, key));
     if (value.empty()) throw InputError(fmt::format("{}: line {}: empty value for '{}'", path, ln, key));
     if (kv.count(key))
@@ -185,6 +186,27 @@ Mat4 read_def(const std::string& path) {
     throw InputError(fmt::format("{}: not an affine transform (last row {} {} {} {}, expected 0 0 0 1)", path, T(3, 0),
                                  T(3, 1), T(3, 2), T(3, 3)));
   return T;
+}
+
+Points read_targets(const std::string& path) {
+  std::vector<double> xyz;
+  each_line(path, "targets", [&](int ln, const std::string& line) {
+    const std::string s = strip(line);
+    if (s.empty()) return;
+    const auto t = tokens(s, " \t,");
+    if (t.size() != 3) throw InputError(fmt::format("{}: line {}: expected 3 numbers (x y z), got {}", path, ln, t.size()));
+    for (const std::string& tok : t) {
+      double v;
+      if (!to_double(tok, v) || !std::isfinite(v))
+        throw InputError(fmt::format("{}: line {}: bad number '{}' (a finite coordinate expected)", path, ln, tok));
+      xyz.push_back(v);
+    }
+  });
+  if (xyz.empty()) throw InputError(path + ": no target positions");
+  Points P(static_cast<Eigen::Index>(xyz.size() / 3), 3);
+  for (Eigen::Index r = 0; r < P.rows(); ++r)
+    for (int c = 0; c < 3; ++c) P(r, c) = xyz[static_cast<std::size_t>(3 * r + c)];
+  return P;
 }
 
 Edit read_bs08_edit(const std::string& sel_path, const std::string& def_path, int num_vertices) {
@@ -265,8 +287,8 @@ EditCase load_edit_file(const std::string& path) {
     throw InputError(path + ": give either 'sel' or 'roi' + 'handle', not both");
   if (!has("sel") && !(has("roi") && has("handle")))
     throw InputError(path + ": missing the selection ('sel = FILE', or both 'roi' and 'handle')");
-  if (has("def") == has("transform"))
-    throw InputError(path + ": give exactly one of 'def = FILE' and 'transform = SPEC'");
+  if (has("def") + has("transform") + has("targets") != 1)
+    throw InputError(path + ": give exactly one of 'def = FILE', 'transform = SPEC' and 'targets = FILE'");
 
   const fs::path dir = fs::path(path).parent_path();
 
@@ -277,8 +299,10 @@ EditCase load_edit_file(const std::string& path) {
   prefixed(c.mesh_path, [&] { validate_mesh(c.mesh, Manifold::Allowed); });
   const int nv = c.mesh.num_vertices();
 
-  const Mat4 T = has("def") ? prefixed(at("def"), [&] { return read_def(resolve(dir, kv["def"].value)); })
-                            : prefixed(at("transform"), [&] { return parse_transform(kv["transform"].value, dir.string()); });
+  const Mat4 T = has("def")         ? prefixed(at("def"), [&] { return read_def(resolve(dir, kv["def"].value)); })
+                 : has("transform") ? prefixed(at("transform"),
+                                               [&] { return parse_transform(kv["transform"].value, dir.string()); })
+                                    : Mat4::Identity();
   if (has("sel")) {
     c.edit.roles = prefixed(at("sel"), [&] { return read_sel(resolve(dir, kv["sel"].value), nv); });
     c.edit.transform = T;
@@ -290,6 +314,8 @@ EditCase load_edit_file(const std::string& path) {
     check_not_empty(handle, "handle", kv["handle"].value, c.mesh, at("handle"));
     c.edit = prefixed(path, [&] { return edit_from_lists(nv, roi, handle, T); });
   }
+  if (has("targets"))
+    c.edit.targets = prefixed(at("targets"), [&] { return read_targets(resolve(dir, kv["targets"].value)); });
   c.edit.name = has("name") ? kv["name"].value : fs::path(path).stem().string();
   return finish(std::move(c), path);
 }
@@ -313,7 +339,7 @@ std::vector<std::string> edit_case_files(const std::string& spec) {
     if (it != kv.end() && it->second.value.rfind(prefix, 0) == 0)
       files.push_back(resolve(dir, strip(it->second.value.substr(prefix.size()))));
   };
-  for (const char* key : {"mesh", "sel", "def"}) file_after(key, "");
+  for (const char* key : {"mesh", "sel", "def", "targets"}) file_after(key, "");
   file_after("roi", "indices:");
   file_after("handle", "indices:");
   file_after("transform", "def:");

@@ -20,6 +20,12 @@ std::vector<Role> read_sel(const std::string& path, int num_vertices);
 //! finite and affine. \throw InputError naming the file and line.
 Mat4 read_def(const std::string& path);
 
+//! A drag's target positions (`targets = FILE` of a .edit file): three numbers per line (`x y z`, whitespace or
+//! commas), `#` comments and blank lines ignored; one line per handle vertex in ascending vertex index, frame after
+//! frame. \throw InputError naming the file and line for a line that is not three finite numbers, or a file without
+//! any.
+Points read_targets(const std::string& path);
+
 //! .sel + .def as an Edit named after the .sel file stem. \throw InputError as read_sel / read_def.
 Edit read_bs08_edit(const std::string& sel_path, const std::string& def_path, int num_vertices);
 
@@ -46,7 +52,8 @@ struct EditCase {
 //!      mesh = PATH                      (required)
 //!      name = TEXT                      (default: the .edit file stem)
 //!      sel = PATH                       (BS08 statuses)  or  roi = SELECTION  plus  handle = SELECTION
-//!      def = PATH  or  transform = SPEC (parse_transform; exactly one of the two)
+//!      def = PATH  or  transform = SPEC (parse_transform)  or  targets = PATH (read_targets: a per-vertex drag,
+//!      Edit::targets); exactly one of the three
 //!    SELECTION is one of  all | sphere:cx,cy,cz,r | box:x0,y0,z0,x1,y1,z1 | kring:v,k | indices:FILE |
 //!    nearest:x,y,z,count  (see select_by_spec).
 //! Reads the mesh, validates mesh (non-manifold meshes load: see Manifold) and edit, and names the edit (the stem's
@@ -57,7 +64,8 @@ EditCase load_edit_case(const std::string& spec);
 
 //! The files load_edit_case(spec) reads, without reading any of them but a .edit file itself: the stem's mesh
 //! (STEM.off when none exists yet), .sel and .def; or the .edit file, its mesh, sel, def, `indices:` selection
-//! files and `def:` transform file. For refusing an output path that would overwrite an input before any work.
+//! files, `def:` transform file and targets file. For refusing an output path that would overwrite an input
+//! before any work.
 //! \throw InputError as load_edit_case for an unreadable or malformed .edit file.
 std::vector<std::string> edit_case_files(const std::string& spec);
 

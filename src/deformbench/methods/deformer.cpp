@@ -27,6 +27,15 @@ FrameMode parse_frame_mode(const std::string& s) {
 
 std::string to_string(FrameMode m) { return m == FrameMode::Full ? "full" : "handle"; }
 
+namespace {
+[[noreturn]] void refuse_targets() {
+  throw InputError("per-vertex handle targets ('targets' in the edit) need --method lap or tf: lri's frames follow "
+                   "one handle rotation, which per-vertex targets do not give (fitting one is not linear in them)");
+}
+}  // namespace
+
+Points Deformer::deform_targets(const Points&) { refuse_targets(); }
+
 std::size_t Deformer::matrix_bytes() const {
   std::size_t s = 0;
   for (const auto& r : systems_) s += r.matrix_bytes;
@@ -134,11 +143,14 @@ std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, cons
   if (!(options.soft_weight > 0) || !std::isfinite(options.soft_weight))
     throw InputError(fmt::format("soft weight must be positive and finite, got {}", options.soft_weight));
   check_manifold(mesh, options);
+  if (!(options.handle_limit > 0) || !std::isfinite(options.handle_limit))
+    throw InputError(fmt::format("the handle limit must be positive and finite, got {}", options.handle_limit));
   if (options.tf_normalize_scale && options.method != "tf")
     throw InputError("a normalized TF scale is for the tf method only, not " + options.method);
   if (options.method == "lap")
     return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Lap, options);
   if (options.method == "tf") return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Tf, options);
+  if (options.method == "lri" && edit.targets.rows() > 0) refuse_targets();
   if (options.method == "lri") return make_lri_deformer(mesh, edit, options);
   throw InputError("unknown method '" + options.method + "' (expected lap, tf or lri)");
 }

@@ -23,7 +23,8 @@ std::string to_string(ConstraintMode m);
 
 //! Full: every frame forms its right-hand side and solves (the thesis' frame). Handle: the solution is affine in
 //! the handle transform, so the responses are solved for once after the factorization (systems/handle_response.h)
-//! and a frame only streams them (LRI: its frame system; the position solve stays per frame).
+//! and a frame only streams them (LRI: its frame system; the position solve stays per frame). The same holds for
+//! per-vertex targets (Edit::targets; lap and tf), with responses that grow with the handle.
 enum class FrameMode { Full, Handle };
 FrameMode parse_frame_mode(const std::string& s);  //!< "full" | "handle"
 std::string to_string(FrameMode m);
@@ -54,6 +55,11 @@ struct DeformOptions {
   std::string lri_orthonormalize = "gram_schmidt";
   unsigned lri_seed = 1;
   FrameMode frame_mode = FrameMode::Full;
+  //! Handle mode with per-vertex targets (Edit::targets): the responses grow with the handle (3h columns), so a
+  //! handle frame stops paying once it streams more than this many times the factor's bytes; beyond, the deformer
+  //! keeps full frames and says so (Deformer::frame_mode_note). The default is measured (results/handle_drags.md).
+  double handle_limit = kDefaultHandleLimit;
+  static constexpr double kDefaultHandleLimit = 1.0;
 };
 
 struct PhaseTimes {
@@ -72,6 +78,10 @@ class Deformer {
   //! Deformed positions (#V by 3) for the given handle transform (fixed vertices stay put).
   //! \throw SolverError when the result is not finite.
   virtual Points deform(const Mat4& handle_transform) = 0;
+  //! Deformed positions for a general drag: `targets` (h by 3, original coordinates) are the handle vertices'
+  //! positions, in ascending vertex index (one frame of Edit::targets). lap and tf only: LRI's frames follow one
+  //! handle rotation, which per-vertex targets do not give (InputError).
+  virtual Points deform_targets(const Points& targets);
   const PhaseTimes& times() const { return times_; }
   const std::vector<SystemReport>& systems() const { return systems_; }
   std::size_t matrix_bytes() const;  //!< bytes of the system matrices handed to the solvers
@@ -83,11 +93,15 @@ class Deformer {
   virtual void precompute_handle_frames() = 0;
   //! FrameMode::Handle: bytes of the stored responses one frame streams (HandleResponse::bytes), else 0.
   std::size_t response_bytes() const { return response_bytes_; }
+  //! Why handle mode was asked for but full frames run (the per-vertex responses above DeformOptions::handle_limit
+  //! times the factor), else empty.
+  const std::string& frame_mode_note() const { return frame_mode_note_; }
 
  protected:
   PhaseTimes times_;
   FrameMode frame_mode_ = FrameMode::Full;
   std::size_t response_bytes_ = 0;
+  std::string frame_mode_note_;
   std::vector<SystemReport> systems_;
 };
 

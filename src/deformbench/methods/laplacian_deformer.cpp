@@ -1,6 +1,7 @@
 #include "methods/laplacian_deformer.h"
 
 #include <algorithm>
+#include <functional>
 
 #include <fmt/format.h>
 
@@ -20,7 +21,9 @@ inline int op_block(EnergyKind k) { return k == EnergyKind::Lap ? 1 : 3; }
 
 LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind,
                                      const DeformOptions& options)
-    : edit_(edit) {
+    : edit_(edit), handle_vertices_(edit.vertices(Role::Handle)), handle_index_(edit.roles.size(), -1),
+      handle_limit_(options.handle_limit) {
+  for (std::size_t k = 0; k < handle_vertices_.size(); ++k) handle_index_[handle_vertices_[k]] = static_cast<int>(k);
   const std::string solver = resolve_solver(options.solver, options.build);
   norm_ = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
   Vn_ = norm_.apply(mesh.V);
@@ -54,7 +57,7 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   if (!vertex_ordering.empty()) mqwf_.report().factor.ordering_used = vertex_ordering + "-vertex-graph";
   normalize_scale_ = options.tf_normalize_scale;
   if (options.frame_mode == FrameMode::Handle) precompute_handle_frames();
-  else set_varying();
+  if (frame_mode_ == FrameMode::Full) set_varying();
   systems_.push_back(mqwf_.report());
   if (options.tf_normalize_scale) precompute_rescale(mesh.F, options, so);
 }
@@ -156,14 +159,16 @@ void LaplacianDeformer::set_varying() {
   mqwf_.set_varying(hard, unknowns);
 }
 
-void LaplacianDeformer::constraint_values(const Mat4& T) {
+void LaplacianDeformer::constraint_values(const Mat4& T, const Points* targets) {
   const int b = mqwf_.system().block, r = mqwf_.system().rhs_cols;
   auto fill = [&](const std::vector<int>& vertices, DenseMat& M) {
     M.resize(static_cast<Eigen::Index>(b) * static_cast<Eigen::Index>(vertices.size()), r);
     for (std::size_t k = 0; k < vertices.size(); ++k) {
       const int v = vertices[k];
       const Vec3 p = Vn_.row(v).transpose();
-      const Vec3 target = edit_.roles[v] == Role::Handle ? apply(T, p) : p;
+      Vec3 target = p;
+      if (edit_.roles[v] == Role::Handle)
+        target = targets ? Vec3(targets->row(handle_index_[v]).transpose()) : apply(T, p);
       for (int c = 0; c < 3; ++c) at(M, b, static_cast<int>(k), c) = target(c);
     }
   };
@@ -171,23 +176,46 @@ void LaplacianDeformer::constraint_values(const Mat4& T) {
   fill(unk_.soft_vertices, soft_);
 }
 
+bool LaplacianDeformer::within_handle_limit(int m) {
+  const int b = mqwf_.system().block;
+  const double rows = static_cast<double>(b) * static_cast<double>(Vn_.rows());
+  const double bytes = rows * (m + (b == 1 ? 3 : 1)) * sizeof(double);
+  const double factor = static_cast<double>(mqwf_.report().factor.factor_bytes);
+  if (factor > 0 && bytes <= handle_limit_ * factor) return true;
+  frame_mode_note_ = fmt::format(
+      "handle mode: the responses to {} per-vertex targets would be {:.3g} MB, {:.2f} times the factor's {:.3g} MB, "
+      "above the handle limit {:g} (--handle-limit): a frame streaming them would not beat a solve; full frames "
+      "instead",
+      handle_vertices_.size(), bytes / 1e6, factor > 0 ? bytes / factor : 0.0, factor / 1e6, handle_limit_);
+  return false;
+}
+
 void LaplacianDeformer::precompute_handle_frames() {
   if (normalize_scale_)
     throw InputError("handle-mode frames: TF with normalized scale is not affine in the handle map (its second "
                      "pass rotates by the fitted rotations); use full frames");
   const int b = mqwf_.system().block;
-  const int m = b == 1 ? 4 : 12;  // parameter 4c + j: entry (c, j) of the handle map's top 3 x 4
+  const bool drag = edit_.targets.rows() > 0;
+  // Affine map: parameter 4c + j is entry (c, j) of its top 3 x 4 (LAP: j, shared by x, y, z). Per-vertex drag:
+  // parameter b k + c is coordinate c of handle vertex k's displacement (LAP: k, shared likewise).
+  const int m = drag ? b * static_cast<int>(handle_vertices_.size()) : b == 1 ? 4 : 12;
+  if (drag && !within_handle_limit(m)) return;
   constraint_values(Mat4::Identity());
   // A handle vertex's target coordinate c is sum_j T(c, j) P_j with P = [p 1]: its basis column j (LAP; shared by
-  // x, y, z) or 4c + j (TF, in the vertex's row c).
+  // x, y, z) or 4c + j (TF, in the vertex's row c); under a drag, its own displacement: column b k + c.
   auto basis = [&](const std::vector<int>& vertices, DenseMat& M) {
     M.setZero(static_cast<Eigen::Index>(b) * static_cast<Eigen::Index>(vertices.size()), m);
     for (std::size_t k = 0; k < vertices.size(); ++k) {
       const int v = vertices[k];
       if (edit_.roles[v] != Role::Handle) continue;
+      const Eigen::Index row = b * static_cast<Eigen::Index>(k);
+      if (drag) {
+        for (int c = 0; c < b; ++c) M(row + c, b * handle_index_[v] + c) = 1.0;
+        continue;
+      }
       const Eigen::Vector4d P(Vn_(v, 0), Vn_(v, 1), Vn_(v, 2), 1.0);
       for (int c = 0; c < b; ++c)
-        for (int j = 0; j < 4; ++j) M(b * static_cast<Eigen::Index>(k) + c, b == 1 ? j : 4 * c + j) = P(j);
+        for (int j = 0; j < 4; ++j) M(row + c, b == 1 ? j : 4 * c + j) = P(j);
     }
   };
   DenseMat xh_basis, soft_basis;
@@ -206,13 +234,8 @@ void LaplacianDeformer::precompute_handle_frames() {
   frame_mode_ = FrameMode::Handle;
 }
 
-Points LaplacianDeformer::deform_handle(const Mat4& handle_transform) {
+Points LaplacianDeformer::stream(const DenseMat& theta) {
   Timer t;
-  const Mat4 D = norm_.conjugate(handle_transform) - Mat4::Identity();
-  const bool lap = mqwf_.system().block == 1;
-  DenseMat theta(lap ? 4 : 12, lap ? 3 : 1);
-  for (int c = 0; c < 3; ++c)
-    for (int j = 0; j < 4; ++j) (lap ? theta(j, c) : theta(4 * c + j, 0)) = D(c, j);
   Points out(Vn_.rows(), 3);
   if (!response_.evaluate(theta, out.data()))
     for (Eigen::Index v = 0; v < out.rows(); ++v)
@@ -224,8 +247,50 @@ Points LaplacianDeformer::deform_handle(const Mat4& handle_transform) {
   return out;
 }
 
+Points LaplacianDeformer::deform_handle(const Mat4& handle_transform) {
+  if (edit_.targets.rows() > 0) throw Error("handle-mode responses to per-vertex targets: frames are deform_targets");
+  Timer t;
+  const Mat4 D = norm_.conjugate(handle_transform) - Mat4::Identity();
+  const bool lap = mqwf_.system().block == 1;
+  DenseMat theta(lap ? 4 : 12, lap ? 3 : 1);
+  for (int c = 0; c < 3; ++c)
+    for (int j = 0; j < 4; ++j) (lap ? theta(j, c) : theta(4 * c + j, 0)) = D(c, j);
+  const double setup = t.seconds();
+  Points out = stream(theta);
+  times_.response += setup;
+  return out;
+}
+
+Points LaplacianDeformer::deform_targets(const Points& targets) {
+  const int h = static_cast<int>(handle_vertices_.size());
+  if (targets.rows() != h || targets.cols() != 3 || !targets.allFinite())
+    throw InputError(fmt::format("per-vertex targets: expected {} finite positions (one per handle vertex), got {}",
+                                 h, targets.rows()));
+  if (frame_mode_ == FrameMode::Full) return deform_full([&] {
+    const Points tn = norm_.apply(targets);
+    constraint_values(Mat4::Identity(), &tn);
+  });
+  if (edit_.targets.rows() == 0) throw Error("handle-mode responses to the affine map: frames are deform");
+  Timer t;
+  const int b = mqwf_.system().block;
+  DenseMat theta(b * h, b == 1 ? 3 : 1);  // each handle vertex's displacement, normalized
+  for (int k = 0; k < h; ++k)
+    for (int c = 0; c < 3; ++c) {
+      const double d = (targets(k, c) - norm_.center(c)) * norm_.scale - Vn_(handle_vertices_[k], c);
+      (b == 1 ? theta(k, c) : theta(3 * k + c, 0)) = d;
+    }
+  const double setup = t.seconds();
+  Points out = stream(theta);
+  times_.response += setup;
+  return out;
+}
+
 Points LaplacianDeformer::deform(const Mat4& handle_transform) {
   if (frame_mode_ == FrameMode::Handle) return deform_handle(handle_transform);
+  return deform_full([&] { constraint_values(norm_.conjugate(handle_transform)); });
+}
+
+Points LaplacianDeformer::deform_full(const std::function<void()>& set_values) {
   const int b = mqwf_.system().block;
   double base_seconds = 0;
   if (mqwf_.base_pending()) {
@@ -238,7 +303,7 @@ Points LaplacianDeformer::deform(const Mat4& handle_transform) {
     base_seconds = tb.seconds();
   }
   Timer t;
-  constraint_values(norm_.conjugate(handle_transform));
+  set_values();
   mqwf_.form_rhs(xh_, soft_);
   times_.rhs = t.seconds();
 

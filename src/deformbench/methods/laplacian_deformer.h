@@ -9,6 +9,7 @@
 //! LAP factor beside TF's: TF's own normal matrix cannot serve, as its energy is blind to local similarities,
 //! the scale included, which is exactly what the second pass must correct. The LAP matrix is scalar (one ninth
 //! of TF's entries) and factored once per edit like TF's; each frame solves both.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,8 +25,11 @@ class LaplacianDeformer : public Deformer {
  public:
   LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyKind kind, const DeformOptions& options);
   Points deform(const Mat4& handle_transform) override;
+  Points deform_targets(const Points& targets) override;
   //! The rest solution and the responses to the 12 parameters of the handle's affine map (LAP: 4, shared by x, y,
-  //! z), laid out per vertex, restored (systems/handle_response.h).
+  //! z), laid out per vertex, restored (systems/handle_response.h). With per-vertex targets (Edit::targets): the
+  //! responses to each handle vertex's 3 coordinates (TF: 3h; LAP: h, shared by x, y, z), unless they would stream
+  //! more than DeformOptions::handle_limit times the factor's bytes (then frames stay full: frame_mode_note).
   void precompute_handle_frames() override;
 
   //! The assembled system (for cross-checks between builds). Its K (or K_dense) is empty: the solver consumed
@@ -34,6 +38,9 @@ class LaplacianDeformer : public Deformer {
 
  private:
   Edit edit_;
+  std::vector<int> handle_vertices_;  // ascending: the order of per-vertex targets
+  std::vector<int> handle_index_;     // per vertex: its row in a frame's targets, -1 off the handle
+  double handle_limit_ = DeformOptions::kDefaultHandleLimit;
   Adjacency adj_;
   Normalization norm_;
   Points Vn_;  // normalized rest positions
@@ -50,8 +57,12 @@ class LaplacianDeformer : public Deformer {
   //! ("" when the solver orders), `ordering_seconds` its time.
   NormalSystem build(const EnergyOperator& op, const DeformOptions& options, const std::string& solver,
                      SolverOptions& so, std::string& vertex_ordering, double& ordering_seconds);
-  //! xh_ and soft_ for a handle transform in normalized coordinates.
-  void constraint_values(const Mat4& T);
+  //! xh_ and soft_ for a handle transform, or (targets non-null) the handle vertices' targets, in normalized
+  //! coordinates.
+  void constraint_values(const Mat4& T, const Points* targets = nullptr);
+  //! Whether per-vertex responses of m parameters stay within handle_limit_ times the factor (else the note says
+  //! why frames stay full).
+  bool within_handle_limit(int m);
   //! Fast path: the hard and soft handle vertices are the constraints that move between frames.
   void set_varying();
   //! Builds and factors the second pass's LAP system on the unknowns of the first (tf_normalize_scale).
@@ -61,6 +72,10 @@ class LaplacianDeformer : public Deformer {
   //! Normalized positions of all vertices from a solve's unknowns `x` and the hard values `xh` in layout `block`.
   Points positions(const DenseMat& x, const DenseMat& xh, int block) const;
   Points deform_handle(const Mat4& T);
+  //! A handle-mode frame: streams the responses for the parameters theta into restored positions.
+  Points stream(const DenseMat& theta);
+  //! A full frame: the right-hand side from constraint_values as `set_values` sets them, the solve, the positions.
+  Points deform_full(const std::function<void()>& set_values);
 };
 
 }  // namespace db

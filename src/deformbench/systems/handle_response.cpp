@@ -65,14 +65,16 @@ bool evaluate_rows(const double* data, const double* theta, int begin, int end, 
   return finite;
 }
 
+// Any shape (per-vertex drags: m = 3h or h): Eigen's dot keeps several partial sums, so a long row streams
+// instead of waiting on one chain of additions.
 bool evaluate_rows_any(int cols, int m, const double* data, const double* theta, int begin, int end, double* out) {
   const int stride = cols + m;
   bool finite = true;
   for (int i = begin; i < end; ++i) {
     const double* row = data + static_cast<std::size_t>(i) * static_cast<std::size_t>(stride);
+    const Eigen::Map<const Eigen::VectorXd> r(row + cols, m);
     for (int c = 0; c < cols; ++c) {
-      double y = row[c];
-      for (int k = 0; k < m; ++k) y += row[cols + k] * theta[c * m + k];
+      const double y = row[c] + r.dot(Eigen::Map<const Eigen::VectorXd>(theta + static_cast<std::size_t>(c) * m, m));
       out[static_cast<std::size_t>(i) * static_cast<std::size_t>(cols) + c] = y;
       finite = finite && std::isfinite(y);
     }

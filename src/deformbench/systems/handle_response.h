@@ -1,7 +1,7 @@
 #pragma once
 //! Handle-space precomputation (issue 16), the precompute / solve pair of a factored MinQuadWithFixed for edits
 //! whose constraint values are affine in a few parameters theta (an affine handle map: 12; LAP's x, y, z share 4;
-//! LRI's frames under a handle rotation share 3):
+//! LRI's frames under a handle rotation share 3; a per-vertex drag of h handle vertices: 3h, LAP's x, y, z share h):
 //!
 //!   (x_h, u) = (x_h0, u0) + sum_k basis_k theta(k, c)   =>   x_u(:, c) = x_u0(:, c) + sum_k R(:, k) theta(k, c),
 //!   [x_u0 | R] = K^-1 [rhs(x_h0, u0) | rhs_linear(basis)]      (one multi-right-hand-side solve).
