@@ -53,6 +53,10 @@ struct DeformOptions {
   std::string lri_frames = "first";
   std::string lri_orthonormalize = "gram_schmidt";
   unsigned lri_seed = 1;
+  //! LRI: false (the method) constrains the handle's frames to the rotation of the transform that moves its
+  //! positions; true leaves them at rest while the positions move - the uncoordinated control of the thesis'
+  //! fig. 3-4, offered to show what coordination buys.
+  bool lri_uncoordinated = false;
   FrameMode frame_mode = FrameMode::Full;
 };
 
