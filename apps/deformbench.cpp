@@ -46,7 +46,8 @@ const std::vector<std::string> kVertexOrderings = {"default", "natural", "amd", 
 struct DeformArgs {
   std::string edit, out, csv, transform, factor_dir;
   std::string method = "lap", weights = "uniform", constraints = "hard", build = "structured", solver;
-  std::string ordering = "default", lri_frames = "first", lri_orthonormalize = "gram_schmidt";
+  std::string ordering = "default", lri_frames = "first", lri_orthonormalize = "gram_schmidt",
+              lri_frame_control = "coordinated";
   std::string tf_scale = "free";
   std::string frame_mode = "full";
   double soft_weight = 1.0, handle_limit = DeformOptions::kDefaultHandleLimit;
@@ -142,6 +143,10 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
   d.add_option("--lri-orthonormalize", a.lri_orthonormalize, "how solved frames are made rotations again")
       ->check(cli::OneOf(names({Orthonormalization::GramSchmidt, Orthonormalization::Polar})))
       ->capture_default_str()->group(l);
+  d.add_option("--lri-frame-control", a.lri_frame_control,
+               "coordinated: the handle's frames turn with its positions; uncoordinated: they stay at rest (thesis "
+               "fig. 3-4)")
+      ->check(cli::OneOf({"coordinated", "uncoordinated"}))->capture_default_str()->group(l);
   d.add_option("--lri-seed", a.lri_seed, "seed of --lri-frames random")
       ->type_name("N")->check(cli::Integer(0, 4294967295LL))->capture_default_str()->group(l);
   const std::string s = "Linear system";
@@ -177,7 +182,7 @@ void refuse_unused(const CLI::App& d, const DeformArgs& a) {
     for (const char* o : {"--tf-no-translation", "--tf-scale"})
       refuse(o, fmt::format("is for --method tf only, not {}", a.method));
   if (!lri)
-    for (const char* o : {"--lri-frames", "--lri-orthonormalize", "--lri-seed"})
+    for (const char* o : {"--lri-frames", "--lri-orthonormalize", "--lri-frame-control", "--lri-seed"})
       refuse(o, fmt::format("is for --method lri only, not {}", a.method));
   else if (a.lri_frames != "random")
     refuse("--lri-seed", fmt::format("is used by --lri-frames random only, not {}", a.lri_frames));
@@ -223,6 +228,7 @@ DeformOptions deform_options(const DeformArgs& a) {
   o.lri_frames = a.lri_frames;
   o.lri_orthonormalize = a.lri_orthonormalize;
   o.lri_seed = a.lri_seed;
+  o.lri_uncoordinated = a.lri_frame_control == "uncoordinated";
   o.build = parse_build(a.build);
   o.solver = backend(a);
   o.solver_options.ordering = a.ordering;

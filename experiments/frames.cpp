@@ -1,7 +1,7 @@
 // Issue 5 / thesis 4.4: does the LRI frame choice change the result? Deforms the cases of a config
-// (data/experiments/frames.toml) with LAP, TF (free and normalized scale) and LRI (every frame strategy x
-// orthonormalization), measures each result against the rest mesh and, where one exists, the analytic ideal, and
-// writes
+// (data/experiments/frames.toml) with LAP, TF (free and normalized scale), LRI (every frame strategy x
+// orthonormalization) and LRI with its handle frames left at rest (uncoordinated control, thesis fig. 3-4),
+// measures each result against the rest mesh and, where one exists, the analytic ideal, and writes
 //   results/frames.csv                  one tidy row per case x method x strategy x orthonormalization
 //   results/frames_settings.csv         the run's settings, for the report
 //   results/meshes/frames/CASE__*.ply   rest, ideal, every result (binary PLY), CASE__roles.sel (0 fixed/1/2 handle)
@@ -264,8 +264,9 @@ void note(Run& r, const Deformer& d) {
 
 Run run_config(const Case& c, const Config& cfg, unsigned seed) {
   DeformOptions o;
-  o.method = cfg.method == "tf-normalized" ? "tf" : cfg.method;
+  o.method = cfg.method == "tf-normalized" ? "tf" : cfg.method == "lri-uncoordinated" ? "lri" : cfg.method;
   o.tf_normalize_scale = cfg.method == "tf-normalized";  // TF's rotations without its scale (issue 17)
+  o.lri_uncoordinated = cfg.method == "lri-uncoordinated";  // handle frames left at rest (thesis fig. 3-4)
   if (cfg.method == "lri") {
     o.lri_frames = cfg.frames;
     o.lri_orthonormalize = cfg.ortho;
@@ -330,7 +331,8 @@ CellResult measure_frames_cell(const CellSpec& s) {
   add_metrics(res, c, r.V);
   res.set("frame_fallbacks", r.fallbacks);
   res.set("frame_sigma_min", r.sigma_min);
-  res.set("n_frames_system", cfg.method == "lri" ? double(r.n_frames) : kNaN);
+  const bool lri = cfg.method == "lri" || cfg.method == "lri-uncoordinated";
+  res.set("n_frames_system", lri ? double(r.n_frames) : kNaN);
   res.set("n_positions_system", double(r.n_positions));
   res.set("factor_bytes", double(r.factor_bytes), "bytes");
   res.set("init_s", r.init_s, "s");
@@ -352,7 +354,7 @@ struct Options {
   double twist_step = 30, cell_timeout_s = 600;
   std::string only;
   unsigned seed = 1;
-  std::vector<std::string> cases, methods = {"lap", "tf", "tf-normalized", "lri"},
+  std::vector<std::string> cases, methods = {"lap", "tf", "tf-normalized", "lri", "lri-uncoordinated"},
                                   lri_frames = {"first", "random", "height_angle", "curvature"},
                                   lri_ortho = {"gram_schmidt", "polar"};
 };
@@ -366,8 +368,11 @@ void define_options(CLI::App& app, Options& o) {
   app.add_flag("--dry-run", o.dry_run, "print the grid's cells (one spec a line) and exit");
   app.add_option("--case", o.cases, "a case: \"NAME: bend|twist|edit key=value ...\" (see the source's header)");
   app.add_option("--only", o.only, "run only the cases whose name contains this");
-  app.add_option("--methods", o.methods, "methods (tf-normalized: tf --tf-scale normalized)")->delimiter(',')
-      ->check(cli::OneOf({"lap", "tf", "tf-normalized", "lri"}))
+  app.add_option("--methods", o.methods,
+                 "methods (tf-normalized: tf --tf-scale normalized; lri-uncoordinated: lri with first-neighbour "
+                 "frames, Gram-Schmidt and --lri-frame-control uncoordinated)")
+      ->delimiter(',')
+      ->check(cli::OneOf({"lap", "tf", "tf-normalized", "lri", "lri-uncoordinated"}))
       ->capture_default_str();
   app.add_option("--lri-frames", o.lri_frames, "LRI frame strategies")->delimiter(',')
       ->check(cli::OneOf({"first", "random", "height_angle", "curvature"}))->capture_default_str();

@@ -35,9 +35,10 @@ PANELS = [
     ("lri-height_angle-gram_schmidt", "LRI height angle, Gram-Schmidt"),
     ("lri-curvature-gram_schmidt", "LRI curvature, Gram-Schmidt"),
     ("lri-first-polar", "LRI first, polar (= every strategy)"),
+    ("lri-uncoordinated", "LRI uncoordinated (handle frames at rest)"),
 ]
 COLORS = {"lap": (0.35, 0.55, 0.85), "tf": (0.35, 0.75, 0.55), "tf-normalized": (0.55, 0.8, 0.35),
-          "ideal": (0.75, 0.75, 0.75)}
+          "lri-uncoordinated": (0.8, 0.4, 0.55), "ideal": (0.75, 0.75, 0.75)}
 LRI_COLOR = (0.85, 0.6, 0.35)
 ROLE_COLORS = np.array([[0.62, 0.66, 0.72], [0.86, 0.32, 0.30], [0.97, 0.85, 0.25]])  # fixed, free, handle
 

@@ -106,6 +106,8 @@ expect tf_scale_unknown 1 "--tf-scale" -- deform "$G" --method tf --tf-scale iso
 expect tf_scale_handle_frames 1 "--frame-mode handle with --tf-scale normalized" -- deform "$G" --method tf --tf-scale normalized --frame-mode handle --out "$OUT"
 expect lri_option_with_tf 1 "--lri-frames is for --method lri only" -- deform "$G" --method tf --lri-frames random --out "$OUT"
 expect lri_seed_without_random 1 "--lri-seed is used by --lri-frames random only" -- deform "$G" --method lri --lri-seed 3 --out "$OUT"
+expect lri_frame_control_not_lri 1 "--lri-frame-control is for --method lri only" -- deform "$G" --method tf --lri-frame-control uncoordinated --out "$OUT"
+expect lri_frame_control_bad 1 "lri-frame-control" -- deform "$G" --method lri --lri-frame-control sideways --out "$OUT"
 expect soft_weight_with_hard 1 "--soft-weight .*needs --constraints soft" -- deform "$G" --soft-weight 2 --out "$OUT"
 expect factor_dir_with_umfpack 1 "--factor-dir: umfpack cannot keep its factor out of core" -- deform "$G" --solver umfpack --factor-dir "$T" --out "$OUT"
 expect ordering_not_accepted 1 "--ordering nesdis is not accepted by umfpack" -- deform "$G" --solver umfpack --build naive --ordering nesdis --out "$OUT"

@@ -61,7 +61,8 @@ expect "table_2_1 tiny run" 0 "wrote" -- "$BIN/exp_table_2_1" --tier cactus=bs08
 expect "solvers tiny run" 0 "wrote" -- "$BIN/exp_solvers" --tier cactus=bs08/cactus.off --systems lap \
   --backends cholmod_supernodal,multifrontal,spqr --orderings default --factor-reps 1 --solve-reps 1 --results "$R"
 expect "frames tiny run" 0 "wrote" -- "$BIN/exp_frames" --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" \
-  --methods lap,tf,tf-normalized,lri --lri-frames first,random --lri-orthonormalize polar --no-meshes --out "$R/frames.csv"
+  --methods lap,tf,tf-normalized,lri,lri-uncoordinated --lri-frames first,random --lri-orthonormalize polar --no-meshes \
+  --out "$R/frames.csv"
 expect "deform_cases tiny run" 0 "wrote" -- "$BIN/exp_deform_cases" --case bar=bs08/bar --methods lap --frames 2 \
   --out "$R/deform_cases.csv"
 expect "applications tiny run" 0 "wrote" -- "$BIN/exp_applications" --meshes "$R/meshes/applications" \

@@ -219,6 +219,34 @@ TEST(Lri, ScalingHandleRotatesFramesOnly) {
   EXPECT_LT((out.row(0) - 1.5 * m.V.row(0)).norm(), 1e-12);
 }
 
+TEST(Lri, UncoordinatedControlKeepsTheRestFrames) {
+  const Mesh m = tube();
+  const Edit e = tube_edit(m);
+  const Mat4 T = bend_transform(kPi / 2, 4.0 / 11, 4.0 - 4.0 / 11);
+  DeformOptions o = lri("first", "gram_schmidt");
+  o.lri_uncoordinated = true;
+  auto d = make_deformer(m, e, o);
+  const auto& lri_d = dynamic_cast<const LriDeformer&>(*d);
+  const Points out = d->deform(T);
+  ASSERT_TRUE(out.allFinite());
+  // Every frame constraint at rest: the frame solve returns the rest frames, so nothing turns.
+  double frame_dev = 0;
+  for (int v = 0; v < m.num_vertices(); ++v)
+    frame_dev = std::max(frame_dev, (lri_d.solved_frames_raw()[v] - lri_d.rest_frames().F[v]).norm());
+  EXPECT_LT(frame_dev, 1e-9);
+  // The positions are still constrained: the handle lands where the transform puts it.
+  const Points moved = transformed(m.V, T);
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (e.roles[v] == Role::Handle) EXPECT_LT((out.row(v) - moved.row(v)).norm(), 1e-12);
+  // ... and the result is not the coordinated one (the bend's frames would turn by up to 90 degrees).
+  const Points coordinated = make_deformer(m, e, lri("first", "gram_schmidt"))->deform(T);
+  EXPECT_GT(rel_max(out, coordinated), 1e-2);
+  // A translation has no rotation to coordinate: both controls agree.
+  Mat4 shift = Mat4::Identity();
+  shift.topRightCorner<3, 1>() = Vec3(0.3, -0.2, 0.5);
+  EXPECT_LT(rel_max(d->deform(shift), make_deformer(m, e, lri("first", "gram_schmidt"))->deform(shift)), 1e-10);
+}
+
 TEST(Lri, BadInput) {
   const Mesh m = tube();
   const Edit e = tube_edit(m);

@@ -15,7 +15,8 @@ LABELS = {"lap": "LAP", "tf": "TF", "tf-normalized": "TF normalized scale",
           "lri-first-gram_schmidt": "LRI first-neighbour frames, Gram-Schmidt",
           "lri-height_angle-gram_schmidt": "LRI height-angle frames (thesis eq. 4-4), Gram-Schmidt",
           "lri-curvature-gram_schmidt": "LRI principal-direction frames, Gram-Schmidt",
-          "lri-first-polar": "LRI, polar (every frame strategy)"}
+          "lri-first-polar": "LRI, polar (every frame strategy)",
+          "lri-uncoordinated": "LRI uncoordinated (handle frames at rest), first-neighbour, Gram-Schmidt"}
 METHODS = ["lap", "tf", "tf-normalized", "lri-first-polar"]
 FRAMES = ["lri-first-gram_schmidt", "lri-height_angle-gram_schmidt", "lri-curvature-gram_schmidt", "lri-first-polar"]
 
@@ -62,25 +63,23 @@ FIGURES = [
     {"title": "Thesis fig. 3-4: coordinated against uncoordinated frame and position control (LRI)",
      "thesis": "In LRI the handle's frames and positions are both constrained; when the frame rotation does not "
                "match the position change the result is poor, when they are coordinated it is natural.",
-     "cases": ["dino_head90", "bs08_cactus"], "configs": ["lap", "lri-first-polar", "lri-first-gram_schmidt"],
-     "seen": "The dino's head turns in every panel; LAP, without frames, leaves the neck thinner than LRI. The "
-             "cactus bends coherently under LRI.",
-     "ours": "Only coordinated control exists here: LRI constrains the handle frames to the rotation part of the "
-             "same transform that moves the handle positions (methods/lri.h). The renders show that coordinated "
-             "case (the dino's head turned 90 degrees, the BS08 cactus), with LAP, which constrains positions only, "
-             "beside it.",
-     "differs": "There is no uncoordinated LRI mode, so the thesis' bad half of the figure has no render of ours. The "
-                "thesis (section 3.4.2) gives no setup for it, only that the frame control and the position control "
-                "disagree. The plainest disagreement, the handle moved and turned but its frames left unrotated "
-                "(R_h = I in the frame targets R_h F_i, a one-line switch in LriDeformer::deform), needs no render to "
-                "predict: with every frame constraint at its rest value the frame solve returns the rest frames "
-                "exactly, and the position solve then asks every edge for its rest vector F_i d_ij = x_j - x_i, an "
-                "edge-vector Laplacian edit without rotation, close kin to the LAP panel beside it (LAP asks for the "
-                "rest sums of edge vectors, not each edge): the turned head keeps its rest orientation along the "
-                "neck and the neck shears, as LAP's does. Not added in this branch: it belongs to methods/ and the "
-                "frames experiment (exp_frames, its renders), which other work changes at the same time, and any "
-                "other disagreement (frames turned by another angle than the positions) would be a setup of ours "
-                "the thesis does not give."},
+     "cases": ["dino_head90", "bs08_cactus"],
+     "configs": ["lap", "lri-first-gram_schmidt", "lri-uncoordinated"],
+     "seen": "Coordinated LRI turns the dino's head with a smooth neck and bends the cactus with its arms turned "
+             "along; LAP, without frames, leaves the dino's neck thinner and the cactus' top swollen. Uncoordinated "
+             "LRI moves the handle's positions as far as the others but keeps every frame at rest: the cactus' trunk "
+             "shears into a straight slant with both arms still upright and a kink under the handle, and the "
+             "dino's neck shears where the turned head meets it. The LRI detail error says the same: uncoordinated "
+             "is the worst of the three on both meshes.",
+     "ours": "`exp_frames` runs LRI twice on each case: coordinated (the method: the handle's frames turn by the "
+             "rotation part of the transform that moves its positions, methods/lri.h) and uncoordinated "
+             "(`deformbench deform ... --method lri --lri-frame-control uncoordinated`: the handle's frames stay at "
+             "rest while its positions move), first-neighbour frames and Gram-Schmidt in both; LAP beside them.",
+     "differs": "The thesis (section 3.4.2) gives no setup for its uncoordinated panel, only that the frame control "
+                "and the position control disagree; ours is the plainest disagreement (frames not turned at all). "
+                "With every frame constraint at rest the frame solve returns the rest frames exactly, so the "
+                "position solve asks each edge for its rest vector: an edge-vector Laplacian edit without rotation, "
+                "which is why the uncoordinated panel resembles LAP's more than LRI's."},
     {"title": "Thesis fig. 4-1: multi-turn rotation keeps the detail",
      "thesis": "LRI keeps the local detail through rotations of several full turns.",
      "cases": ["bar_twist720", "bar_twist1080"], "configs": METHODS,

@@ -54,6 +54,10 @@ struct DeformOptions {
   std::string lri_frames = "first";
   std::string lri_orthonormalize = "gram_schmidt";
   unsigned lri_seed = 1;
+  //! LRI: false (the method) constrains the handle's frames to the rotation of the transform that moves its
+  //! positions; true leaves them at rest while the positions move - the uncoordinated control of the thesis'
+  //! fig. 3-4, offered to show what coordination buys.
+  bool lri_uncoordinated = false;
   FrameMode frame_mode = FrameMode::Full;
   //! Handle mode with per-vertex targets (Edit::targets): the responses grow with the handle (3h columns), so a
   //! handle frame stops paying once it streams more than this many times the factor's bytes; beyond, the deformer

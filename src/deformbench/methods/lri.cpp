@@ -10,7 +10,8 @@ namespace db {
 LriDeformer::LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options)
     : edit_(edit),
       strategy_(parse_frame_strategy(options.lri_frames)),
-      ortho_(parse_orthonormalization(options.lri_orthonormalize)) {
+      ortho_(parse_orthonormalization(options.lri_orthonormalize)),
+      uncoordinated_(options.lri_uncoordinated) {
   if (options.build == Build::Dense)
     throw InputError("LRI: the dense build is not offered (use --build structured or naive)");
   const std::string solver = resolve_solver(options.solver, options.build);
@@ -149,7 +150,7 @@ double LriDeformer::position_rhs(const Mat4& T) {
 Points LriDeformer::deform(const Mat4& handle_transform) {
   const Mat4 T = norm_.conjugate(handle_transform);
   // Frames only rotate: a scaling or shearing handle transform reaches the frames through its rotation part.
-  const Mat3 Rh = nearest_rotation(T.topLeftCorner<3, 3>());
+  const Mat3 Rh = uncoordinated_ ? Mat3::Identity() : nearest_rotation(T.topLeftCorner<3, 3>());
   double rhs_s = 0, solve_s = 0;
   solve_frames(Rh, rhs_s, solve_s);
   rhs_s += position_rhs(T);
