@@ -245,6 +245,7 @@ Points LaplacianDeformer::deform(const Mat4& handle_transform) {
   t.reset();
   mqwf_.solve(x_);
   times_.solve = base_seconds + t.seconds();
+  systems_.front().factor = mqwf_.report().factor;  // iterative and mixed backends: this solve's iterations
   if (!x_.allFinite()) throw SolverError("the solve produced non-finite positions");
 
   t.reset();
