@@ -68,7 +68,7 @@ printf '2 3 4\n' >"$T/roi_tf.txt"
 write_edit "$T/good.edit" indices:roi_tf.txt indices:handle.txt
 expect_ok valid_edit_file out.ply -- deform "$T/good.edit" --method tf --frames 3 --out "$OUT"
 expect_ok handle_frames out.ply -- deform "$T/good.edit" --method tf --frames 3 --frame-mode handle --out "$OUT"
-expect_ok mixed_precision "out.ply r.csv" -- deform "$G" --method tf --precision mixed --vs-double --out "$OUT" --csv "$O/r.csv"
+expect_ok mixed_precision "out.ply r.csv" -- deform "$G" --precision mixed --vs-double --out "$OUT" --csv "$O/r.csv"
 for k in 1e200 1e-300; do
   scaled_octa "$T/s$k" "$k"
   for m in lap tf; do expect_ok "scaled_${k}_$m" out.ply -- deform "$T/s$k" --method "$m" --out "$OUT"; done
@@ -101,7 +101,7 @@ expect tf_scale_handle_frames 1 "--frame-mode handle with --tf-scale normalized"
 expect lri_option_with_tf 1 "--lri-frames is for --method lri only" -- deform "$G" --method tf --lri-frames random --out "$OUT"
 expect refine_without_mixed 1 "--refine-tolerance is for the refined backends only" -- deform "$G" --refine-tolerance 1e-8 --out "$OUT"
 expect mixed_other_backend 1 "--precision mixed is the multifrontal backend's" -- deform "$G" --precision mixed --solver cholmod_supernodal --out "$OUT"
-expect mixed_iteration_cap 3 "did not reach a relative correction of 1e-14 \(the iteration cap, 0" -- deform "$G" --method tf --precision mixed --refine-tolerance 1e-14 --refine-max-iterations 0 --out "$OUT"
+expect mixed_iteration_cap 3 "did not reach a relative correction of 1e-14 \(the iteration cap, 0" -- deform "$G" --precision mixed --refine-tolerance 1e-14 --refine-max-iterations 0 --out "$OUT"
 expect lri_seed_without_random 1 "--lri-seed is used by --lri-frames random only" -- deform "$G" --method lri --lri-seed 3 --out "$OUT"
 expect soft_weight_with_hard 1 "--soft-weight .*needs --constraints soft" -- deform "$G" --soft-weight 2 --out "$OUT"
 expect factor_dir_with_umfpack 1 "--factor-dir: umfpack cannot keep its factor out of core" -- deform "$G" --solver umfpack --factor-dir "$T" --out "$OUT"

@@ -14,9 +14,9 @@
 //!    triangular_solve.h), their panel kernels hand-written (kernels.h);
 //!  - out of core, the factor lives in a scratch file (storage.h: Mapping::on_file).
 //! "multifrontal_mixed" is the same factorization with the factor then rounded to single precision
-//! (float_factor.h) and the double one dropped; its solves are CG in double preconditioned by it
-//! (refinement.h), until a correction is SolverOptions::tolerance of x. Out of core, the double factor is staged in the scratch file
-//! and only the rounded one is held in memory. "multifrontal_refined" keeps the double factor and refines its
+//! (float_factor.h) and the double one dropped; its solves are refined (refinement.h: double-double residuals,
+//! CG corrections preconditioned by the float factor) until a correction is SolverOptions::tolerance of x. Out of
+//! core, the double factor is staged in the scratch file and only the rounded one is held in memory. "multifrontal_refined" keeps the double factor and refines its
 //! solves the same way: the accuracy reference (the exact solution of the double system, to the tolerance).
 #include <algorithm>
 #include <atomic>
@@ -92,13 +92,13 @@ class MultifrontalSolver final : public LinearSolver {
   //! Out of core: supernode s's FactorBlock leaves the resident set (done with it for now).
   void release_block(int s) const { factor().release(s); }
   std::size_t factor_bytes() const;
-  //! Mixed: rounds the factor to float, drops the double one, keeps A (permuted) for the refinement.
+  //! Refined backends: keeps A (permuted) for the refinement; mixed: rounds the factor to float, drops the double.
   void keep_for_refinement(const SpMat& given, SpMat& perm_copy);
 
   SolverOptions options_;
   bool mixed_ = false, refined_ = false;
   FloatFactor float_;  //!< mixed: the factor in single precision
-  SpMat kept_;         //!< mixed: P A P^T (upper), the refinement's products
+  SpMat kept_;         //!< refined backends: P A P^T (upper), the refinement's products
   Symbolic S_;
   Plan factor_plan_, solve_plan_;
   int threads_ = 1;
@@ -359,7 +359,8 @@ bool MultifrontalSolver::matches_base_outside_changing_rows(const DenseMat& B) c
 std::size_t MultifrontalSolver::factor_bytes() const {
   const std::size_t ints = S_.perm.size() + S_.col0.size() + S_.rptr.size() + S_.rows.size() + S_.parent.size() +
                            S_.first.size() + S_.cptr.size() + S_.child.size();
-  return S_.xptr.back() * (mixed_ ? sizeof(float) : sizeof(double)) + ints * sizeof(int) + S_.xptr.size() * sizeof(std::size_t);
+  const std::size_t entry = mixed_ ? sizeof(float) : sizeof(double);
+  return S_.xptr.back() * entry + ints * sizeof(int) + S_.xptr.size() * sizeof(std::size_t);
 }
 
 }  // namespace

@@ -92,6 +92,7 @@ struct CorrectionSolve {
     D.setZero(R.rows(), cols);
     std::vector<double> rz(static_cast<std::size_t>(cols)), goal(static_cast<std::size_t>(cols));
     std::vector<char> going = active;
+    for (Index c = 0; c < cols; ++c) going[std::size_t(c)] = going[std::size_t(c)] && R.col(c).norm() > 0;  // solved
     for (Index c = 0; c < cols; ++c) goal[std::size_t(c)] = kInnerTolerance * R.col(c).norm();
     Z = R;
     precondition(Z);
@@ -150,6 +151,7 @@ Refinement refine(const SpMat& upper, const std::function<void(RowMajorMat&)>& p
   CorrectionSolve cg{upper, precondition, active, {}, {}, {}};
   RowMajorMat R, D;
   Refinement out;
+  out.last_correction = std::numeric_limits<double>::infinity();  // no correction yet
   while (std::find(active.begin(), active.end(), 1) != active.end()) {
     if (out.iterations >= max_iterations)
       throw not_converged(tolerance, out.last_correction, out.iterations,
