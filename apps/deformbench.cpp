@@ -50,7 +50,10 @@ struct DeformArgs {
               lri_frame_control = "coordinated";
   std::string tf_scale = "free";
   std::string frame_mode = "full";
-  double soft_weight = 1.0, handle_limit = DeformOptions::kDefaultHandleLimit;
+  std::string precision = "double";
+  double soft_weight = 1.0, handle_limit = DeformOptions::kDefaultHandleLimit, refine_tolerance = 1e-10;
+  long long refine_max_iterations = 1000;
+  bool vs_double = false;
   unsigned lri_seed = 1;
   bool tf_no_translation = false, no_normalize = false;
   long long frames = 1, memory_budget_mb = 0;
@@ -164,12 +167,33 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
       ->type_name("DIR")->group(s);
   d.add_option("--memory-budget-mb", a.memory_budget_mb, "refuse builds predicted above MB megabytes (exit 4)")
       ->type_name("MB")->check(cli::Integer(1, 1000000000))->group(s);
+  const std::string p = "Precision";
+  d.add_option("--precision", a.precision,
+               "double, or mixed: the factor stored in single precision (multifrontal_mixed), each solve refined by "
+               "CG in double")
+      ->check(cli::OneOf({"double", "mixed"}))->capture_default_str()->group(p);
+  d.add_option("--refine-tolerance", a.refine_tolerance,
+               "mixed: refine each solve until a correction is below T of x (max-norms; not reached: exit 3)")
+      ->type_name("T")->check(cli::Real(1e-16, 1e-2))->capture_default_str()->group(p);
+  d.add_option("--refine-max-iterations", a.refine_max_iterations, "mixed: the refinement's iteration cap (exit 3)")
+      ->type_name("N")->check(cli::Integer(0, 100000))->capture_default_str()->group(p);
+  d.add_flag("--vs-double", a.vs_double,
+             "mixed: deform again with the double factor afterwards and report the largest difference")
+      ->group(p);
 }
+
+//! The mixed-precision counterpart of the default sparse backend.
+constexpr const char* kMixedBackend = "multifrontal_mixed";
 
 // The backend this run uses: --solver, or the build's default.
 std::string backend(const DeformArgs& a) {
+  if (a.precision == "mixed") return kMixedBackend;
   return a.solver.empty() ? resolve_solver("", parse_build(a.build)) : a.solver;
 }
+
+// The backends whose solves are refined (--refine-*): the mixed-precision one and its double twin.
+bool refines(const std::string& backend) { return backend == kMixedBackend || backend == "multifrontal_refined"; }
+bool mixed(const DeformArgs& a) { return refines(backend(a)); }
 
 // Options the chosen method, constraints or build do not use are refused, not ignored.
 void refuse_unused(const CLI::App& d, const DeformArgs& a) {
@@ -191,6 +215,14 @@ void refuse_unused(const CLI::App& d, const DeformArgs& a) {
   if (a.tf_scale == "normalized" && a.frame_mode == "handle")
     throw UsageError("--frame-mode handle with --tf-scale normalized: its second pass rotates by the fitted "
                      "rotations, so a frame is not affine in the handle map (use --frame-mode full)");
+  if (a.precision == "mixed" && !a.solver.empty() && a.solver != "multifrontal" && a.solver != kMixedBackend)
+    throw UsageError(fmt::format("--precision mixed is the multifrontal backend's ({}), not {}", kMixedBackend,
+                                 a.solver));
+  if (!mixed(a))
+    for (const char* o : {"--refine-tolerance", "--refine-max-iterations", "--vs-double"})
+      refuse(o, fmt::format("is for the refined backends only (--precision mixed, --solver {} or "
+                            "multifrontal_refined)",
+                            kMixedBackend));
   if (a.build == "dense") {
     if (lri) throw UsageError("--build dense: lri offers the structured and naive builds only");
     refuse("--ordering", "does not apply to --build dense (the dense factorization orders nothing)");
@@ -233,6 +265,10 @@ DeformOptions deform_options(const DeformArgs& a) {
   o.solver = backend(a);
   o.solver_options.ordering = a.ordering;
   o.solver_options.factor_dir = a.factor_dir;
+  if (mixed(a)) {
+    o.solver_options.tolerance = a.refine_tolerance;
+    o.solver_options.max_iterations = static_cast<int>(a.refine_max_iterations);
+  }
   o.normalize = !a.no_normalize;
   o.memory_budget = static_cast<std::size_t>(a.memory_budget_mb) * 1000000;
   o.frame_mode = parse_frame_mode(a.frame_mode);
@@ -242,6 +278,14 @@ DeformOptions deform_options(const DeformArgs& a) {
 
 struct FrameMedians {
   double frame = 0, rhs = 0, solve = 0, write = 0, response = 0, orthonormalize = 0;
+};
+
+// What a run measured besides the deformer's report: every rank's peak RSS (one entry without a launcher; rank 0
+// first), taken before any comparison run, and (--vs-double) the largest coordinate difference from the double
+// solve over the bounding-box diagonal (negative: not measured).
+struct RunExtras {
+  std::vector<double> rss;
+  double vs_double = -1;
 };
 
 // Runs `frames` frames, frame f (1-based) deformed by `frame`; the last frame's positions go to `result`.
@@ -288,7 +332,7 @@ std::string joined(const std::vector<double>& v, double unit) {
 }
 
 void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& deformer, long long frames,
-                  const FrameMedians& m, const std::vector<double>& rss) {
+                  const FrameMedians& m, const RunExtras& x) {
   const PhaseTimes& t = deformer.times();
   fmt::print("mesh {} ({} vertices, {} faces), edit {}: {} fixed, {} free, {} handle\n", ec.mesh.name,
              ec.mesh.num_vertices(), ec.mesh.num_faces(), ec.edit.name, ec.edit.count(Role::Fixed),
@@ -307,6 +351,16 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
                  "{:.2g} (10 n eps) a singular matrix's rounding noise reaches; the constraints pin its null space, so "
                  "it is solved, but expect fewer correct digits\n",
                  s.name, s.factor.min_pivot_ratio, singular_pivot_bound(s.n));
+  for (const auto& s : deformer.systems())
+    if (refines(s.backend))
+      fmt::print("  refinement of system {} (last solve): {} CG iterations, last correction {:.3g} of x (tolerance "
+                 "{:.3g}), relative residual {:.3g}\n",
+                 s.name, s.factor.iterations, s.factor.last_correction, o.solver_options.tolerance,
+                 s.factor.achieved_tolerance);
+  if (x.vs_double >= 0)
+    fmt::print("  against the double solve (multifrontal): largest coordinate difference {:.3g} of the bounding-box "
+               "diagonal\n",
+               x.vs_double);
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
   if (!deformer.frame_mode_note().empty()) fmt::print("note: {}\n", deformer.frame_mode_note());
@@ -322,15 +376,15 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
   for (const auto& s : deformer.systems()) flops += s.factor.flops;
   fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",
              deformer.matrix_bytes() / 1e6, deformer.factor_bytes() / 1e6,
-             t.factorize > 0 ? flops / 1e9 / t.factorize : 0.0, peak_rss_bytes() / 1e6);
-  if (rss.size() > 1)
+             t.factorize > 0 ? flops / 1e9 / t.factorize : 0.0, x.rss.front() / 1e6);
+  if (x.rss.size() > 1)
     fmt::print("{} ranks (MUMPS distributed; times are rank 0's) | peak RSS per rank MB: {} | max {:.1f} MB\n",
-               rss.size(), joined(rss, 1e6), *std::max_element(rss.begin(), rss.end()) / 1e6);
+               x.rss.size(), joined(x.rss, 1e6), *std::max_element(x.rss.begin(), x.rss.end()) / 1e6);
   fmt::print("{}\n", provenance_summary());
 }
 
 CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& deformer, long long frames,
-                   const FrameMedians& m, const std::vector<double>& rss) {
+                   const FrameMedians& m, const RunExtras& x) {
   const PhaseTimes& t = deformer.times();
   const SystemReport& sys = deformer.systems().front();
   CsvTable csv;
@@ -363,9 +417,15 @@ CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& d
            {"response_bytes", std::to_string(deformer.response_bytes())},
            {"matrix_bytes", std::to_string(deformer.matrix_bytes())},
            {"factor_bytes", std::to_string(deformer.factor_bytes())},
-           {"peak_rss_bytes", std::to_string(peak_rss_bytes())},
-           {"ranks", std::to_string(rss.size())},
-           {"peak_rss_rank_bytes", joined(rss, 1)}});
+           {"peak_rss_bytes", fmt::format("{:.0f}", x.rss.front())},
+           {"ranks", std::to_string(x.rss.size())},
+           {"peak_rss_rank_bytes", joined(x.rss, 1)},
+           {"precision", sys.backend == kMixedBackend ? "mixed" : "double"},
+           {"refine_iterations", refines(sys.backend) ? std::to_string(sys.factor.iterations) : ""},
+           {"refine_residual", refines(sys.backend) ? num(sys.factor.achieved_tolerance) : ""},
+           {"refine_correction", refines(sys.backend) ? num(sys.factor.last_correction) : ""},
+           {"refine_tolerance", refines(sys.backend) ? num(o.solver_options.tolerance) : ""},
+           {"mixed_vs_double", x.vs_double >= 0 ? num(x.vs_double) : ""}});
   return csv;
 }
 
@@ -378,6 +438,18 @@ int check_ranks(const DeformArgs& a) {
                                  "runs in one process (start it without mpirun)",
                                  ranks, backend(a)));
   return ranks;
+}
+
+// --vs-double: the last frame's positions again with the double factor (the same options otherwise), their largest
+// coordinate difference from `mixed` over the rest mesh's bounding-box diagonal.
+double difference_from_double(const EditCase& ec, DeformOptions o, long long frames, const Points& mixed) {
+  o.solver = "multifrontal";
+  const auto deformer = make_deformer(ec.mesh, ec.edit, o);
+  const long long given = ec.edit.target_frames();
+  const Eigen::Index h = ec.edit.count(Role::Handle);
+  const Points twin = given > 0 ? deformer->deform_targets(ec.edit.targets.middleRows(((frames - 1) % given) * h, h))
+                                : deformer->deform(interpolate_transform(ec.edit.transform, 1.0));
+  return (mixed - twin).cwiseAbs().maxCoeff() / bbox_diagonal(ec.mesh.V);
 }
 
 int cmd_deform(const CLI::App& d, const DeformArgs& a) {
@@ -401,15 +473,16 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
   Points result;
   const FrameMedians m = drag(*deformer, ec.edit, frames, result);
-  const std::vector<double> rss = rank_peak_rss(ranks);
+  RunExtras extras{rank_peak_rss(ranks)};
   if (ranks > 1 && mpi::rank() != 0) return 0;  // rank 0 prints and writes
+  if (a.vs_double) extras.vs_double = difference_from_double(ec, o, frames, result);
 
   StagedOutputs outputs;  // the mesh and the CSV row land together or not at all
   Mesh deformed = ec.mesh;
   deformed.V = std::move(result);
   write_mesh(outputs.stage(a.out), deformed);
-  print_report(ec, o, *deformer, frames, m, rss);
-  if (!a.csv.empty()) csv_table(ec, o, *deformer, frames, m, rss).write(outputs.stage(a.csv));
+  print_report(ec, o, *deformer, frames, m, extras);
+  if (!a.csv.empty()) csv_table(ec, o, *deformer, frames, m, extras).write(outputs.stage(a.csv));
   outputs.commit();
   fmt::print("wrote {}{}\n", a.out, a.csv.empty() ? "" : " and " + a.csv);
   return 0;

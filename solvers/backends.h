@@ -12,7 +12,11 @@ namespace db::backends {
 std::unique_ptr<LinearSolver> make_cholmod(bool supernodal, const SolverOptions& options);
 
 //! Multifrontal supernodal LL^T, symbolic phase on the block graph, subtrees on worker threads.
-std::unique_ptr<LinearSolver> make_multifrontal(const SolverOptions& options);
+//! Double: "multifrontal". Mixed ("multifrontal_mixed"): the factor rounded to single precision, each solve
+//! refined (double-double residuals, CG corrections preconditioned by it) to SolverOptions::tolerance. Refined
+//! ("multifrontal_refined"): the double factor, its solves refined the same way (an accuracy reference).
+enum class Precision { Double, Mixed, Refined };
+std::unique_ptr<LinearSolver> make_multifrontal(const SolverOptions& options, Precision precision = Precision::Double);
 
 //! Dense on the expanded matrix: kind "llt" (Eigen), "potrf" (LAPACK dpotrf), "ldlt_bk" (LAPACK dsytrf), "lu"
 //! (LAPACK dgetrf).

@@ -18,7 +18,8 @@ struct SolverOptions {
   //! When > 1 the unknowns come in interleaved blocks of this size sharing one pattern (x,y,z of a
   //! vertex); backends may order the compressed block graph and expand it (cheaper analysis).
   int block_size = 1;
-  //! Iterative backends: relative residual tolerance and iteration cap.
+  //! Iterative backends: relative residual tolerance and iteration cap. multifrontal_mixed: the relative size
+  //! (max-norm) its refinement's last correction of x must fall to, and the cap on the CG iterations of a solve.
   double tolerance = 1e-10;
   int max_iterations = 10000;
   //! Out of core: when not empty, a backend that can (SolverInfo::out_of_core) keeps its factor in an unlinked
@@ -53,8 +54,9 @@ struct FactorStats {
   //! an upper bound from the schedule); 0 where the backend does not say.
   std::size_t workspace_bytes = 0;
   std::string ordering_used;
-  int iterations = 0;          //!< iterative backends: iterations of the last solve
-  double achieved_tolerance = 0;
+  int iterations = 0;          //!< iterative backends (and multifrontal_mixed): iterations of the last solve
+  double achieved_tolerance = 0;  //!< the same: the last solve's relative residual ||b - A x|| / ||b|| (worst column)
+  double last_correction = 0;  //!< multifrontal_mixed: ||d|| / ||x|| (max-norms) of the last solve's last correction
 };
 
 class LinearSolver {

@@ -26,6 +26,13 @@ const std::vector<Entry>& table() {
        [](const SolverOptions& o) { return backends::make_cholmod(true, o); }},
       {{"multifrontal", "sparse-cholesky", true, kCholmodOrderings, true},
        [](const SolverOptions& o) { return backends::make_multifrontal(o); }},
+      // Single-precision factor, CG refinement in double to SolverOptions::tolerance (it throws when it does not
+      // get there).
+      {{"multifrontal_mixed", "sparse-cholesky", true, kCholmodOrderings, true},
+       [](const SolverOptions& o) { return backends::make_multifrontal(o, backends::Precision::Mixed); }},
+      // The double factor with the same refinement: the exact solution of the system, to the tolerance.
+      {{"multifrontal_refined", "sparse-cholesky", true, kCholmodOrderings, true},
+       [](const SolverOptions& o) { return backends::make_multifrontal(o, backends::Precision::Refined); }},
       {{"mumps", "sparse-cholesky", true, backends::mumps_orderings(), true, false},
        [](const SolverOptions& o) { return backends::make_mumps(o); }},
       {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},

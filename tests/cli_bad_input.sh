@@ -75,6 +75,7 @@ printf '0 0 1.1\n0 0.1 1.2\n' >"$T/drag.txt"   # two frames of the one handle ve
 write_drag "$T/drag.edit" drag.txt
 expect_ok drag_full out.ply -- deform "$T/drag.edit" --method tf --out "$OUT"
 expect_ok drag_handle out.ply -- deform "$T/drag.edit" --method tf --frame-mode handle --handle-limit 1e6 --frames 5 --out "$OUT"
+expect_ok mixed_precision "out.ply r.csv" -- deform "$G" --precision mixed --vs-double --out "$OUT" --csv "$O/r.csv"
 for k in 1e200 1e-300; do
   scaled_octa "$T/s$k" "$k"
   for m in lap tf; do expect_ok "scaled_${k}_$m" out.ply -- deform "$T/s$k" --method "$m" --out "$OUT"; done
@@ -105,6 +106,9 @@ expect tf_scale_with_lri 1 "--tf-scale is for --method tf only, not lri" -- defo
 expect tf_scale_unknown 1 "--tf-scale" -- deform "$G" --method tf --tf-scale isotropic --out "$OUT"
 expect tf_scale_handle_frames 1 "--frame-mode handle with --tf-scale normalized" -- deform "$G" --method tf --tf-scale normalized --frame-mode handle --out "$OUT"
 expect lri_option_with_tf 1 "--lri-frames is for --method lri only" -- deform "$G" --method tf --lri-frames random --out "$OUT"
+expect refine_without_mixed 1 "--refine-tolerance is for the refined backends only" -- deform "$G" --refine-tolerance 1e-8 --out "$OUT"
+expect mixed_other_backend 1 "--precision mixed is the multifrontal backend's" -- deform "$G" --precision mixed --solver cholmod_supernodal --out "$OUT"
+expect mixed_iteration_cap 3 "did not reach a relative correction of 1e-14 \(the iteration cap, 0" -- deform "$G" --precision mixed --refine-tolerance 1e-14 --refine-max-iterations 0 --out "$OUT"
 expect lri_seed_without_random 1 "--lri-seed is used by --lri-frames random only" -- deform "$G" --method lri --lri-seed 3 --out "$OUT"
 expect lri_frame_control_not_lri 1 "--lri-frame-control is for --method lri only" -- deform "$G" --method tf --lri-frame-control uncoordinated --out "$OUT"
 expect lri_frame_control_bad 1 "lri-frame-control" -- deform "$G" --method lri --lri-frame-control sideways --out "$OUT"

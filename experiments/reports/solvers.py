@@ -279,6 +279,29 @@ def every_backend(run):
     return "\n".join(out) + "\n"
 
 
+def mixed_precision(run):
+    """multifrontal_mixed against multifrontal (double) per tier and system: factor bytes, times, CG iterations and the
+    largest coordinate difference from the double cell (error_vs_double, diagonals)."""
+    out = ["## Mixed precision (multifrontal_mixed against multifrontal)\n\n| tier | system | factor MiB double | "
+           "factor MiB mixed | factorize double | factorize mixed | solve double | solve mixed | CG iterations | "
+           "vs double (diagonals) | status |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    any_ = False
+    for m in run.models:
+        for sys in run.systems:
+            d, x = run.find(m, sys, "multifrontal"), run.find(m, sys, "multifrontal_mixed")
+            if x is None:
+                continue
+            any_ = True
+            out.append(f"| {m} | {sys} | {fmt(value(d, 'factor_bytes') / MIB, '{:.1f}')} | "
+                       f"{fmt(value(x, 'factor_bytes') / MIB, '{:.1f}')} | {fsec(value(d, FACTOR))} | "
+                       f"{fsec(value(x, FACTOR))} | {fsec(value(d, SOLVE))} | {fsec(value(x, SOLVE))} | "
+                       f"{fmt(value(x, 'iterations'), '{:.0f}')} | {fmt(value(x, 'error_vs_double'), '{:.1e}')} | "
+                       f"{'ok' if x.ok() else x.message} |")
+    note = ("\nThe double solve is not the exact one: on the TF systems it lies ~cond(K) eps from it, and the mixed "
+            "solve refined with double-double residuals is the exact solution to its tolerance (`solvers/LEVERS.md`).\n")
+    return "\n".join(out) + "\n" + note if any_ else ""
+
+
 def orderings(run):
     big = run.models[-1] if run.models else ""
     out = ["## Orderings (sparse direct backends, largest tier)\n\n| system | backend | ordering | ordering used | analyze "
@@ -372,7 +395,7 @@ def write(results):
     if not rows:
         return False
     run, p = Run(rows), provenance(rows)
-    parts = [header(run, p), verdict(run), least_squares(run), every_backend(run), orderings(run), fastest(run),
+    parts = [header(run, p), verdict(run), least_squares(run), every_backend(run), mixed_precision(run), orderings(run), fastest(run),
              blas(run, p, results)]
     write_atomically(os.path.join(results, "solvers.md"), "\n".join(x for x in parts if x))
     return True

@@ -13,6 +13,11 @@
 //!    few top fronts after them with the multithreaded BLAS; the solves are split the same way (schedule.h,
 //!    triangular_solve.h), their panel kernels hand-written (kernels.h);
 //!  - out of core, the factor lives in a scratch file (storage.h: Mapping::on_file).
+//! "multifrontal_mixed" is the same factorization with the factor then rounded to single precision
+//! (float_factor.h) and the double one dropped; its solves are refined (refinement.h: double-double residuals,
+//! CG corrections preconditioned by the float factor) until a correction is SolverOptions::tolerance of x. Out of
+//! core, the double factor is staged in the scratch file and only the rounded one is held in memory. "multifrontal_refined" keeps the double factor and refines its
+//! solves the same way: the accuracy reference (the exact solution of the double system, to the tolerance).
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -26,7 +31,9 @@
 #include "core/error.h"
 #include "core/resources.h"
 #include "solvers/backends.h"
+#include "solvers/multifrontal/float_factor.h"
 #include "solvers/multifrontal/front.h"
+#include "solvers/multifrontal/refinement.h"
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
@@ -41,14 +48,20 @@ using namespace multifrontal;
 
 class MultifrontalSolver final : public LinearSolver {
  public:
-  explicit MultifrontalSolver(const SolverOptions& options) : options_(options) { check_options(options, name()); }
+  MultifrontalSolver(const SolverOptions& options, backends::Precision precision)
+      : options_(options), mixed_(precision == backends::Precision::Mixed),
+        refined_(precision != backends::Precision::Double) {
+    check_options(options, name());
+  }
 
-  std::string name() const override { return "multifrontal"; }
+  std::string name() const override {
+    return mixed_ ? "multifrontal_mixed" : refined_ ? "multifrontal_refined" : "multifrontal";
+  }
   void analyze(const SpMat& upper_in) override;
   void factorize(const SpMat& upper_in) override { factorize_impl(upper_in, nullptr); }
   void factorize_consuming(SpMat& upper) override {
     const ClearOnExit clear{upper};
-    factorize_impl(upper, &upper);
+    factorize_impl(upper, refined_ ? nullptr : &upper);  // the refinement keeps A
   }
   void solve(const DenseMat& B, DenseMat& X) override;
   void set_base_rhs(const DenseMat& B0, const std::vector<int>& rows) override;
@@ -79,8 +92,13 @@ class MultifrontalSolver final : public LinearSolver {
   //! Out of core: supernode s's FactorBlock leaves the resident set (done with it for now).
   void release_block(int s) const { factor().release(s); }
   std::size_t factor_bytes() const;
+  //! Refined backends: keeps A (permuted) for the refinement; mixed: rounds the factor to float, drops the double.
+  void keep_for_refinement(const SpMat& given, SpMat& perm_copy);
 
   SolverOptions options_;
+  bool mixed_ = false, refined_ = false;
+  FloatFactor float_;  //!< mixed: the factor in single precision
+  SpMat kept_;         //!< refined backends: P A P^T (upper), the refinement's products
   Symbolic S_;
   Plan factor_plan_, solve_plan_;
   int threads_ = 1;
@@ -128,7 +146,7 @@ void MultifrontalSolver::analyze(const SpMat& upper_in) {
   stats_.ordering_used = (options_.ordering == "default" ? std::string(default_ordering(b)) : options_.ordering) +
                          (b > 1 ? fmt::format("-block{}", b) : "");
   stats_.factor_bytes = factor_bytes();
-  stats_.factor_on_disk = !options_.factor_dir.empty();
+  stats_.factor_on_disk = !options_.factor_dir.empty() && !mixed_;
   stats_.workspace_bytes = std::size_t(update_peak(S_, factor_plan_));
 }
 
@@ -146,8 +164,10 @@ void MultifrontalSolver::factorize_impl(const SpMat& upper_in, SpMat* consumed) 
   }
   const SpMat& A = S_.perm.empty() ? given : perm_copy;
   // Pages of A whose columns are consumed may be returned: ours (a copy), or the caller's when consumed.
-  const bool may_release = &A != &upper_in || consumed != nullptr;
+  const bool may_release = !refined_ && (&A != &upper_in || consumed != nullptr);
   base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
+  float_ = FloatFactor();
+  kept_ = SpMat();
   values_ = options_.factor_dir.empty() ? Mapping(S_.xptr.back(), "the factor")
                                         : Mapping::on_file(S_.xptr.back(), "the factor", options_.factor_dir);
   pivots_.assign(std::size_t(S_.n), 0.0);
@@ -166,8 +186,20 @@ void MultifrontalSolver::factorize_impl(const SpMat& upper_in, SpMat* consumed) 
   }
   stats_.min_pivot_ratio = check_pivots(pivots_, S_.perm.empty() ? nullptr : S_.perm.data(), diag, name(),
                                         options_.pivot_singularity_test);
+  if (refined_) keep_for_refinement(given, perm_copy);
   factored_ = true;
   stats_.factor_bytes = factor_bytes();
+}
+
+void MultifrontalSolver::keep_for_refinement(const SpMat& given, SpMat& perm_copy) {
+  if (mixed_) {
+    float_ = FloatFactor(factor());
+    values_.reset();
+  }
+  if (S_.perm.empty())
+    kept_ = given;
+  else
+    kept_.swap(perm_copy);
 }
 
 SpMat MultifrontalSolver::permuted(const SpMat& given) const {
@@ -233,8 +265,24 @@ void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {
   check_factored("solve");
   check_rhs(B, Index(S_.n), name());
   load_rhs(B);
-  forward_all(factor(), solve_plan_, y_, acc_);
-  backward_all(factor(), solve_plan_, y_);
+  if (refined_) {
+    const RowMajorMat b = y_;
+    const auto precondition = [this](RowMajorMat& y) {
+      if (mixed_) {
+        float_.solve(S_, y);
+      } else {
+        forward_all(factor(), solve_plan_, y, acc_);
+        backward_all(factor(), solve_plan_, y);
+      }
+    };
+    const Refinement r = refine(kept_, precondition, b, y_, options_.tolerance, options_.max_iterations);
+    stats_.iterations = r.iterations;
+    stats_.achieved_tolerance = r.residual;
+    stats_.last_correction = r.last_correction;
+  } else {
+    forward_all(factor(), solve_plan_, y_, acc_);
+    backward_all(factor(), solve_plan_, y_);
+  }
   store_solution(X);
 }
 
@@ -242,6 +290,7 @@ void MultifrontalSolver::set_base_rhs(const DenseMat& B0, const std::vector<int>
   check_factored("set_base_rhs");
   check_rhs(B0, Index(S_.n), name());
   base_.resize(0, 0);
+  if (refined_) return;  // no fast path: each frame is refined in full (solve_changed falls back to solve)
   std::vector<char> changing(std::size_t(S_.n), 0);
   for (int i : rows) {
     if (i < 0 || i >= S_.n) throw SolverError(fmt::format("{}: set_base_rhs(): row {} out of range", name(), i));
@@ -318,13 +367,14 @@ bool MultifrontalSolver::matches_base_outside_changing_rows(const DenseMat& B) c
 std::size_t MultifrontalSolver::factor_bytes() const {
   const std::size_t ints = S_.perm.size() + S_.col0.size() + S_.rptr.size() + S_.rows.size() + S_.parent.size() +
                            S_.first.size() + S_.cptr.size() + S_.child.size();
-  return S_.xptr.back() * sizeof(double) + ints * sizeof(int) + S_.xptr.size() * sizeof(std::size_t);
+  const std::size_t entry = mixed_ ? sizeof(float) : sizeof(double);
+  return S_.xptr.back() * entry + ints * sizeof(int) + S_.xptr.size() * sizeof(std::size_t);
 }
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> backends::make_multifrontal(const SolverOptions& options) {
-  return std::make_unique<MultifrontalSolver>(options);
+std::unique_ptr<LinearSolver> backends::make_multifrontal(const SolverOptions& options, Precision precision) {
+  return std::make_unique<MultifrontalSolver>(options, precision);
 }
 
 }  // namespace db

@@ -215,7 +215,9 @@ CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat
   solver->solve(bsyn, xs);
   r.set("peak_rss_bytes", double(peak_rss_bytes()), "bytes");  // before anything below allocates
   add_phases(r, ph);
-  if (solver_info(c.backend).family == "iterative") r.set("iterations", ph.stats.iterations, "count");
+  // Iterative backends and the mixed-precision one (its refinement): iterations of the last solve.
+  if (solver_info(c.backend).family == "iterative" || ph.stats.iterations > 0)
+    r.set("iterations", ph.stats.iterations, "count");
   r.set_text("ordering_used", ph.stats.ordering_used);
   r.set("residual", rel_residual(sys.K, x, rhs), "relative");
   r.set("residual_synthetic", rel_residual(sys.K, xs, bsyn), "relative");

@@ -310,6 +310,7 @@ Points LaplacianDeformer::deform_full(const std::function<void()>& set_values) {
   t.reset();
   mqwf_.solve(x_);
   times_.solve = base_seconds + t.seconds();
+  systems_.front().factor = mqwf_.report().factor;  // iterative and mixed backends: this solve's iterations
   if (!x_.allFinite()) throw SolverError("the solve produced non-finite positions");
 
   t.reset();

@@ -125,6 +125,10 @@ void MinQuadWithFixed::add_constraints(const DenseMat& xh, const DenseMat& soft,
 void MinQuadWithFixed::solve(DenseMat& xu) {
   if (varying_) solver_->solve_changed(rhs_, xu);
   else solver_->solve(rhs_, xu);
+  const FactorStats now = solver_->stats();  // iterative and mixed backends: this solve's iterations, residual
+  report_.factor.iterations = now.iterations;
+  report_.factor.achieved_tolerance = now.achieved_tolerance;
+  report_.factor.last_correction = now.last_correction;
 }
 
 }  // namespace db
