@@ -77,7 +77,9 @@ grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic
 [ "$(ls "$T/history/runs" | wc -l)" -eq 2 ] && ok "one history file per run" || fail "histories: $(ls "$T/history/runs")"
 
 # A planted slowdown caught by the CPU-time rule alone (--measure init_cpu_s): the TF cell of hand in 5 rounds, run
-# again unchanged (passes) and with the natural ordering (more fill: its init does more work, and fails).
+# again unchanged and with the natural ordering (more fill: its init does several times the work, and fails).
+# Whether unchanged code passes on time is a measurement of this machine's noise, not a test: the repeated runs in
+# results/history/README.md measure it; here the unchanged run is gated on its exact measures only.
 cat >"$T/cpu.toml" <<'EOF'
 tier = ["hand=meshes/hand.off"]
 cells = ["deform hand: method=tf build=structured"]
@@ -90,7 +92,8 @@ for run in base same slow; do
     fail "cpu run $run did not run"
 done
 GATE=(/usr/bin/python3 "$SRC/scripts/track_gate.py" --measure init_cpu_s "$T/cpu_base.csv")
-expect "CPU time: unchanged passes" 0 "verdict: pass" -- "${GATE[@]}" "$T/cpu_same.csv"
+expect "unchanged: exact measures pass" 0 "verdict: pass" -- \
+  /usr/bin/python3 "$SRC/scripts/track_gate.py" --measure nnz_factor "$T/cpu_base.csv" "$T/cpu_same.csv"
 expect "CPU time: a slower init fails" 1 \
   "^deform/hand/tf/structured/multifrontal +init_cpu_s +cpu +[0-9.]+ +[0-9.]+ +[0-9.]+ +0.00[0-9]+ +FAIL" -- \
   "${GATE[@]}" "$T/cpu_slow.csv"
