@@ -94,8 +94,8 @@ void LriDeformer::solve_frames(const Mat3& Rh, double& rhs_s, double& solve_s) {
   rhs_s = frame_rhs(Rh);
   Timer t;
   frames_mqwf_.solve(xf_);
-  systems_[0].factor = frames_mqwf_.report().factor;  // iterative and mixed backends: this solve's iterations
   solve_s = t.seconds();
+  systems_[0].factor = frames_mqwf_.report().factor;  // iterative and mixed backends: this solve's iterations
   if (!xf_.allFinite()) throw SolverError("LRI: the frame solve produced non-finite values");
 }
 
@@ -157,8 +157,8 @@ Points LriDeformer::deform(const Mat4& handle_transform) {
   rhs_s += position_rhs(T);
   Timer t;
   positions_mqwf_.solve(xp_);
-  systems_[1].factor = positions_mqwf_.report().factor;
   solve_s += t.seconds();
+  systems_[1].factor = positions_mqwf_.report().factor;
   if (!xp_.allFinite()) throw SolverError("LRI: the position solve produced non-finite positions");
 
   t.reset();
