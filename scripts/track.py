@@ -405,7 +405,7 @@ def parse_args(argv):
     ap.add_argument("--cell", help="bisect: the cell (its name in the history, e.g. deform/armadillo/tf/structured/"
                     "multifrontal)")
     ap.add_argument("--measure", help="bisect: the measure (e.g. nnz_factor, init_cpu_s, peak_rss_bytes)")
-    ap.add_argument("--repeats", type=int, help="rounds over the suite (default the config's, 5; timed measures "
+    ap.add_argument("--repeats", type=int, help="rounds over the suite (default the config's, 10; timed measures "
                     "need >= 5 to be gated)")
     ap.add_argument("--only", help="only cells matching these globs (comma-separated)")
     ap.add_argument("--override", action="append", help="a rule 'key=value ...: key=value ...' changing the cells "

@@ -2,7 +2,7 @@
 """Unit tests of the tracking gate (scripts/track_gate.py) on synthetic histories: a 30% slowdown of a CPU time is
 flagged, a 5% one and pure noise pass, a 30% slowdown of a phase so short that it is under the absolute floor
 (--min-delta-ms) is recorded only, a suite of 50 phases with this box's run-to-run spread and no change rarely
-fails, a loaded machine (wall times x3, CPU times as they were) passes; wall times
+fails, a loaded machine (wall times x3, CPU times as they were) passes; scripts/track_gate_power.py; wall times
 are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
 deterministic, memory and status rules.  Run: tests/track_gate_test.py (ctest `track_gate`)."""
 import math
@@ -345,6 +345,28 @@ class CommandLine(unittest.TestCase):
                 self.assertIn("## Recorded only", f.read())
             self.assertEqual(self.run_gate(base, slow, "--min-delta-ms", "1").returncode, 1)
             self.assertEqual(self.run_gate(base).returncode, 1)
+
+
+class PowerScript(unittest.TestCase):
+    """scripts/track_gate_power.py on four synthetic runs of one commit (12 phases of 0.5 s, 2% noise)."""
+    write = CommandLine.write
+
+    def test_false_alarms_and_planted_slowdowns(self):
+        rng = random.Random(21)
+        with tempfile.TemporaryDirectory() as d:
+            paths = [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
+                                                 for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))])
+                     for i in range(4)]
+            tool = os.path.join(SCRIPTS, "track_gate_power.py")
+            p = subprocess.run([sys.executable, tool, *paths, "--slowdown", "1.5"], text=True, capture_output=True)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side)", p.stdout)
+            self.assertIn("planted x1.5 slowdowns caught: 50 ms and over 1.00 of 144; all 1.00", p.stdout)
+            p = subprocess.run([sys.executable, tool, *paths, "--pool", "2", "--slowdown", "1.01"], text=True,
+                               capture_output=True)
+            self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side)", p.stdout)
+            self.assertIn("50 ms and over 0.00 of 72", p.stdout)
+            self.assertEqual(subprocess.run([sys.executable, tool, paths[0], "--pool", "1"]).returncode, 1)
 
 
 if __name__ == "__main__":
