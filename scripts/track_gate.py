@@ -16,8 +16,9 @@ By measure class (the `class` column the driver writes):
                  --threshold slower AND the slowdown (the smaller of the raw and normalized medians' increase)
                  is at least --min-delta-ms (3 ms): a slowdown past the threshold and significant but smaller
                  than that floor is "recorded only" (named in the report, not failed). alpha is 0.01, not 0.05:
-                 the gate makes about 50 CPU-time comparisons a run, and a per-run spread of 15-20% (this box
-                 at load 1-3) let 0.05 raise about one false alarm per pair of runs of one commit; the floor:
+                 the gate makes about 50 CPU-time comparisons a run, and at a per-run spread of 15-20% (this
+                 box at load 1-3) 0.05 raised 14 false alarms in the 20 ordered pairs of five runs of one commit,
+                 0.01 none (scripts/track_gate_power.py measures it on any such runs); the floor:
                  between runs of one commit, phases under 10 ms moved by up to 2.6 ms (results/history/README.md).
                  A round's drift: the median ratio of all the CPU times of that round to
                  their baseline medians, when >= --drift-cells (10) are compared (contention for caches and
