@@ -430,7 +430,8 @@ class UsageParser(argparse.ArgumentParser):
 
 
 def parse_args(argv):
-    ap = UsageParser(prog="track_gate", description=__doc__.split("\n")[0], allow_abbrev=False)
+    ap = UsageParser(prog="track_gate", description=__doc__.split("\n")[0], allow_abbrev=False,
+                     formatter_class=argparse.RawDescriptionHelpFormatter, epilog="\n".join(__doc__.split("\n")[2:]))
     ap.add_argument("baseline")
     ap.add_argument("now")
     ap.add_argument("--threshold", type=float, default=15, help="CPU time: allowed slowdown, percent (15)")
