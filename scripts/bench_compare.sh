@@ -60,7 +60,7 @@ while (($#)); do
     --baseline) BASELINE=${2:?}; shift 2 ;;
     --update-baseline) UPDATE=1; shift ;;
     --run) RUN=${2:?--run needs a file}; shift 2 ;;
-    -h|--help) sed -n '2,32p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
     --) shift; EXTRA=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
   esac
