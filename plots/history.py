@@ -6,12 +6,15 @@
 Reads RESULTS/history/runs/*.csv and RESULTS/history/reference/*.csv (runs with --override rules left out), keeps
 one machine's (default: the newest run's), and writes for the deformation cells, one panel per tier and a line per
 method / build, over the runs in date order (labelled by commit), with the machine rates of each run below:
-  OUT/history_init.png          init (build + analyze + factorize), median over the run's repeats
-  OUT/history_frame.png         median frame time
+  OUT/history_init.png          init CPU time (make_deformer: build + analyze + factorize, init_cpu_s)
+  OUT/history_frame.png         frame CPU time (the median frame, frame_cpu_s)
   OUT/history_factor_bytes.png  factor bytes
   OUT/history_peak_rss.png      peak RSS of the cell's process
-Times are as measured; the rates panel (median dgemm GFlop/s and memory read GB/s around the run's cells) shows
-whether a step is the machine's. Run with Debian's /usr/bin/python3 (numpy + matplotlib).
+The times are the CPU times the gate compares (scripts/track_gate.py), normalized as it normalizes them: each
+round of a run divided by that round's drift, the median over the round's CPU times of (time / that time's
+median over all the plotted runs), then the median over the run's rounds. The rates panel (median dgemm GFlop/s
+and memory read GB/s around the run's cells) shows whether a step is the machine's. Run with Debian's
+/usr/bin/python3 (numpy + matplotlib).
 """
 import argparse
 import csv
@@ -26,8 +29,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-FIGURES = [("init_s", "init (s)", 1.0, "history_init.png"),
-           ("frame_s", "frame (ms)", 1e3, "history_frame.png"),
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))
+import track_gate  # noqa: E402
+
+FIGURES = [("init_cpu_s", "init CPU (s)", 1.0, "history_init.png"),
+           ("frame_cpu_s", "frame CPU (ms)", 1e3, "history_frame.png"),
            ("factor_bytes", "factor (MiB)", 1 / 1048576, "history_factor_bytes.png"),
            ("peak_rss_bytes", "peak RSS (MiB)", 1 / 1048576, "history_peak_rss.png")]
 STYLE = {"lap": "tab:blue", "tf": "tab:red", "lri": "tab:green"}
@@ -57,6 +63,26 @@ def medians(rows):
                 rates[k].append((float(r[a]) + float(r[b])) / 2)
     out = {k: statistics.median(v) for k, v in vals.items()}
     out.update({k: statistics.median(v) for k, v in rates.items()})
+    return out
+
+
+def normalized_cpu(runs):
+    """[{(cell, measure): median normalized CPU time}] per run: the gate's round drift (track_gate.round_drift)
+    against the pooled medians of every plotted run, each run's values divided by their round's factor."""
+    s = track_gate.Settings()
+    hists = [track_gate.History.from_rows(rows) for rows in runs]
+    pooled = defaultdict(list)
+    for h in hists:
+        for key, (cls, _) in h.classes.items():
+            if cls == "cpu":
+                pooled[key] += [v for v in h.values[key].values() if v == v]
+    ref = {k: statistics.median(v) for k, v in pooled.items()
+           if len(v) >= s.min_repeats and statistics.median(v) >= s.min_time_s}
+    out = []
+    for h in hists:
+        drift = track_gate.Drift(now=track_gate.round_drift(h, ref, s))
+        out.append({key: statistics.median(vals) for key in pooled if key in h.values
+                    for vals in [drift.normalized(h, key, "now")] if vals})
     return out
 
 
@@ -99,7 +125,9 @@ def figure(runs, meds, measure, ylabel, scale, path):
     ax.grid(alpha=0.3)
     ax.set_xticks(x)
     ax.set_xticklabels([label(r) for r in runs], fontsize=7, rotation=45, ha="right")
-    fig.suptitle(f"tracking suite: {ylabel} per cell over runs (machine {runs[-1][0]['machine_id']})", fontsize=10)
+    what = ", normalized by the rounds' drift" if measure.endswith("_cpu_s") else ""
+    fig.suptitle(f"tracking suite: {ylabel} per cell over runs{what} (machine {runs[-1][0]['machine_id']})",
+                 fontsize=10)
     fig.tight_layout()
     tmp = f"{path}.tmp.{os.getpid()}.png"
     fig.savefig(tmp, dpi=110)
@@ -126,6 +154,12 @@ def main():
         print(f"history.py: no history of machine {machine}", file=sys.stderr)
         return 1
     meds = [medians(r) for r in runs]
+    try:
+        for m, cpu in zip(meds, normalized_cpu(runs)):
+            m.update(cpu)
+    except track_gate.InputError as e:
+        print(f"history.py: {e}", file=sys.stderr)
+        return 2
     os.makedirs(a.out, exist_ok=True)
     for measure, ylabel, scale, name in FIGURES:
         figure(runs, meds, measure, ylabel, scale, os.path.join(a.out, name))

@@ -2,7 +2,7 @@
 """Regression tracking of init time and memory across commits (`./run track`; README "Regression tracking").
 
   track.py [--baseline REV | --baseline-file CSV] [--repeats N] [--only GLOBS] [--override RULE]...
-           [--threshold PCT] [--gate-wall] [--save-reference] [--no-plots]
+           [--threshold PCT] [--alpha P] [--min-delta-ms MS] [--gate-wall] [--save-reference] [--no-plots]
   track.py --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
 
 run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
@@ -88,6 +88,7 @@ class Context:
         hook = os.environ.get("DEFORMBENCH_TRACK_MEASURE")
         self.hook = shlex.split(hook) if hook else None
         self.threshold, self.alpha, self.repeats, self.gate_wall = a.threshold, a.alpha, a.repeats, a.gate_wall
+        self.min_delta_ms = a.min_delta_ms
         self.only, self.overrides, self.build_current = a.only, a.override or [], not a.no_build
 
 
@@ -264,7 +265,7 @@ def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=F
     except track_gate.InputError as e:
         raise Failure(str(e))
     s = track_gate.Settings(threshold=ctx.threshold / 100, alpha=ctx.alpha, cells=tuple(cells),
-                            measures=tuple(measures), gate_wall=ctx.gate_wall)
+                            measures=tuple(measures), gate_wall=ctx.gate_wall, min_delta_s=ctx.min_delta_ms / 1e3)
     cmps = track_gate.compare(base, now, s)
     if not quiet:
         track_gate.print_report(base, now, cmps, s, False)
@@ -355,7 +356,8 @@ def bisect(ctx, a, good, bad, machine):
     step = [PY, str(Path(__file__).resolve()), "--repo", str(ctx.repo), "--work-dir", str(ctx.work),
             "--history-dir", str(ctx.history), "--config", str(ctx.config),
             "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure,
-            "--threshold", str(ctx.threshold), "--alpha", str(ctx.alpha)] + (["--gate-wall"] if ctx.gate_wall else [])
+            "--threshold", str(ctx.threshold), "--alpha", str(ctx.alpha), "--min-delta-ms", str(ctx.min_delta_ms)]
+    step += ["--gate-wall"] if ctx.gate_wall else []
     step += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
     git(wt, "bisect", "reset", check=False)
     try:
@@ -403,13 +405,15 @@ def parse_args(argv):
     ap.add_argument("--cell", help="bisect: the cell (its name in the history, e.g. deform/armadillo/tf/structured/"
                     "multifrontal)")
     ap.add_argument("--measure", help="bisect: the measure (e.g. nnz_factor, init_cpu_s, peak_rss_bytes)")
-    ap.add_argument("--repeats", type=int, help="rounds over the suite (default the config's, 5; timed measures "
+    ap.add_argument("--repeats", type=int, help="rounds over the suite (default the config's, 10; timed measures "
                     "need >= 5 to be gated)")
     ap.add_argument("--only", help="only cells matching these globs (comma-separated)")
     ap.add_argument("--override", action="append", help="a rule 'key=value ...: key=value ...' changing the cells "
                     "it matches (e.g. 'kind=deform method=tf: ordering=natural'); such a run is never a baseline")
     ap.add_argument("--threshold", type=float, default=15, help="CPU time: allowed slowdown, percent (15)")
-    ap.add_argument("--alpha", type=float, default=0.05, help="CPU time: significance of the U test (0.05)")
+    ap.add_argument("--alpha", type=float, default=0.01, help="CPU time: significance of the U test (0.01)")
+    ap.add_argument("--min-delta-ms", type=float, default=3, help="time: a slowdown under this many ms is recorded "
+                    "only, never failed (3)")
     ap.add_argument("--gate-wall", action="store_true", help="gate wall times too (normalized by the machine "
                     "rates): for a quiet machine")
     ap.add_argument("--config", help="the suite (default data/experiments/track.toml)")
@@ -428,6 +432,8 @@ def parse_args(argv):
         ap.error("--bisect, --baseline and --baseline-file do not go together")
     if a.repeats is not None and a.repeats < 1:
         ap.error("--repeats must be >= 1")
+    if a.min_delta_ms < 0:
+        ap.error("--min-delta-ms must be >= 0")
     return a
 
 

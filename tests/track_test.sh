@@ -33,7 +33,8 @@ expect "misspelled option" 1 "did you mean --repeats" -- "$X" --repeat 3
 expect "the shipped suite" 0 "^solve/armadillo/lap/spqr/default " -- "$X" --dry-run
 [ "$(grep -c . "$T/out")" -eq 29 ] && ok "29 cells in the shipped suite" || fail "shipped suite: $(grep -c . "$T/out") cells"
 grep -Eq "^deform/armadillo_loop1/tf/structured/multifrontal .* rounds=2$" "$T/out" &&
-  grep -Eq "^deform/hand/tf/naive/multifrontal .* rounds=5$" "$T/out" && ok "rounds per cell" || fail "rounds: $(cat "$T/out")"
+  grep -Eq "^solve/armadillo/lap/umfpack/default .* rounds=5$" "$T/out" &&
+  grep -Eq "^deform/hand/tf/naive/multifrontal .* rounds=10$" "$T/out" && ok "rounds per cell" || fail "rounds: $(cat "$T/out")"
 expect "--only" 0 "^deform/hand/tf/naive/multifrontal +kind=deform model=hand method=tf build=naive .*frames=5" -- \
   "$X" --dry-run --only 'deform/hand/tf/*'
 expect "--only matching nothing" 1 "no cell to run" -- "$X" --dry-run --only 'nothing*'
