@@ -2,7 +2,7 @@
 # `deformbench deform --solver mumps` on 2 ranks of this machine (scripts/mpirun.sh: oversubscribed, as root too),
 # end to end: the BS08 cylinder's LAP and TF edits; the mesh rank 0 writes must equal the single-process
 # multifrontal one to 1e-8 of the bounding-box diagonal, its CSV row names 2 ranks and each rank's peak RSS, and
-# rank 0 alone prints the report (with its per-rank line). The same equality for what else the deform path does on
+# rank 0 alone prints the report (with its per-rank line); each rank holds only its share of the matrix. The same equality for what else the deform path does on
 # ranks: soft constraints, TF's normalized scale pass, handle-mode frames (each rank assembling its own share of
 # LAP's and TF's systems) and LRI (the whole system on every rank). Another backend under 2 ranks is refused
 # (exit 1), and so are the subcommands that do not run on ranks (coat, transplant, solvers).
@@ -42,6 +42,13 @@ for m in lap tf; do
   d=$(diff_off "$T/mf_$m.off" "$T/r2_$m.off")
   /usr/bin/python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) <= 1e-8 else 1)" "$d" &&
     ok "$m: 2 ranks = multifrontal to $d of the diagonal (<= 1e-8)" || fail "$m: 2 ranks differ by $d"
+  # Rank-local assembly: each rank hands the solver its share of the matrix, not the whole one.
+  /usr/bin/python3 - "$T/mf.out" "$T/r2.out" <<'PY' && ok "$m: each rank holds a share of the matrix" || fail "$m: shares"
+import re, sys
+whole = float(re.search(r"^matrix ([0-9.]+) MB", open(sys.argv[1]).read(), re.M).group(1))
+share = [float(x) for x in re.search(r"matrix per rank MB: ([0-9. ]+)", open(sys.argv[2]).read()).group(1).split()]
+sys.exit(0 if len(share) == 2 and max(share) < 0.75 * whole and sum(share) > 0.9 * whole else 1)
+PY
   [ "$(grep -c '^build .* | init ' "$T/r2.out")" = 1 ] && grep -q "^2 ranks .* peak RSS per rank MB: [0-9]* [0-9]*" "$T/r2.out" &&
     ok "$m: rank 0 alone prints, with each rank's peak RSS" || fail "$m: report: $(head -c 600 "$T/r2.out")"
   /usr/bin/python3 - "$T/r2_$m.csv" <<'PY' && ok "$m: the row names 2 ranks, both RSS, provenance" || fail "$m: CSV row"
