@@ -4,7 +4,7 @@
 //   deformbench provenance                           what result rows record about this machine and build
 //   deformbench coat|transplant SOURCE TARGET --out FILE   the applications (apps/commands/)
 //   mpirun -np N deformbench deform <edit> --solver mumps ...   one edit on N ranks (MUMPS distributed; rank 0
-//                                                                prints and writes)
+//                                                                prints and writes; the other subcommands refuse)
 // Options are checked before any work: a value out of range, an option the chosen method or backend does not use,
 // or an output that could not be written is a usage error (exit 1) before a mesh is read.
 #include <algorithm>
@@ -285,6 +285,7 @@ struct FrameMedians {
 // solve over the bounding-box diagonal (negative: not measured).
 struct RunExtras {
   std::vector<double> rss;
+  std::vector<double> matrix;  //!< under a launcher: every rank's matrix bytes handed to the solvers (rank 0 first)
   double vs_double = -1;
 };
 
@@ -325,9 +326,9 @@ std::vector<double> rank_peak_rss(int ranks) {
   return ranks > 1 ? mpi::gather_to_root(double(peak_rss_bytes())) : std::vector<double>{double(peak_rss_bytes())};
 }
 
-std::string joined(const std::vector<double>& v, double unit) {
+std::string joined(const std::vector<double>& v, double unit, int digits = 0) {
   std::string s;
-  for (double x : v) s += (s.empty() ? "" : " ") + fmt::format("{:.0f}", x / unit);
+  for (double x : v) s += (s.empty() ? "" : " ") + fmt::format("{:.{}f}", x / unit, digits);
   return s;
 }
 
@@ -378,8 +379,10 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
              deformer.matrix_bytes() / 1e6, deformer.factor_bytes() / 1e6,
              t.factorize > 0 ? flops / 1e9 / t.factorize : 0.0, x.rss.front() / 1e6);
   if (x.rss.size() > 1)
-    fmt::print("{} ranks (MUMPS distributed; times are rank 0's) | peak RSS per rank MB: {} | max {:.1f} MB\n",
-               x.rss.size(), joined(x.rss, 1e6), *std::max_element(x.rss.begin(), x.rss.end()) / 1e6);
+    fmt::print("{} ranks (MUMPS distributed; times are rank 0's) | peak RSS per rank MB: {} | max {:.1f} MB | "
+               "matrix per rank MB: {}\n",
+               x.rss.size(), joined(x.rss, 1e6), *std::max_element(x.rss.begin(), x.rss.end()) / 1e6,
+               joined(x.matrix, 1e6, 2));
   fmt::print("{}\n", provenance_summary());
 }
 
@@ -456,7 +459,11 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   refuse_unused(d, a);
   check_backend(d, a);
   const int ranks = check_ranks(a);
-  const DeformOptions o = deform_options(a);
+  DeformOptions o = deform_options(a);
+  if (ranks > 1) {  // lap and tf (structured build): each rank assembles its own share
+    o.rank = mpi::rank();
+    o.ranks = ranks;
+  }
   // Outputs before any mesh is read: a run that could not write its results fails at once, not after the solve.
   const std::vector<std::string> inputs = edit_case_files(a.edit);
   cli::check_output("--out", a.out, kMeshExtensions, inputs);
@@ -473,7 +480,9 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
   Points result;
   const FrameMedians m = drag(*deformer, ec.edit, frames, result);
-  RunExtras extras{rank_peak_rss(ranks)};
+  RunExtras extras;
+  extras.rss = rank_peak_rss(ranks);
+  if (ranks > 1) extras.matrix = mpi::gather_to_root(double(deformer->matrix_bytes()));
   if (ranks > 1 && mpi::rank() != 0) return 0;  // rank 0 prints and writes
   if (a.vs_double) extras.vs_double = difference_from_double(ec, o, frames, result);
 
@@ -521,6 +530,11 @@ int main(int argc, char** argv) {
   CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");
   const std::vector<commands::Command> apps = {commands::add_coat(app), commands::add_transplant(app)};
   const int code = cli::run(app, argc, argv, [&] {
+    // Only deform runs on ranks; another subcommand would run once per rank, each writing the same output.
+    if (!deform->parsed() && mpi::launched() && mpi::size() > 1)
+      throw UsageError(fmt::format("started on {} ranks: only `deformbench deform --solver mumps` runs under mpirun; "
+                                   "`{}` runs in one process (start it without mpirun)",
+                                   mpi::size(), app.get_subcommands().front()->get_name()));
     for (const commands::Command& c : apps)
       if (c.app->parsed()) return c.run();
     if (deform->parsed()) return cmd_deform(*deform, a);

@@ -33,6 +33,11 @@ struct SolverOptions {
   //! ill-conditioned system of millions of unknowns can fall below the bound. Non-positive pivots are always
   //! rejected. The multifrontal, CHOLMOD and dense LL^T backends honour it; the others always test.
   bool pivot_singularity_test = true;
+  //! 1: every process passes the whole system. N > 1: each of N ranks (MPI_COMM_WORLD under a launcher) passes
+  //! only its own share, and the system is their sum: the matrix's entries (an entry two ranks pass is added) and
+  //! the right-hand sides' (each rank passes n rows, zero where it has nothing); every rank gets the solution.
+  //! Only `mumps` on exactly N ranks takes it (make_solver refuses the others).
+  int rank_shares = 1;
 };
 
 //! 10 n eps: the smallest d_k / A_kk the pivot test accepts. On singular bi-Laplacians (no constraints) the last

@@ -1,6 +1,7 @@
 #include "solvers/mumps_mpi.h"
 
 #include <climits>
+#include <cstdint>
 #include <cstdlib>
 #include <mutex>
 
@@ -107,6 +108,15 @@ void broadcast(std::vector<double>& data) {
 double max_all(double value) { return reduce_all(value, MPI_MAX); }
 double min_all(double value) { return reduce_all(value, MPI_MIN); }
 double sum_all(double value) { return reduce_all(value, MPI_SUM); }
+
+bool same_on_every_rank(const int* data, std::size_t count) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (std::size_t k = 0; k < count; ++k) h = (h ^ std::uint32_t(data[k])) * 1099511628211ull;
+  bool same = true;
+  for (const double v : {double(count), double(h >> 32), double(h & 0xffffffffu)})  // each exact in a double
+    same = (max_all(v) == min_all(v)) && same;
+  return same;
+}
 
 void abort_all(int code) {
   ensure_initialized();

@@ -32,6 +32,8 @@ void broadcast(std::vector<double>& data);
 double max_all(double value);
 double min_all(double value);
 double sum_all(double value);
+//! Whether every rank passed the same `count` ints (their count and a 64-bit hash compared). Collective.
+bool same_on_every_rank(const int* data, std::size_t count);
 //! Ends every rank of the world with `code` (MPI_Abort): for a failure on some ranks only, which would leave the
 //! others waiting in a collective call forever.
 [[noreturn]] void abort_all(int code);

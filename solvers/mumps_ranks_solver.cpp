@@ -1,8 +1,10 @@
 //! "mumps" under a launcher with more than one rank (make_mumps picks it): the LinearSolver contract on every
-//! rank of MPI_COMM_WORLD at once. Every rank runs the same caller (the deformers build the same system on each
-//! rank) and calls analyze / factorize / solve in the same order; each passes MUMPS only its share of K's columns
-//! (DistributedMumps, distributed assembled input), and every rank gets the solution (broadcast from rank 0), so
-//! the callers on all ranks go on in step.
+//! rank of MPI_COMM_WORLD at once. Every rank runs the same caller and calls analyze / factorize / solve in the
+//! same order, and every rank gets the solution (broadcast from rank 0), so the callers on all ranks go on in
+//! step. Two inputs (SolverOptions::rank_shares): every rank passes the same, whole system and MUMPS gets each
+//! rank's share of its columns; or each rank passes only its own share (rank-local assembly), the system being
+//! the sum of the ranks' matrices and right-hand sides. Either way MUMPS takes distributed assembled input
+//! (DistributedMumps).
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -23,7 +25,12 @@ using namespace solver_util;
 
 class MumpsOnRanks final : public LinearSolver {
  public:
-  explicit MumpsOnRanks(const SolverOptions& options) : options_(options) { check_options(options, name()); }
+  explicit MumpsOnRanks(const SolverOptions& options) : options_(options), shares_(options.rank_shares > 1) {
+    check_options(options, name());
+    if (shares_ && options.rank_shares != mpi::size())
+      throw Error(fmt::format("mumps: the system comes in {} rank shares, but {} ranks run", options.rank_shares,
+                              mpi::size()));
+  }
 
   std::string name() const override { return "mumps"; }
 
@@ -33,10 +40,15 @@ class MumpsOnRanks final : public LinearSolver {
     const SpMat& input = compressed(upper_in, storage);
     const SpMat& upper = mumps::upper_triangle(input, lower_free);
     same_on_every_rank(upper);
-    const int b = options_.block_size > 1 && upper.cols() % options_.block_size == 0 ? options_.block_size : 1;
-    const long long blocks = upper.cols() / b, r = mpi::rank(), N = mpi::size();
-    c0_ = Index(b * (r * blocks / N));
-    c1_ = Index(b * ((r + 1) * blocks / N));
+    if (shares_) {  // this rank's share is its whole input
+      c0_ = 0;
+      c1_ = upper.cols();
+    } else {
+      const int b = options_.block_size > 1 && upper.cols() % options_.block_size == 0 ? options_.block_size : 1;
+      const long long blocks = upper.cols() / b, r = mpi::rank(), N = mpi::size();
+      c0_ = Index(b * (r * blocks / N));
+      c1_ = Index(b * ((r + 1) * blocks / N));
+    }
     std::vector<int> rows, cols;
     for (Index c = c0_; c < c1_; ++c)
       for (SpMat::InnerIterator it(upper, c); it; ++it) {
@@ -65,8 +77,15 @@ class MumpsOnRanks final : public LinearSolver {
   void solve(const DenseMat& B, DenseMat& X) override {
     if (!factored_) throw SolverError("mumps: solve() before a successful factorize()");
     check_rhs(B, Index(stats_.n), name());
-    // Rank 0's right-hand sides are solved (every rank's are the same); the solution is broadcast.
-    X = mpi::rank() == 0 ? B : DenseMat();
+    // Rank 0's right-hand sides are solved (every rank's are the same, or their shares summed there); the
+    // solution is broadcast.
+    if (shares_) {
+      X = B;
+      mpi::sum_to_root(X.data(), std::size_t(X.size()));
+      if (mpi::rank() != 0) X = DenseMat();
+    } else {
+      X = mpi::rank() == 0 ? B : DenseMat();
+    }
     mumps_->solve(X);
     std::vector<double> x(X.data(), X.data() + X.size());
     mpi::broadcast(x);
@@ -93,21 +112,22 @@ class MumpsOnRanks final : public LinearSolver {
   }
 
   //! Ranks that built different systems (another mesh, another order of the unknowns) would factor a mixture:
-  //! refused. Compared: the size and a hash of the pattern (each 32-bit half exact in a double).
-  static void same_on_every_rank(const SpMat& upper) {
-    std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-    const auto mix = [&h](const int* p, Index count) {
-      for (Index k = 0; k < count; ++k) h = (h ^ std::uint32_t(p[k])) * 1099511628211ull;
-    };
-    mix(upper.outerIndexPtr(), upper.cols() + 1);
-    mix(upper.innerIndexPtr(), upper.nonZeros());
-    for (const double v : {double(upper.cols()), double(h >> 32), double(h & 0xffffffffu)})
-      if (mpi::max_all(v) != mpi::min_all(v))
-        throw SolverError("mumps on ranks: the ranks passed different matrices (each rank must build the same "
-                          "system: the same input and the same order of the unknowns)");
+  //! refused. Compared: the size and a hash of the pattern; of shares, which differ, the size only (the caller
+  //! checks that the ranks numbered the unknowns alike).
+  void same_on_every_rank(const SpMat& upper) const {
+    const int n = int(upper.cols());
+    const bool same = shares_ ? mpi::same_on_every_rank(&n, 1)
+                              : mpi::same_on_every_rank(upper.outerIndexPtr(), std::size_t(n) + 1) &&
+                                    mpi::same_on_every_rank(upper.innerIndexPtr(), std::size_t(upper.nonZeros()));
+    if (!same)
+      throw SolverError(fmt::format("mumps on ranks: the ranks passed {} (each rank must build {}: the same input and "
+                                    "the same order of the unknowns)",
+                                    shares_ ? "shares of different sizes" : "different matrices",
+                                    shares_ ? "its share of the same system" : "the same system"));
   }
 
   SolverOptions options_;
+  bool shares_ = false;  //!< each rank passes its share (SolverOptions::rank_shares)
   std::unique_ptr<DistributedMumps> mumps_;
   Index c0_ = 0, c1_ = 0;  //!< this rank's columns
   bool factored_ = false;

@@ -20,7 +20,12 @@ using namespace solver_util;
 
 class MumpsSolver final : public LinearSolver {
  public:
-  explicit MumpsSolver(const SolverOptions& options) : options_(options) { check_options(options, name()); }
+  explicit MumpsSolver(const SolverOptions& options) : options_(options) {
+    check_options(options, name());
+    if (options.rank_shares != 1)
+      throw Error(fmt::format("mumps: the system comes in {} rank shares, but this process runs alone (start it on "
+                              "that many ranks)", options.rank_shares));
+  }
 
   std::string name() const override { return "mumps"; }
 

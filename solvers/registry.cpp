@@ -80,6 +80,9 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& name, const SolverO
     throw Error(fmt::format("{}: cannot keep its factor out of core (factor directory '{}'); {} can", name,
                             options.factor_dir, fmt::join(can, " and ")));
   }
+  if (options.rank_shares != 1 && name != "mumps")
+    throw Error(fmt::format("{}: takes the whole system in one process; only mumps sums the shares of {} ranks", name,
+                            options.rank_shares));
   return e.make(options);
 }
 

@@ -185,6 +185,56 @@ TEST(Systems, BuildWhileOrderingEqualsOrderThenBuild) {
   }
 }
 
+// Rank-local assembly (mpirun, --solver mumps): each rank builds the share of the structured system its unknowns
+// own, and MUMPS sums the ranks' entries; so the shares of K, C and g0 must sum to the one-process system (exactly:
+// each entry is accumulated by one share, in the same order), no share may hold another's columns or rows, and
+// every soft weight must be counted once. LAP and TF, hard and soft constraints, 1 to 3 parts, in a METIS order.
+TEST(Systems, RankSharesSumToTheWholeSystem) {
+  const Mesh m = make_cylinder(20, 16, 1.0, 4.0);
+  const Adjacency adj = vertex_adjacency(m);
+  const Edit e = tube_edit(m);
+  const Points Vn = Normalization::fit(m.V).apply(m.V);
+  for (EnergyKind kind : {EnergyKind::Lap, EnergyKind::Tf})
+    for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
+      const EnergyOperator op(Vn, m.F, adj, kind, {});
+      Unknowns unk = make_unknowns(classify(e, mode), 2.0);
+      order_unknowns(adj, unk, "metis");
+      const NormalSystem whole = build_normal_system(op, unk, Build::Structured);
+      const DenseMat K = DenseMat(whole.K), C = DenseMat(whole.C);
+      ASSERT_GT(K.norm(), 0);
+      for (int parts = 1; parts <= 3; ++parts) {
+        const std::string what = to_string(kind) + "/" + to_string(mode) + "/" + std::to_string(parts) + " parts";
+        DenseMat Ks = DenseMat::Zero(K.rows(), K.cols()), Cs = DenseMat::Zero(C.rows(), C.cols());
+        DenseMat g = DenseMat::Zero(whole.g0.rows(), whole.g0.cols());
+        Eigen::Index stored = 0;
+        for (int part = 0; part < parts; ++part) {
+          const NormalSystem s = build_structured_share(op, unk, part, parts);
+          const auto [first, last] = share_range(unk.num_unknowns(), part, parts);
+          EXPECT_EQ(s.parts, parts) << what;
+          EXPECT_EQ(s.own_begin, first) << what;
+          EXPECT_EQ(s.own_end, last) << what;
+          ASSERT_EQ(s.K.rows(), K.rows()) << what;
+          const Eigen::Index lo = s.block * first, hi = s.block * last;
+          // Nothing outside the share: K's other columns, C's and g0's other rows are empty.
+          EXPECT_EQ(s.K.outerIndexPtr()[lo], 0) << what;
+          EXPECT_EQ(s.K.outerIndexPtr()[s.K.cols()], s.K.outerIndexPtr()[hi]) << what;
+          const DenseMat Cp = DenseMat(s.C);
+          EXPECT_EQ(Cp.topRows(lo).norm() + Cp.bottomRows(Cp.rows() - hi).norm(), 0) << what;
+          EXPECT_EQ(s.g0.topRows(lo).norm() + s.g0.bottomRows(s.g0.rows() - hi).norm(), 0) << what;
+          Ks += DenseMat(s.K);
+          Cs += Cp;
+          g += s.g0;
+          stored += s.K.nonZeros();
+        }
+        EXPECT_EQ(stored, whole.K.nonZeros()) << what;
+        // lpNorm<Infinity>: 0 for C without columns (soft constraints leave no hard vertex).
+        EXPECT_EQ((Ks - K).lpNorm<Eigen::Infinity>(), 0) << what;
+        EXPECT_EQ((Cs - C).lpNorm<Eigen::Infinity>(), 0) << what;
+        EXPECT_EQ((g - whole.g0).lpNorm<Eigen::Infinity>(), 0) << what;
+      }
+    }
+}
+
 TEST(Systems, BuildsGiveTheSameDeformation) {
   const Mesh m = make_cylinder(8, 10, 1.0, 3.0);
   const Edit e = tube_edit(m);

@@ -2,7 +2,10 @@
 # `deformbench deform --solver mumps` on 2 ranks of this machine (scripts/mpirun.sh: oversubscribed, as root too),
 # end to end: the BS08 cylinder's LAP and TF edits; the mesh rank 0 writes must equal the single-process
 # multifrontal one to 1e-8 of the bounding-box diagonal, its CSV row names 2 ranks and each rank's peak RSS, and
-# rank 0 alone prints the report (with its per-rank line). Another backend under 2 ranks is refused (exit 1).
+# rank 0 alone prints the report (with its per-rank line); each rank holds only its share of the matrix. The same equality for what else the deform path does on
+# ranks: soft constraints, TF's normalized scale pass, handle-mode frames (each rank assembling its own share of
+# LAP's and TF's systems) and LRI (the whole system on every rank). Another backend under 2 ranks is refused
+# (exit 1), and so are the subcommands that do not run on ranks (coat, transplant, solvers).
 #   mumps_deform_test.sh SOURCE_DIR BUILD_DIR
 set -u
 SRC=$1
@@ -39,6 +42,13 @@ for m in lap tf; do
   d=$(diff_off "$T/mf_$m.off" "$T/r2_$m.off")
   /usr/bin/python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) <= 1e-8 else 1)" "$d" &&
     ok "$m: 2 ranks = multifrontal to $d of the diagonal (<= 1e-8)" || fail "$m: 2 ranks differ by $d"
+  # Rank-local assembly: each rank hands the solver its share of the matrix, not the whole one.
+  /usr/bin/python3 - "$T/mf.out" "$T/r2.out" <<'PY' && ok "$m: each rank holds a share of the matrix" || fail "$m: shares"
+import re, sys
+whole = float(re.search(r"^matrix ([0-9.]+) MB", open(sys.argv[1]).read(), re.M).group(1))
+share = [float(x) for x in re.search(r"matrix per rank MB: ([0-9. ]+)", open(sys.argv[2]).read()).group(1).split()]
+sys.exit(0 if len(share) == 2 and max(share) < 0.75 * whole and sum(share) > 0.9 * whole else 1)
+PY
   [ "$(grep -c '^build .* | init ' "$T/r2.out")" = 1 ] && grep -q "^2 ranks .* peak RSS per rank MB: [0-9]* [0-9]*" "$T/r2.out" &&
     ok "$m: rank 0 alone prints, with each rank's peak RSS" || fail "$m: report: $(head -c 600 "$T/r2.out")"
   /usr/bin/python3 - "$T/r2_$m.csv" <<'PY' && ok "$m: the row names 2 ranks, both RSS, provenance" || fail "$m: CSV row"
@@ -48,6 +58,31 @@ sys.exit(0 if len(r) == 1 and r[0]["ranks"] == "2" and len(r[0]["peak_rss_rank_b
          and r[0]["backend"] == "mumps" and r[0].get("git_sha") else 1)
 PY
 done
+# The rest of the deform path on 2 ranks, against the same options in one process with the multifrontal backend.
+variants=("tf --constraints soft --soft-weight 3" "tf --tf-scale normalized" "lap --frame-mode handle"
+          "tf --constraints soft --frame-mode handle" "lri")
+for v in "${variants[@]}"; do
+  read -r -a opts <<<"$v"
+  "$EXE" deform $E --method "${opts[@]}" --solver multifrontal --out "$T/mf.off" >"$T/mf.out" 2>&1 ||
+    { fail "$v multifrontal: $(tail -c 300 "$T/mf.out")"; continue; }
+  scripts/mpirun.sh 2 "$EXE" deform $E --method "${opts[@]}" --solver mumps --frames 2 --out "$T/r2.off" \
+    >"$T/r2.out" 2>&1 || { fail "$v 2 ranks: $(tail -c 400 "$T/r2.out")"; continue; }
+  d=$(diff_off "$T/mf.off" "$T/r2.off")
+  /usr/bin/python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) <= 1e-8 else 1)" "$d" &&
+    ok "$v: 2 ranks = multifrontal to $d of the diagonal (<= 1e-8)" || fail "$v: 2 ranks differ by $d"
+  rm -f "$T/r2.off"
+done
+
+for sub in "coat data/bs08/cylinder.off data/bs08/cylinder.off --out $T/no.ply" \
+           "transplant data/bs08/cylinder.off data/bs08/cylinder.off --out $T/no.ply" "solvers"; do
+  read -r -a args <<<"$sub"
+  scripts/mpirun.sh 2 "$EXE" "${args[@]}" >"$T/s.out" 2>&1
+  rc=$?
+  [ $rc -eq 1 ] && grep -q "started on 2 ranks: only .deformbench deform --solver mumps. runs under mpirun" "$T/s.out" &&
+    [ ! -e "$T/no.ply" ] && ok "${args[0]} under 2 ranks refused (exit 1)" ||
+    fail "${args[0]} under 2 ranks: exit $rc: $(tail -c 300 "$T/s.out")"
+done
+
 scripts/mpirun.sh 2 "$EXE" deform $E --method tf --solver multifrontal --out "$T/no.off" >"$T/s.out" 2>&1
 [ $? -eq 1 ] && grep -q "only --solver mumps runs distributed" "$T/s.out" && [ ! -e "$T/no.off" ] &&
   ok "another backend under 2 ranks refused (exit 1)" || fail "multifrontal under 2 ranks: $(tail -c 300 "$T/s.out")"

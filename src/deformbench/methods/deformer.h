@@ -64,6 +64,11 @@ struct DeformOptions {
   //! keeps full frames and says so (Deformer::frame_mode_note). The default is measured (results/handle_drags.md).
   double handle_limit = kDefaultHandleLimit;
   static constexpr double kDefaultHandleLimit = 1.0;
+  //! This process is rank `rank` of `ranks` > 1 (a launcher's; solver "mumps"): lap and tf with the structured
+  //! build assemble only this rank's share of their systems (build_structured_share; rank-local assembly) and the
+  //! solver sums the shares. The other methods and builds assemble the whole system on every rank (the solver
+  //! then passes each rank's columns of it).
+  int rank = 0, ranks = 1;
 };
 
 struct PhaseTimes {

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/resources.h"
 #include "core/timer.h"
+#include "solvers/mumps_mpi.h"
 #include "systems/vertex_ordering.h"
 
 namespace db {
@@ -71,7 +72,9 @@ void LaplacianDeformer::precompute_rescale(const Faces& F, const DeformOptions& 
   // The unknowns keep TF's numbering (a vertex-graph order when the structured build ordered them; `so` then says
   // "natural"). The naive build's kept A^T cannot take the per-frame targets: the structured build, same K.
   const Build build = options.build == Build::Naive ? Build::Structured : options.build;
-  NormalSystem sys = build_normal_system(*lap_op_, unk_, build, options.memory_budget);
+  NormalSystem sys = rank_local(options) ? build_structured_share(*lap_op_, unk_, options.rank, options.ranks,
+                                                                  options.memory_budget)
+                                         : build_normal_system(*lap_op_, unk_, build, options.memory_budget);
   times_.build += t.seconds();
   SolverOptions lap_so = so;
   lap_so.block_size = 1;
@@ -133,6 +136,7 @@ NormalSystem LaplacianDeformer::build(const EnergyOperator& op, const DeformOpti
   if (!vertex_ordering.empty()) so.ordering = "natural";
   NormalSystem sys;
   Timer t;
+  if (rank_local(options)) return build_share(op, options, vertex_ordering, ordering_seconds);
   if (vertex_ordering == "amd" && worker_threads() > 1) {
     // AMD runs on one core: the build takes the other meanwhile (METIS uses both cores itself). Of the wall
     // time, the ordering thread's own counts as analysis, the rest as build.
@@ -146,6 +150,27 @@ NormalSystem LaplacianDeformer::build(const EnergyOperator& op, const DeformOpti
   }
   t.reset();
   sys = build_normal_system(op, unk_, options.build, options.memory_budget);
+  times_.build += t.seconds();
+  return sys;
+}
+
+bool LaplacianDeformer::rank_local(const DeformOptions& options) {
+  return options.ranks > 1 && options.build == Build::Structured;
+}
+
+NormalSystem LaplacianDeformer::build_share(const EnergyOperator& op, const DeformOptions& options,
+                                            const std::string& vertex_ordering, double& ordering_seconds) {
+  Timer t;
+  if (!vertex_ordering.empty()) {
+    order_unknowns(op.adjacency(), unk_, vertex_ordering);
+    ordering_seconds = t.seconds();
+  }
+  // The shares are sums over one numbering of the unknowns: a rank that ordered differently would mix two.
+  if (!mpi::same_on_every_rank(unk_.unknown_vertices.data(), unk_.unknown_vertices.size()))
+    throw SolverError("rank-local assembly: the ranks numbered the unknowns differently (each rank must read the same "
+                      "input and order it alike)");
+  t.reset();
+  NormalSystem sys = build_structured_share(op, unk_, options.rank, options.ranks, options.memory_budget);
   times_.build += t.seconds();
   return sys;
 }

@@ -57,6 +57,11 @@ class LaplacianDeformer : public Deformer {
   //! ("" when the solver orders), `ordering_seconds` its time.
   NormalSystem build(const EnergyOperator& op, const DeformOptions& options, const std::string& solver,
                      SolverOptions& so, std::string& vertex_ordering, double& ordering_seconds);
+  //! Whether this rank assembles only its share (DeformOptions::ranks > 1, the structured build).
+  static bool rank_local(const DeformOptions& options);
+  //! build() for a rank share: the same ordering on every rank (checked), then this rank's share.
+  NormalSystem build_share(const EnergyOperator& op, const DeformOptions& options, const std::string& vertex_ordering,
+                           double& ordering_seconds);
   //! xh_ and soft_ for a handle transform, or (targets non-null) the handle vertices' targets, in normalized
   //! coordinates.
   void constraint_values(const Mat4& T, const Points* targets = nullptr);

@@ -36,8 +36,9 @@ inline void block_AtB(int b, const double* X, const double* Y, double* out) {
 }
 
 //! `pattern`: interaction_pattern(adj, unk) when the caller has it already; `threads`: 0 = worker_threads().
+//! [first, last) (last -1: all): the block columns of K, rows of C and g0 built (a rank share), the rest empty.
 NormalSystem build_structured(const EnergyOperator& op, const Unknowns& unk, const InteractionPattern* pattern = nullptr,
-                              int threads = 0);
+                              int threads = 0, int first = 0, int last = -1);
 NormalSystem build_naive(const EnergyOperator& op, const Unknowns& unk);
 NormalSystem build_dense(const EnergyOperator& op, const Unknowns& unk);
 

@@ -45,10 +45,13 @@ void MinQuadWithFixed::analyze(NormalSystem sys, const Unknowns& unk, const std:
   report_.n = static_cast<std::size_t>(sys_.K.rows());
   report_.nnz = static_cast<std::size_t>(sys_.K.nonZeros());
   report_.matrix_bytes = sparse_bytes(sys_.K);
-  solver_ = make_solver(backend, options);
+  SolverOptions so = options;
+  so.rank_shares = sys_.parts;  // a share goes to a backend that sums the ranks' (mumps on as many ranks)
+  solver_ = make_solver(backend, so);
   Timer t;
   solver_->analyze(sys_.K);
   analyze_seconds_ = t.seconds();
+  if (sys_.parts > 1) report_.nnz = solver_->stats().nnz_matrix;  // every rank's share
 }
 
 void MinQuadWithFixed::factorize(bool consume_matrix) {
@@ -89,6 +92,7 @@ void MinQuadWithFixed::form_rhs(const DenseMat& xh, const DenseMat& soft,
     rhs_.setZero(static_cast<Eigen::Index>(report_.n), sys_.rhs_cols);
     linear(rhs_);
     add_constraints(xh, soft, rhs_);
+    keep_own_rows(rhs_);
   } else {
     rhs_of(xh, soft, /*constant=*/true, rhs_);
   }
@@ -108,6 +112,15 @@ void MinQuadWithFixed::rhs_of(const DenseMat& xh, const DenseMat& soft, bool con
   if (constant && sys_.g0.size() > 0) out = sys_.g0;
   else out.setZero(n, cols);
   add_constraints(xh, soft, out);
+  keep_own_rows(out);
+}
+
+void MinQuadWithFixed::keep_own_rows(DenseMat& out) const {
+  if (sys_.parts == 1) return;
+  // C's and g0's other rows are zero already; the soft weights' and a linear term's are another share's.
+  const Eigen::Index lo = Eigen::Index(sys_.block) * sys_.own_begin, hi = Eigen::Index(sys_.block) * sys_.own_end;
+  out.topRows(lo).setZero();
+  out.bottomRows(out.rows() - hi).setZero();
 }
 
 void MinQuadWithFixed::add_constraints(const DenseMat& xh, const DenseMat& soft, DenseMat& out) const {

@@ -13,6 +13,10 @@
 //! then W u), and solve. Optional per-frame fast path (set_varying, set_base): the rows that can change between
 //! frames and the base right-hand side go to the solver (LinearSolver::set_base_rhs), which may redo only their
 //! part of the forward substitution.
+//!
+//! A rank share (NormalSystem::parts > 1, build_structured_share) goes to a backend that sums the ranks' matrices
+//! and right-hand sides (SolverOptions::rank_shares: mumps on as many ranks); each rank's right-hand side holds
+//! its own rows only, and every rank gets the whole solution.
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -96,6 +100,9 @@ class MinQuadWithFixed {
  private:
   //! out -= C xh (skipped for an empty xh), out += W u.
   void add_constraints(const DenseMat& xh, const DenseMat& soft, DenseMat& out) const;
+  //! A rank share's right-hand side: zero outside its own rows, so the ranks' right-hand sides sum to the
+  //! whole system's (the solver sums them). The whole system: nothing.
+  void keep_own_rows(DenseMat& out) const;
 
   NormalSystem sys_;
   std::unique_ptr<LinearSolver> solver_;

@@ -52,15 +52,17 @@ int InteractionPattern::find(int col, int row) const {
   return static_cast<int>(std::lower_bound(b, e, row) - rows.data());
 }
 
-InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk, int rings) {
+InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk, int rings, int first, int last) {
   const int nu = unk.num_unknowns();
+  if (last < 0) last = nu;
+  const int span = last - first;
   // Column ranges on the worker threads, concatenated afterwards: the pattern is computed once for the
   // vertex ordering and once for the build, a visible share of the build on large meshes.
-  const int T = std::max(1, std::min(worker_threads(), nu / 8192 + 1));
+  const int T = std::max(1, std::min(worker_threads(), span / 8192 + 1));
   std::vector<std::vector<int>> rows(T), counts(T);
   auto work = [&](int t) {
-    const int lo = static_cast<int>(static_cast<long long>(nu) * t / T);
-    const int hi = static_cast<int>(static_cast<long long>(nu) * (t + 1) / T);
+    const int lo = first + static_cast<int>(static_cast<long long>(span) * t / T);
+    const int hi = first + static_cast<int>(static_cast<long long>(span) * (t + 1) / T);
     std::vector<int>& out = rows[t];
     std::vector<int>& cnt = counts[t];
     out.reserve(static_cast<std::size_t>(hi - lo) * 12);
@@ -91,7 +93,7 @@ InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk
   std::size_t total = 0;
   for (const auto& r : rows) total += r.size();
   p.rows.resize(total);
-  int ku = 0;
+  int ku = first;
   std::size_t pos = 0;
   for (int t = 0; t < T; ++t) {
     std::copy(rows[t].begin(), rows[t].end(), p.rows.begin() + static_cast<std::ptrdiff_t>(pos));
@@ -101,6 +103,7 @@ InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk
       ++ku;
     }
   }
+  std::fill(p.colptr.begin() + last + 1, p.colptr.end(), p.colptr[last]);  // empty columns after the range
   return p;
 }
 
@@ -110,8 +113,8 @@ SpMat expand_upper(const InteractionPattern& p, int b) {
   SpMat K(n, n);
   std::vector<int> colptr(n + 1, 0);
   for (int k = 0; k < nu; ++k) {
-    const int nb = p.colptr[k + 1] - p.colptr[k];  // includes the diagonal block
-    for (int c2 = 0; c2 < b; ++c2) colptr[b * k + c2 + 1] = colptr[b * k + c2] + b * (nb - 1) + c2 + 1;
+    const int nb = p.colptr[k + 1] - p.colptr[k];  // includes the diagonal block; 0: a column outside a share
+    for (int c2 = 0; c2 < b; ++c2) colptr[b * k + c2 + 1] = colptr[b * k + c2] + (nb > 0 ? b * (nb - 1) + c2 + 1 : 0);
   }
   const int nnz = colptr[n];
   K.resizeNonZeros(nnz);
@@ -161,6 +164,9 @@ NormalSystem& NormalSystem::operator=(NormalSystem&& o) noexcept {
   targets = std::move(o.targets);
   held_bytes = std::move(o.held_bytes);
   build_seconds = o.build_seconds;
+  parts = o.parts;
+  own_begin = o.own_begin;
+  own_end = o.own_end;
   return *this;
 }
 
@@ -326,6 +332,28 @@ NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, 
   sys.build = build;
   sys.block = op.block();
   sys.rhs_cols = op.rhs_cols();
+  sys.build_seconds = t.seconds();
+  return sys;
+}
+
+std::pair<int, int> share_range(int num_unknowns, int part, int parts) {
+  if (parts < 1 || part < 0 || part >= parts) throw Error(fmt::format("share_range: part {} of {}", part, parts));
+  const long long nu = num_unknowns;
+  return {static_cast<int>(nu * part / parts), static_cast<int>(nu * (part + 1) / parts)};
+}
+
+NormalSystem build_structured_share(const EnergyOperator& op, const Unknowns& unk, int part, int parts,
+                                    std::size_t byte_budget) {
+  check_build(op, unk, Build::Structured, byte_budget);
+  const auto [first, last] = share_range(unk.num_unknowns(), part, parts);
+  Timer t;
+  NormalSystem sys = detail::build_structured(op, unk, nullptr, 0, first, last);
+  sys.build = Build::Structured;
+  sys.block = op.block();
+  sys.rhs_cols = op.rhs_cols();
+  sys.parts = parts;
+  sys.own_begin = first;
+  sys.own_end = last;
   sys.build_seconds = t.seconds();
   return sys;
 }

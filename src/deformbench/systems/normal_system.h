@@ -73,6 +73,9 @@ struct NormalSystem {
   //! Bytes of every matrix the build held at its peak (name -> bytes), e.g. {"A", ...}, {"At", ...}.
   std::vector<std::pair<std::string, std::size_t>> held_bytes;
   double build_seconds = 0;
+  //! One of `parts` > 1 rank shares (build_structured_share): K holds the block columns, C and g0 the rows of the
+  //! unknowns [own_begin, own_end) only, and the parts' K, C and g0 sum to the whole system's. 1: the whole system.
+  int parts = 1, own_begin = 0, own_end = 0;
 
   //! Unknowns (scalar): g0's rows, which outlive K when a solver consumed it, or K's order when g0 is empty.
   std::size_t n() const { return static_cast<std::size_t>(g0.rows() > 0 ? g0.rows() : K.rows()); }
@@ -82,7 +85,8 @@ struct NormalSystem {
 
 //! Vertex-level CSC pattern of the upper triangle of a normal matrix, in unknown numbering: unknowns j <= k
 //! interact when they are at most `rings` edges apart (2 for A^T A of 1-ring operators such as LAP and TF,
-//! 1 for edge-based ones such as LRI's). Rows ascend per column; the diagonal comes last.
+//! 1 for edge-based ones such as LRI's). Rows ascend per column; the diagonal comes last. With a column range
+//! [first, last) (last -1: every column) the columns outside it are left empty (a rank share's pattern).
 struct InteractionPattern {
   std::vector<int> colptr, rows;
   //! Index into `rows` of (row, col); the entry must exist.
@@ -90,7 +94,8 @@ struct InteractionPattern {
   //! Position of `row` within column `col`.
   int slot(int col, int row) const { return find(col, row) - colptr[col]; }
 };
-InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk, int rings = 2);
+InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk, int rings = 2, int first = 0,
+                                       int last = -1);
 
 //! Scalar upper-triangular CSC (values zero) of the pattern expanded to b x b blocks: entry (b*j + c1, b*k + c2)
 //! sits at outer[b*k + c2] + b * slot(k, j) + c1; diagonal blocks keep only c1 <= c2.
@@ -100,6 +105,16 @@ SpMat expand_upper(const InteractionPattern& p, int b);
 //! build exceed it (checked before allocating).
 NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, Build build,
                                  std::size_t byte_budget = 0);
+
+//! Part `part` of the structured system split over `parts` processes (MPI ranks, distributed assembled input):
+//! the unknowns [nu part / parts, nu (part + 1) / parts) (share_range), their block columns of K, their rows of
+//! C and g0 (the soft weights of those among them); the parts' K, C and g0 sum to build_normal_system's
+//! (Build::Structured). No part forms more of K than its columns. Checks as build_normal_system (the budget
+//! against the whole system's prediction).
+NormalSystem build_structured_share(const EnergyOperator& op, const Unknowns& unk, int part, int parts,
+                                    std::size_t byte_budget = 0);
+//! The unknowns part `part` of `parts` owns: [nu part / parts, nu (part + 1) / parts).
+std::pair<int, int> share_range(int num_unknowns, int part, int parts);
 
 //! \throw InputError when `unk` does not fit the operator or leaves nothing to solve for, BudgetError when
 //! `byte_budget` > 0 and the build's predicted bytes exceed it (build_normal_system's checks).
