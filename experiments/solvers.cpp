@@ -332,6 +332,8 @@ const std::vector<MeasureDef>& solver_measures() {
       {"factorize_min_s", "s", M},       {"factorize_reps", "count", M},
       {"solve_s", "s", A},               {"solve_min_s", "s", M},
       {"solve_reps", "count", M},        {"nnz_factor", "count", A},
+      {"build_cpu_s", "s", M},           {"analyze_cpu_s", "s", M},
+      {"factorize_cpu_s", "s", M},       {"solve_cpu_s", "s", M},
       {"factor_flops", "flop", M},       {"gflops", "GFlop/s", M},
       {"matrix_bytes", "bytes", M},      {"factor_bytes", "bytes", A},
       {"baseline_rss_bytes", "bytes", M}, {"peak_rss_bytes", "bytes", A},
