@@ -54,7 +54,7 @@ bool contains(const std::vector<std::string>& v, const std::string& s) {
 
 // ------------------------------------------------------------------------------------------------ options
 struct Options {
-  std::string data = "data", results = "results", out, cache;
+  std::string data = "data", results = "results", out, cache, factor_dir;
   bool full = false, dry_run = false;
   std::vector<std::string> tiers, full_tiers, meshes, only, systems = {"lap", "tf"}, backends, orderings;
   double dense_max_n = 4000, poor_ordering_max_n = 20000, iterative_max_n = 20000, cell_timeout_s = 300,
@@ -101,6 +101,8 @@ void define_options(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the synthetic right-hand side")->check(cli::Integer(0, 4294967295LL))
       ->capture_default_str();
+  app.add_option("--factor-dir", o.factor_dir, "out of core: backends that can keep their factor in scratch files here")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--mesh-cache", o.cache, "where generated Loop levels go (default RESULTS/cells/meshes)");
   add_shard_options(app, o.shards);
 }
@@ -206,18 +208,24 @@ void log_record(const Record& r) {
                              c.message.rfind(c.status, 0) == 0 ? c.message : c.status + ": " + c.message);
 }
 
-// error_vs_double of the mixed-precision cells: the largest coordinate difference from the double multifrontal
-// cell's positions (default ordering), which are normalized: units of the bounding-box diagonal.
+// error_vs_double of the refined cells (multifrontal_mixed, multifrontal_refined): the largest coordinate difference
+// from the double multifrontal cell's positions (default ordering), which are normalized: units of the
+// bounding-box diagonal; error_vs_refined of the mixed cell: the same from the refined cell's (both solve the system
+// to the tolerance, so this is what the float factor leaves).
 void compare_with_double(std::vector<Record>& group) {
-  auto dbl = std::find_if(group.begin(), group.end(), [](const Record& r) {
-    return r.cell.backend == "multifrontal" && r.cell.ordering == "default" && r.res.ok();
-  });
-  if (dbl == group.end() || !fs::exists(dbl->cell.positions)) return;
-  const Points D = read_positions(dbl->cell.positions);
-  for (Record& r : group)
-    if (r.cell.backend == "multifrontal_mixed" && r.cell.ordering == "default" && r.res.ok() &&
-        fs::exists(r.cell.positions))
-      r.res.set("error_vs_double", (read_positions(r.cell.positions) - D).cwiseAbs().maxCoeff(), "diagonal");
+  auto find = [&group](const char* backend) {
+    return std::find_if(group.begin(), group.end(), [backend](const Record& r) {
+      return r.cell.backend == backend && r.cell.ordering == "default" && r.res.ok() && fs::exists(r.cell.positions);
+    });
+  };
+  const auto dbl = find("multifrontal"), ref = find("multifrontal_refined"), mix = find("multifrontal_mixed");
+  auto apart = [](const Record& a, const Record& b) {
+    return (read_positions(a.cell.positions) - read_positions(b.cell.positions)).cwiseAbs().maxCoeff();
+  };
+  if (dbl != group.end())
+    for (auto r : {ref, mix})
+      if (r != group.end()) r->res.set("error_vs_double", apart(*r, *dbl), "diagonal");
+  if (ref != group.end() && mix != group.end()) mix->res.set("error_vs_refined", apart(*mix, *ref), "diagonal");
 }
 
 // error_vs_cholmod of every cell of one tier and system that left positions, against the reference's.
@@ -249,7 +257,8 @@ std::vector<Planned> plan(const Options& o) {
       for (const auto& backend : o.backends)
         for (const auto& ordering : orderings_for(o, backend)) {
           SolverCell c{t.label, t.levels ? fmt::format("{}+loop{}", t.path, t.levels) : t.path, system, backend,
-                       ordering, o.solve_reps, o.factor_reps, o.rep_seconds, o.seed, ""};
+                       ordering, o.solve_reps, o.factor_reps, o.rep_seconds, o.seed, "", ""};
+          if (backend != kLeastSquaresBackend && solver_info(backend).out_of_core) c.factor_dir = o.factor_dir;
           g.push_back({t, c});
         }
   return g;
@@ -323,13 +332,15 @@ const std::vector<MeasureDef>& solver_measures() {
       {"factorize_min_s", "s", M},       {"factorize_reps", "count", M},
       {"solve_s", "s", A},               {"solve_min_s", "s", M},
       {"solve_reps", "count", M},        {"nnz_factor", "count", A},
+      {"build_cpu_s", "s", M},           {"analyze_cpu_s", "s", M},
+      {"factorize_cpu_s", "s", M},       {"solve_cpu_s", "s", M},
       {"factor_flops", "flop", M},       {"gflops", "GFlop/s", M},
       {"matrix_bytes", "bytes", M},      {"factor_bytes", "bytes", A},
       {"baseline_rss_bytes", "bytes", M}, {"peak_rss_bytes", "bytes", A},
       {"ru_maxrss_bytes", "bytes", M},   {"iterations", "count", M},
       {"residual", "relative", A},       {"residual_synthetic", "relative", M},
       {"error_exact", "relative", A},    {"error_vs_cholmod", "relative", M},
-      {"error_vs_double", "diagonal", M},
+      {"error_vs_double", "diagonal", M}, {"error_vs_refined", "diagonal", M},
       {"cell_wall_s", "s", M},           {"load_avg_1m", "count", M},
   };
   return d;

@@ -43,6 +43,7 @@ expect "table_2_1 own mesh" 0 "model=mine mesh=/some/mine.off" -- "$BIN/exp_tabl
 expect "table_2_1 bad loop level" 1 "Loop level" -- "$BIN/exp_table_2_1" --mesh mine=x.off+loopx --dry-run
 expect "solvers unknown backend" 1 "not one of" -- "$BIN/exp_solvers" --backends cholmod --dry-run
 touch "$T/afile"
+expect "solvers factor dir missing" 1 "does not exist" -- "$BIN/exp_solvers" --factor-dir "$T/nodir" --dry-run
 expect "solvers results not a directory" 1 "not a directory" -- "$BIN/exp_solvers" --results "$T/afile/results" --dry-run
 expect "frames malformed case" 1 "kind 'bnd'" -- "$BIN/exp_frames" --case "x: bnd mesh=a" --dry-run
 expect "frames out into a missing directory" 1 "does not exist" -- "$BIN/exp_frames" --out "$T/no/frames.csv"
@@ -58,8 +59,10 @@ R="$T/results"
 mkdir -p "$R"
 expect "table_2_1 tiny run" 0 "wrote" -- "$BIN/exp_table_2_1" --tier cactus=bs08/cactus.off --systems lap \
   --builds naive,structured --frames 2 --repeats 1 --series cactus_loop=bs08/cactus.off+loop0..0 --results "$R"
+mkdir -p "$T/ooc"
 expect "solvers tiny run" 0 "wrote" -- "$BIN/exp_solvers" --tier cactus=bs08/cactus.off --systems lap \
-  --backends cholmod_supernodal,multifrontal,spqr --orderings default --factor-reps 1 --solve-reps 1 --results "$R"
+  --backends cholmod_supernodal,multifrontal,multifrontal_refined,multifrontal_mixed,spqr --orderings default \
+  --factor-reps 1 --solve-reps 1 --factor-dir "$T/ooc" --results "$R"
 expect "frames tiny run" 0 "wrote" -- "$BIN/exp_frames" --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" \
   --methods lap,tf,tf-normalized,lri,lri-uncoordinated --lri-frames first,random --lri-orthonormalize polar --no-meshes \
   --out "$R/frames.csv"
@@ -76,6 +79,8 @@ grep -q "^| bar | TF normalized | " "$R/frames.md" && grep -q "## TF without the
   && ok "frames.md compares tf-normalized" || fail "frames.md lacks the tf-normalized comparison"
 grep -q "^## Thesis fig. 4-4" "$R/figures.md" && ok "figures.md written" || fail "figures.md lacks fig. 4-4"
 grep -q "error_vs_cholmod" "$R/solvers.csv" && ok "error_vs_cholmod measured" || fail "no error_vs_cholmod"
+grep -q "error_vs_refined" "$R/solvers.csv" && grep -q "^| cactus | lap | .* | ok |" <(sed -n '/^## Mixed precision/,/^## /p' "$R/solvers.md") \
+  && ok "mixed row against double and refined, out of core" || fail "no mixed-precision row with error_vs_refined"
 grep -q ",peak_rss_bytes," "$R/frames.csv" || head -1 "$R/frames.csv" | grep -q "peak_rss_bytes" && ok "frames rows carry peak RSS" || fail "frames lacks peak_rss_bytes"
 expect "report unknown name" 1 "unknown report" -- "$PY" experiments/reports/report.py --results "$R" --only tables
 

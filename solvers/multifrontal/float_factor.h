@@ -1,13 +1,15 @@
 #pragma once
 //! The multifrontal factor rounded to single precision, for the mixed-precision backend ("multifrontal_mixed"):
-//! the same supernodes and FactorBlock layout as the double factor, half the bytes. Its solves read float
-//! entries and compute in double (the factor is memory-bound to read; double arithmetic keeps M = L_f L_f^T an
-//! exactly symmetric preconditioner up to double rounding). Why round a double factorization rather than factor
+//! the same supernodes and FactorBlock layout as the double factor, half the bytes. Its solves are the double
+//! factor's (triangular_solve.h: the same supernodes, threads and kernels) reading float entries and computing
+//! in double: a solve streams half the bytes of a double one, and double arithmetic keeps M = L_f L_f^T an
+//! exactly symmetric preconditioner up to double rounding. Why round a double factorization rather than factor
 //! in float: the rounding errors of an elimination in float are of the order of float's epsilon times the
 //! matrix's norm, far above the smallest eigenvalues of the ill-conditioned TF systems, while rounding each
 //! entry of L perturbs it only relatively, and (L + E)(L + E)^T stays a close, positive definite preconditioner.
 #include <cstddef>
 #include <memory>
+#include <vector>
 
 #include "solvers/multifrontal/symbolic.h"
 #include "solvers/multifrontal/triangular_solve.h"
@@ -23,12 +25,13 @@ class FloatFactor {
   //! Bytes of the entries.
   std::size_t bytes() const { return entries_ * sizeof(float); }
   explicit operator bool() const { return values_ != nullptr; }
-  //! y := (L L^T)^{-1} y with the rounded L, supernode by supernode (serial; y row-major, permuted order).
-  void solve(const Symbolic& S, RowMajorMat& y) const;
+  //! The factor as the solves read it (S: the structure it was rounded from).
+  FloatFactorView view(const Symbolic& S) const { return {S, values_.get()}; }
+  //! y := (L L^T)^{-1} y with the rounded L, split among threads by `plan` (y row-major, permuted order; acc:
+  //! forward_all's per-thread scratch).
+  void solve(const Symbolic& S, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc) const;
 
  private:
-  void forward(const Symbolic& S, int s, RowMajorMat& y, std::vector<double>& x) const;
-  void backward(const Symbolic& S, int s, RowMajorMat& y, std::vector<double>& x) const;
   std::unique_ptr<float[]> values_;
   std::size_t entries_ = 0;
 };

@@ -7,20 +7,26 @@
 //! bandwidth and by dependent adds, and the BLAS handles a few right-hand sides poorly (dgemm with n = 1..3).
 //! These are plain loops that read each column of L from memory once and from cache for the further right-hand
 //! sides; the backward ones are register-blocked (several columns of L, or whole rows of x, at a time). Compiled
-//! for the baseline ISA and for x86-64-v3 (AVX2, FMA), chosen when the library loads.
+//! for the baseline ISA and for x86-64-v3 (AVX2, FMA), chosen when the library loads. Each takes the factor's
+//! entries in double or in float (the mixed backend's rounded factor: half the bytes to stream), and computes in
+//! double: a float entry is widened exactly, so the float kernels do what the double ones do on the rounded
+//! entries.
 
 namespace db::multifrontal {
 
 //! Forward substitution on a panel: x_j /= L_jj, then x_i -= L_ij x_j below j; the rows under the panel start
 //! at zero and end as -L_rs y_s.
 void forward_panel(const double* T, const double* Rr, int w, int h, int r, double* x, int ldx);
+void forward_panel(const float* T, const float* Rr, int w, int h, int r, double* x, int ldx);
 
 //! Backward substitution on a panel: x_j = (x_j - sum_{i>j} L_ij x_i) / L_jj for r right-hand sides, column by
 //! column of x.
 void backward_panel(const double* T, const double* Rr, int w, int h, int r, double* x, int ldx);
+void backward_panel(const float* T, const float* Rr, int w, int h, int r, double* x, int ldx);
 
 //! backward_panel for two to four right-hand sides held row by row: row k of x in lanes 0..3 of x + 4k (unused
 //! lanes zero).
 void backward_rows4(const double* T, const double* Rr, int w, int h, double* x);
+void backward_rows4(const float* T, const float* Rr, int w, int h, double* x);
 
 }  // namespace db::multifrontal

@@ -269,7 +269,7 @@ void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {
     const RowMajorMat b = y_;
     const auto precondition = [this](RowMajorMat& y) {
       if (mixed_) {
-        float_.solve(S_, y);
+        float_.solve(S_, solve_plan_, y, acc_);
       } else {
         forward_all(factor(), solve_plan_, y, acc_);
         backward_all(factor(), solve_plan_, y);

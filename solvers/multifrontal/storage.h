@@ -28,10 +28,12 @@ inline std::size_t packed_column(int j, int w) {
 //! A supernode's factor: the lower trapezoid of its m rows x n columns (n <= m, the diagonal block on top) in
 //! column panels of kWidth columns. Panel p (columns c0 = p kWidth .. c0 + w) stores its w x w diagonal block
 //! as a packed lower triangle, then the h = m - c0 - w rows below it as a column-major h x w rectangle, the
-//! operand dtrsm and dgemm take. Exactly the trapezoid's m n - n (n - 1) / 2 entries.
-struct FactorBlock {
+//! operand dtrsm and dgemm take. Exactly the trapezoid's m n - n (n - 1) / 2 entries. T: the entries' type
+//! (double; const float for the mixed backend's rounded factor, the same layout).
+template <class T>
+struct FactorBlockOf {
   static constexpr int kWidth = 256;  // the k of the panel updates' dgemm calls; the dpotrf scratch is kWidth^2
-  double* base;
+  T* base;
   int m, n;
 
   static std::size_t size(int m, int n) {
@@ -41,13 +43,14 @@ struct FactorBlock {
   int c0(int p) const { return p * kWidth; }
   int width(int p) const { return std::min(kWidth, n - p * kWidth); }
   int height(int p) const { return m - c0(p) - width(p); }  //!< rows of panel p's rectangle
-  double* tri(int p) const {
+  T* tri(int p) const {
     // Every panel before p is kWidth wide.
     const std::size_t K = kWidth, q = std::size_t(p);
     return base + q * K * (K + 1) / 2 + K * (q * std::size_t(m) - K * q * (q + 1) / 2);
   }
-  double* rect(int p) const { return tri(p) + std::size_t(width(p)) * std::size_t(width(p) + 1) / 2; }
+  T* rect(int p) const { return tri(p) + std::size_t(width(p)) * std::size_t(width(p) + 1) / 2; }
 };
+using FactorBlock = FactorBlockOf<double>;
 
 std::uintptr_t page_size();
 inline std::uintptr_t page_up(std::uintptr_t x) { return (x + page_size() - 1) & ~(page_size() - 1); }

@@ -15,7 +15,8 @@ struct Place {
   std::size_t sm, sr;
   double* y;
 };
-Place place(const FactorView& F, int s, RowMajorMat& y) {
+template <class View>
+Place place(const View& F, int s, RowMajorMat& y) {
   const int m = F.S.nrows(s), r = int(y.cols());
   return {F.S.col0[std::size_t(s)], F.S.ncols(s), m, r, F.S.rows.data() + F.S.rptr[std::size_t(s)],
           std::size_t(m), std::size_t(r), y.data()};
@@ -23,30 +24,34 @@ Place place(const FactorView& F, int s, RowMajorMat& y) {
 
 //! Panel p of L as the kernels read it (its packed triangle, then its rectangle): in place in memory; out of core
 //! copied into `buf` (Mapping::read), so a frame does not fault the whole factor back into the mapping.
+template <class E>
 struct Panel {
-  const double* tri;
-  const double* rect;
+  const E* tri;
+  const E* rect;
 };
-Panel panel(const FactorView& F, const FactorBlock& L, int p, std::vector<double>& buf) {
+Panel<double> panel(const FactorView& F, const FactorBlock& L, int p, std::vector<double>& buf) {
   if (!F.values.on_file()) return {L.tri(p), L.rect(p)};
   const std::size_t w = std::size_t(L.width(p)), tri = w * (w + 1) / 2, count = tri + w * std::size_t(L.height(p));
   buf.resize(std::max(buf.size(), count));
   F.values.read(L.tri(p), count, buf.data());
   return {buf.data(), buf.data() + tri};
 }
+Panel<float> panel(const FloatFactorView&, const FactorBlockOf<const float>& L, int p, std::vector<double>&) {
+  return {L.tri(p), L.rect(p)};
+}
 
 }  // namespace
 
-void forward_supernode(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& scratch,
-                       const ForeignRows* foreign) {
+template <class View>
+void forward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch, const ForeignRows* foreign) {
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
   std::vector<double>& tmp = scratch.rhs;
   tmp.assign(sm * sr, 0.0);
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = y[std::size_t(f + k) * sr + std::size_t(c)];
-  const FactorBlock L = F.block(s);
+  const auto L = F.block(s);
   for (int p = 0; p < L.panels(); ++p) {
-    const Panel P = panel(F, L, p, scratch.panel);
+    const auto P = panel(F, L, p, scratch.panel);
     forward_panel(P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
   }
   for (int k = 0; k < nc; ++k)
@@ -62,9 +67,10 @@ void forward_supernode(const FactorView& F, int s, RowMajorMat& y_, SolveScratch
 namespace {
 
 //! backward_supernode for two to four right-hand sides: rows of x as vectors (backward_rows4).
-void backward_rows(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
+template <class View>
+void backward_rows(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
-  const FactorBlock L = F.block(s);
+  const auto L = F.block(s);
   std::vector<double>& tmp = scratch.rhs;
   tmp.resize(sm * 4);
   double* x = tmp.data();
@@ -73,7 +79,7 @@ void backward_rows(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& sc
     for (int c = 0; c < 4; ++c) x[4 * std::size_t(k) + std::size_t(c)] = c < r ? src[c] : 0.0;
   }
   for (int p = L.panels() - 1; p >= 0; --p) {
-    const Panel P = panel(F, L, p, scratch.panel);
+    const auto P = panel(F, L, p, scratch.panel);
     backward_rows4(P.tri, P.rect, L.width(p), L.height(p), x + 4 * std::size_t(L.c0(p)));
   }
   for (int k = 0; k < nc; ++k)
@@ -82,10 +88,11 @@ void backward_rows(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& sc
 
 }  // namespace
 
-void backward_supernode(const FactorView& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
+template <class View>
+void backward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
   if (y_.cols() >= 2 && y_.cols() <= 4) return backward_rows(F, s, y_, scratch);  // the general kernel otherwise
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
-  const FactorBlock L = F.block(s);
+  const auto L = F.block(s);
   std::vector<double>& tmp = scratch.rhs;
   tmp.resize(sm * sr);
   for (int k = 0; k < m; ++k) {
@@ -93,14 +100,15 @@ void backward_supernode(const FactorView& F, int s, RowMajorMat& y_, SolveScratc
     for (int c = 0; c < r; ++c) tmp[std::size_t(c) * sm + std::size_t(k)] = src[c];
   }
   for (int p = L.panels() - 1; p >= 0; --p) {
-    const Panel P = panel(F, L, p, scratch.panel);
+    const auto P = panel(F, L, p, scratch.panel);
     backward_panel(P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
   }
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
 }
 
-void forward_all(const FactorView& F, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc) {
+template <class View>
+void forward_all(const View& F, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc) {
   const Index n = F.S.n, r = y.cols();
   const std::size_t T = plan.subtrees.size();
   acc.resize(T);
@@ -120,7 +128,8 @@ void forward_all(const FactorView& F, const Plan& plan, RowMajorMat& y, std::vec
   for (int s : plan.top) forward_supernode(F, s, y, tmp);
 }
 
-void backward_all(const FactorView& F, const Plan& plan, RowMajorMat& y) {
+template <class View>
+void backward_all(const View& F, const Plan& plan, RowMajorMat& y) {
   SolveScratch tmp;
   for (auto it = plan.top.rbegin(); it != plan.top.rend(); ++it) backward_supernode(F, *it, y, tmp);
   run_subtrees(plan.subtrees.size(), [&](std::size_t t) {
@@ -129,5 +138,14 @@ void backward_all(const FactorView& F, const Plan& plan, RowMajorMat& y) {
       for (int s = *it; s >= F.S.first[std::size_t(*it)]; --s) backward_supernode(F, s, y, tmp_t);
   });
 }
+
+template void forward_supernode(const FactorView&, int, RowMajorMat&, SolveScratch&, const ForeignRows*);
+template void forward_supernode(const FloatFactorView&, int, RowMajorMat&, SolveScratch&, const ForeignRows*);
+template void backward_supernode(const FactorView&, int, RowMajorMat&, SolveScratch&);
+template void backward_supernode(const FloatFactorView&, int, RowMajorMat&, SolveScratch&);
+template void forward_all(const FactorView&, const Plan&, RowMajorMat&, std::vector<RowMajorMat>&);
+template void forward_all(const FloatFactorView&, const Plan&, RowMajorMat&, std::vector<RowMajorMat>&);
+template void backward_all(const FactorView&, const Plan&, RowMajorMat&);
+template void backward_all(const FloatFactorView&, const Plan&, RowMajorMat&);
 
 }  // namespace db::multifrontal

@@ -26,6 +26,15 @@ struct FactorView {
   }
 };
 
+//! The mixed backend's factor rounded to float (float_factor.h), in memory: the same structure and layout.
+struct FloatFactorView {
+  const Symbolic& S;
+  const float* values;
+  FactorBlockOf<const float> block(int s) const {
+    return {values + S.xptr[std::size_t(s)], S.nrows(s), S.ncols(s)};
+  }
+};
+
 //! A thread's scratch in the solves: its right-hand sides gathered for one supernode, and, out of core, the one
 //! panel of the factor it works on (read with Mapping::read, not through the mapping).
 struct SolveScratch {
@@ -39,16 +48,22 @@ struct ForeignRows {
   RowMajorMat& acc;
 };
 
+// The solves below take either view (FactorView or FloatFactorView; instantiated for both): the same
+// supernodes, threads and kernels, reading double or float entries and computing in double.
+
 //! y_s := L_ss^{-1} y_s, then y_rows -= L_rs y_s (into foreign->acc for rows another thread owns).
-void forward_supernode(const FactorView& F, int s, RowMajorMat& y, SolveScratch& tmp,
-                       const ForeignRows* foreign = nullptr);
+template <class View>
+void forward_supernode(const View& F, int s, RowMajorMat& y, SolveScratch& tmp, const ForeignRows* foreign = nullptr);
 //! y_s -= L_rs^T y_rows, then y_s := L_ss^{-T} y_s.
-void backward_supernode(const FactorView& F, int s, RowMajorMat& y, SolveScratch& tmp);
+template <class View>
+void backward_supernode(const View& F, int s, RowMajorMat& y, SolveScratch& tmp);
 
 //! y := L^{-1} y: the subtrees in parallel (contributions to top columns collected per thread in acc, one
 //! matrix per thread, resized here), then the top.
-void forward_all(const FactorView& F, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc);
+template <class View>
+void forward_all(const View& F, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc);
 //! y := L^{-T} y: the top first, then the subtrees in parallel.
-void backward_all(const FactorView& F, const Plan& plan, RowMajorMat& y);
+template <class View>
+void backward_all(const View& F, const Plan& plan, RowMajorMat& y);
 
 }  // namespace db::multifrontal

@@ -201,6 +201,7 @@ CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat
   SolverOptions so;
   so.block_size = p.block;
   so.ordering = c.ordering.rfind("vertex-", 0) == 0 ? "natural" : c.ordering;
+  so.factor_dir = c.factor_dir;
   auto solver = make_solver(c.backend, so);
   Phases ph;
   const CpuTimer tac;
@@ -289,12 +290,13 @@ CellSpec SolverCell::to_spec() const {
   s.set("solve_reps", solve_reps).set("factor_reps", factor_reps).set("rep_seconds", rep_seconds);
   s.set("seed", static_cast<double>(seed));
   if (!positions.empty()) s.set("positions", positions);
+  if (!factor_dir.empty()) s.set("factor_dir", factor_dir);
   return s;
 }
 
 SolverCell SolverCell::from_spec(const CellSpec& s) {
   s.check_keys({"model", "mesh", "system", "backend", "ordering", "solve_reps", "factor_reps", "rep_seconds", "seed",
-                "positions"});
+                "positions", "factor_dir"});
   SolverCell c;
   c.mesh = s.get("mesh");
   c.model = s.get("model", c.mesh);
@@ -306,6 +308,7 @@ SolverCell SolverCell::from_spec(const CellSpec& s) {
   c.rep_seconds = s.real("rep_seconds", c.rep_seconds, 0, 1e6);
   c.seed = static_cast<unsigned>(s.integer("seed", c.seed, 0, 4294967295LL));
   c.positions = s.get("positions", "");
+  c.factor_dir = s.get("factor_dir", "");
   return c;
 }
 

@@ -11,7 +11,7 @@
 //! backends), residual (||K x - b|| / ||b||), residual_synthetic, error_exact (||x - x_ref|| / ||x_ref||).
 //! build_cpu_s, analyze_cpu_s, factorize_cpu_s, solve_cpu_s: the same phases in CPU time of this process
 //! (harness/cpu_timer.h; factorize and solve: the median per repetition).
-//! String: ordering_used. With positions=PATH the deformed (normalized) positions go there, for the parent's
+//! String: ordering_used. factor_dir=DIR keeps an out-of-core backend's factor there. With positions=PATH the deformed (normalized) positions go there, for the parent's
 //! error_vs_cholmod (harness/positions.h).
 //!
 //! Orderings: every value the backend accepts, plus "vertex-metis" / "vertex-amd": the deformer's own path, the
@@ -38,6 +38,7 @@ struct SolverCell {
   double rep_seconds = 2.0;  //!< stop repeating a phase once it has taken this long in total
   unsigned seed = 1;
   std::string positions;     //!< where to write the deformed positions ("" = nowhere)
+  std::string factor_dir;    //!< out of core: SolverOptions::factor_dir ("" = the factor in memory)
 
   CellSpec to_spec() const;
   //! \throw UsageError on an unknown key or a malformed number.
