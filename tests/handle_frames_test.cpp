@@ -85,7 +85,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"tf", "structured", ""}, Case{"tf", "naive", ""}, Case{"tf", "dense", ""},
                       Case{"tf", "structured", "cholmod_supernodal"}, Case{"lap", "structured", "eigen_simplicial_ldlt"},
                       Case{"lri", "structured", ""}, Case{"lri", "naive", ""},
-                      Case{"lri", "structured", "cholmod_supernodal"}),
+                      Case{"lri", "structured", "cholmod_supernodal"}, Case{"lap", "structured", "multifrontal_refined"},
+                      Case{"tf", "structured", "multifrontal_refined"}, Case{"lri", "structured", "multifrontal_refined"}),
     [](const auto& info) { return info.param.method + "_" + info.param.build + "_" +
                                   (info.param.solver.empty() ? std::string("default") : info.param.solver); });
 

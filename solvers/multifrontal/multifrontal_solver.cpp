@@ -344,16 +344,26 @@ void MultifrontalSolver::solve_changed(const DenseMat& B, DenseMat& X) {
 
 void MultifrontalSolver::load_rhs(const DenseMat& B) {
   const Index n = S_.n, r = B.cols();
-  y_.resize(n, r);
-  for (Index c = 0; c < r; ++c)
-    for (Index k = 0; k < n; ++k) y_(k, c) = B(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c);
+  if (y_.rows() != n || y_.cols() != r) {
+    y_.resize(n, r);
+    advise_huge_pages(y_.data(), std::size_t(y_.size()) * sizeof(double));  // many columns: tens of MB, untouched
+  }
+  for (Index k = 0; k < n; ++k) {  // row by row: y_ is row-major, each row written once
+    const Index i = S_.perm.empty() ? k : S_.perm[std::size_t(k)];
+    for (Index c = 0; c < r; ++c) y_(k, c) = B(i, c);
+  }
 }
 
 void MultifrontalSolver::store_solution(DenseMat& X) const {
   const Index n = S_.n, r = y_.cols();
-  X.resize(n, r);
-  for (Index c = 0; c < r; ++c)
-    for (Index k = 0; k < n; ++k) X(S_.perm.empty() ? k : S_.perm[std::size_t(k)], c) = y_(k, c);
+  if (X.rows() != n || X.cols() != r) {
+    X.resize(n, r);
+    advise_huge_pages(X.data(), std::size_t(X.size()) * sizeof(double));
+  }
+  for (Index k = 0; k < n; ++k) {  // row by row: y_ is row-major, each row read once
+    const Index i = S_.perm.empty() ? k : S_.perm[std::size_t(k)];
+    for (Index c = 0; c < r; ++c) X(i, c) = y_(k, c);
+  }
   check_finite_result(X, name());
 }
 

@@ -540,6 +540,38 @@ TEST(Multifrontal, ThreadCountsAndBackendsAgree) {
   }
 }
 
+// Many right-hand sides at once (the handle-mode precompute's: LAP 7, TF 13, per-vertex drags hundreds) take the
+// blocked path, a dgemm per panel (triangular_solve.cpp): each column must equal its own single-column solve (the
+// hand-written kernels), on one and two threads, in memory and out of core, for scalar and 3x3-block systems.
+TEST(Multifrontal, ManyRightHandSidesMatchColumnByColumn) {
+  std::mt19937 rng(19);
+  const SpMat scalar = normal_equations(mesh_laplacian(40, 35, true, rng), 6, rng);
+  for (const auto& [full, block] : {std::pair<SpMat, int>{scalar, 1}, {kron3(scalar), 3}}) {
+    const SpMat upper = upper_of(full);
+    const DenseMat B = random_rhs(upper.rows(), 40, rng);
+    for (int threads : {1, 2})
+      for (bool on_disk : {false, true}) {
+        SCOPED_TRACE(fmt::format("block {}, {} thread(s), {}", block, threads, on_disk ? "out of core" : "in memory"));
+        ThreadsEnv env(threads);
+        db::SolverOptions o;
+        o.block_size = block;
+        if (on_disk) o.factor_dir = std::filesystem::temp_directory_path().string();
+        auto s = db::make_solver("multifrontal", o);
+        s->analyze(upper);
+        s->factorize(upper);
+        for (int r : {5, 7, 13, 40}) {
+          DenseMat X;
+          s->solve(B.leftCols(r), X);
+          for (int c = 0; c < r; ++c) {
+            DenseMat x;
+            s->solve(B.col(c), x);
+            EXPECT_LT(rel(X.col(c), x), 1e-12) << r << " right-hand sides, column " << c;
+          }
+        }
+      }
+  }
+}
+
 // Large enough (over 16 MB of values) that the multifrontal backend hands the consumed matrix's pages back
 // subtree by subtree: the factor must not notice (same solution as from the untouched matrix).
 TEST(Multifrontal, ConsumingReleasesWithoutChangingTheFactor) {
@@ -692,7 +724,7 @@ TEST(Multifrontal, WidePanelsMatchDense) {
     for (int i = leaves; i < j; ++i) M(i, j) = M(j, i) = 0.05 * u(rng);
   for (int i = 0; i < n; ++i) M(i, i) = 2.0 * n;
   const SpMat full = M.sparseView();
-  const DenseMat B = random_rhs(n, 5, rng);  // more than the row-vector kernel's four right-hand sides
+  const DenseMat B = random_rhs(n, 13, rng);  // more than the row-vector kernel's four right-hand sides
   const DenseMat Xref = M.llt().solve(B);
   db::SolverOptions o;
   o.ordering = "natural";
@@ -703,7 +735,7 @@ TEST(Multifrontal, WidePanelsMatchDense) {
     DenseMat X;
     s->solve(B, X);
     EXPECT_LT(rel(X, Xref), 1e-12) << threads << " thread(s)";
-    for (int r : {1, 2, 3, 4}) {  // each right-hand-side count the backward kernels special-case
+    for (int r : {1, 2, 3, 4, 13}) {  // the backward kernels' special cases, and the blocked path's (13)
       DenseMat Xr;
       s->solve(B.leftCols(r), Xr);
       EXPECT_LT(rel(Xr, Xref.leftCols(r)), 1e-12) << r << " right-hand side(s), " << threads << " thread(s)";

@@ -21,11 +21,16 @@ struct Drag {
   Points V;
 };
 
-Drag drag(Deformer& d, const Mat4& T, int frames) {
+// The edit's handle transform interpolated over the frames, or its per-vertex targets frame by frame (cycling, as
+// `deformbench deform` does).
+Drag drag(Deformer& d, const Edit& e, int frames) {
+  const long long given = e.target_frames();
+  const Eigen::Index h = e.count(Role::Handle);
   Drag g;
   for (int f = 1; f <= frames; ++f) {
     const CpuTimer cpu;
-    g.V = d.deform(interpolate_transform(T, static_cast<double>(f) / frames));
+    g.V = given > 0 ? d.deform_targets(e.targets.middleRows(((f - 1) % given) * h, h))
+                    : d.deform(interpolate_transform(e.transform, static_cast<double>(f) / frames));
     g.frame_cpu.push_back(cpu.seconds());
     const PhaseTimes& t = d.times();
     g.frame.push_back(t.frame());
@@ -78,11 +83,16 @@ void add_memory(CellResult& r, const Deformer& d) {
 }
 
 // The same drag in handle mode on the factored systems, and how far its last frame lies from the full mode's.
-void add_handle_frames(CellResult& r, Deformer& d, const Mat4& T, int frames, const Points& full) {
+void add_handle_frames(CellResult& r, Deformer& d, const Edit& e, int frames, const Points& full) {
+  const CpuTimer cpu;
   d.precompute_handle_frames();
-  const Drag g = drag(d, T, frames);
+  const double precompute_cpu = cpu.seconds();
+  if (d.frame_mode() != FrameMode::Handle)  // per-vertex targets over the handle limit: no handle frames to pair
+    throw InputError(d.frame_mode_note());
+  const Drag g = drag(d, e, frames);
   const PhaseTimes& t = d.times();
   r.set("precompute_s", t.precompute, "s");
+  r.set("precompute_cpu_s", precompute_cpu, "s");
   r.set("init_precompute_s", t.init() + t.precompute, "s");
   r.set("frame_handle_s", median(g.frame), "s");
   r.set("response_s", median(g.response), "s");
@@ -166,7 +176,7 @@ CellResult measure_deform_cell(const CellSpec& spec) {
   const CpuTimer init_cpu;
   auto d = make_deformer(ec.mesh, ec.edit, o);
   const double init_cpu_s = init_cpu.seconds();
-  const Drag g = drag(*d, ec.edit.transform, c.frames);
+  const Drag g = drag(*d, ec.edit, c.frames);
   add_system(r, *d);
   r.set("init_cpu_s", init_cpu_s, "s");  // make_deformer: the init phases (and the input checks) in CPU time
   r.set("frames", c.frames, "count");
@@ -180,7 +190,7 @@ CellResult measure_deform_cell(const CellSpec& spec) {
   r.set("mean_displacement", (g.V - ec.mesh.V).rowwise().norm().mean() / bbox_diagonal(ec.mesh.V), "bbox_diagonal");
   // The thesis' memory is the full mode's: the peak before the responses (and the read-rate probe's array) exist.
   r.set("peak_rss_bytes", static_cast<double>(peak_rss_bytes()), "bytes");
-  if (c.handle_frames) add_handle_frames(r, *d, ec.edit.transform, c.frames, g.V);
+  if (c.handle_frames) add_handle_frames(r, *d, ec.edit, c.frames, g.V);
   if (!c.out_mesh.empty()) {
     Mesh m = ec.mesh;
     m.V = g.V;

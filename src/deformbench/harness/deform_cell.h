@@ -1,7 +1,8 @@
 #pragma once
 //! The deformation cell (kind "deform"): one mesh and edit, one method / build / backend, a handle drag over
-//! `frames` frames. Used by Table 2-1 (the thesis edit on a mesh, soft constraints) and the edit cases (an edit
-//! file with the library's defaults); the tracking suite can list such cells as data.
+//! `frames` frames (an edit with per-vertex targets, `targets = FILE`: its frames in turn, cycling). Used by
+//! Table 2-1 (the thesis edit on a mesh, soft constraints) and the edit cases (an edit file with the library's
+//! defaults); the tracking suite can list such cells as data.
 //!
 //! Spec keys (DeformCell::to_spec / from_spec): model, mesh | edit, method, build, backend, ordering,
 //! constraints, frames, handle, anchors, drag, factor_dir, memory_budget_bytes, out_mesh, handle_frames.
@@ -11,7 +12,8 @@
 //! matrix_bytes, factor_bytes, held_bytes:<matrix>, held_total_bytes, peak_rss_bytes (VmHWM),
 //! baseline_rss_bytes (after reading the mesh), mean_displacement (last frame, / bbox diagonal).
 //! With handle_frames=1, after the drag the same factored systems switch to handle-mode frames
-//! (Deformer::precompute_handle_frames) and the drag runs again: precompute_s, init_precompute_s,
+//! (Deformer::precompute_handle_frames) and the drag runs again: precompute_s, precompute_cpu_s (its CPU
+//! time, all threads), init_precompute_s,
 //! frame_handle_s, response_s, handle_rhs_s, handle_solve_s, orthonormalize_s (medians; LRI's position part stays
 //! per frame), fps_handle, response_bytes, handle_vs_full (largest distance between the
 //! two modes' last frames / bbox diagonal), peak_rss_handle_bytes (VmHWM after them; peak_rss_bytes is taken
