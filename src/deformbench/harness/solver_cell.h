@@ -69,7 +69,9 @@ struct ThesisPattern {
   InteractionPattern pattern;
   int vertices = 0, block = 1;
   double build_s = 0;  //!< the pattern alone (mesh reading and the edit not counted)
-  long long n() const { return pattern.colptr.empty() ? 0 : block * (static_cast<long long>(pattern.colptr.size()) - 1); }
+  long long n() const {
+    return pattern.colptr.empty() ? 0 : block * (static_cast<long long>(pattern.colptr.size()) - 1);
+  }
   //! Entries of K's upper triangle: b^2 per off-diagonal block, b (b + 1) / 2 per diagonal one.
   long long nnz_upper() const;
 };
