@@ -13,7 +13,7 @@
 // estimates depend on the number of ranks, not on who passed the entries); `centralized` (--analysis-only):
 // rank 0 builds K's pattern alone, no value (harness/solver_cell.h, build_thesis_pattern), and passes it as
 // MUMPS's centralized input (ICNTL(18)=0); the others build nothing: the estimates of systems whose values would
-// not fit (6.6M vertices: K alone is ~7 GB). --analysis-only stops after MUMPS's analysis: its estimates per
+// not fit on the machine. --analysis-only stops after MUMPS's analysis: its estimates per
 // rank (INFO(3), (15), (17)) and overall (INFOG(3), (16), (17), (26), (27), RINFOG(1)); `built_ranks` counts
 // the ranks that built the system or its pattern.
 // Rank 0 writes one CSV row with provenance, every rank's peak RSS gathered; --positions / --compare keep a
@@ -91,8 +91,8 @@ void my_entries(const SpMat& K, bool all, std::vector<int>& rows, std::vector<in
     }
 }
 
-// K's upper-triangle entries from its block pattern, as expand_upper lays them out (reserved exactly: at 6.6M
-// vertices they are 4.7 GB).
+// K's upper-triangle entries from its block pattern, as expand_upper lays them out (reserved exactly: on the
+// largest meshes they are most of rank 0's memory).
 void pattern_entries(const ThesisPattern& t, std::vector<int>& rows, std::vector<int>& cols) {
   const InteractionPattern& p = t.pattern;
   const int b = t.block, nu = int(p.colptr.size()) - 1;
