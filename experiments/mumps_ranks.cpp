@@ -5,12 +5,17 @@
 //   scripts/mpirun.sh 2 build/exp_mumps_ranks --mesh data/generated/armadillo_loop1.off --csv r2.csv
 //   build/exp_mumps_ranks --mesh data/generated/armadillo_loop1.off --solver multifrontal --csv mf.csv
 //   scripts/mpirun.sh 8 build/exp_mumps_ranks --mesh M.off --analysis-only --input root --csv a8.csv
+//   scripts/mpirun.sh 8 build/exp_mumps_ranks --mesh M.off --analysis-only --input centralized --csv a8.csv
 //
 // Input: `split` (default): every rank builds K and passes only its share of the columns (MUMPS's distributed
 // assembled input, ICNTL(18)=3), then drops the rest; `root`: rank 0 builds and passes every entry (the others
 // build nothing: for analysis-only estimates of systems too large to build N times on one machine; MUMPS's
-// estimates depend on the number of ranks, not on who passed the entries). --analysis-only stops after MUMPS's
-// analysis: its estimates per rank (INFO(3), (15), (17)) and overall (INFOG(16), (17), (26), (27), RINFOG(1)).
+// estimates depend on the number of ranks, not on who passed the entries); `centralized` (--analysis-only):
+// rank 0 builds K's pattern alone, no value (harness/solver_cell.h, build_thesis_pattern), and passes it as
+// MUMPS's centralized input (ICNTL(18)=0); the others build nothing: the estimates of systems whose values would
+// not fit on the machine. --analysis-only stops after MUMPS's analysis: its estimates per
+// rank (INFO(3), (15), (17)) and overall (INFOG(3), (16), (17), (26), (27), RINFOG(1)); `built_ranks` counts
+// the ranks that built the system or its pattern.
 // Rank 0 writes one CSV row with provenance, every rank's peak RSS gathered; --positions / --compare keep a
 // solution and compare another with it (the largest coordinate difference, in units of the bounding-box
 // diagonal: the system is built in normalized coordinates).
@@ -55,8 +60,10 @@ void define_options(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--ordering", o.ordering, "the solver's ordering (distributed: MUMPS's own or natural)")
       ->capture_default_str();
-  app.add_option("--input", o.input, "split (every rank passes its columns) or root (rank 0 passes all)")
-      ->check(cli::OneOf({"split", "root"}))->capture_default_str();
+  app.add_option("--input", o.input,
+                 "split (every rank passes its columns), root (rank 0 passes all) or centralized (rank 0 builds "
+                 "the pattern alone and passes it as MUMPS's centralized input; with --analysis-only)")
+      ->check(cli::OneOf({"split", "root", "centralized"}))->capture_default_str();
   app.add_flag("--analysis-only", o.analysis_only, "stop after the analysis (MUMPS's estimates)");
   app.add_option("--factor-dir", o.factor_dir, "out of core: the factor's files go here");
   app.add_option("--csv", o.csv, "one row of the measurements with provenance (written by rank 0)");
@@ -84,6 +91,24 @@ void my_entries(const SpMat& K, bool all, std::vector<int>& rows, std::vector<in
     }
 }
 
+// K's upper-triangle entries from its block pattern, as expand_upper lays them out (reserved exactly: on the
+// largest meshes they are most of rank 0's memory).
+void pattern_entries(const ThesisPattern& t, std::vector<int>& rows, std::vector<int>& cols) {
+  const InteractionPattern& p = t.pattern;
+  const int b = t.block, nu = int(p.colptr.size()) - 1;
+  rows.reserve(std::size_t(t.nnz_upper()));
+  cols.reserve(std::size_t(t.nnz_upper()));
+  for (int k = 0; k < nu; ++k)
+    for (int c2 = 0; c2 < b; ++c2)
+      for (int q = p.colptr[k]; q < p.colptr[k + 1]; ++q) {
+        const int j = p.rows[std::size_t(q)];
+        for (int c1 = 0; c1 < (j == k ? c2 + 1 : b); ++c1) {
+          rows.push_back(b * j + c1);
+          cols.push_back(b * k + c2);
+        }
+      }
+}
+
 void add_report(Row& row, const mumps::Report& m) {
   row.add("flops_estimated", m.flops_estimated);
   row.add("factor_entries_estimated", m.factor_entries_estimated);
@@ -96,9 +121,11 @@ void add_report(Row& row, const mumps::Report& m) {
     for (double x : v) s += (s.empty() ? "" : " ") + num(x);
     return s;
   };
+  row.add("factor_entries_rank", join(m.factor_entries_rank));  // INFO(3)
   row.add("mb_in_core_rank", join(m.mb_in_core_rank));
   row.add("mb_ooc_rank", join(m.mb_ooc_rank));
   row.add("flops", m.flops);
+  row.add("factor_entries_used", m.factor_entries);  // INFOG(9), after a factorization
   row.add("mb_used_max", m.mb_used_max);
   row.add("mb_used_sum", m.mb_used_sum);
 }
@@ -144,6 +171,25 @@ DenseMat run_distributed(const Options& o, ThesisSystem& t, Index n, Row& row) {
   add_report(row, dm.report());
   row.add("ordering_used", dm.stats().ordering_used);
   return x;
+}
+
+// DistributedMumps's analysis of the pattern that rank 0 passes whole (centralized input); the others pass none.
+void run_centralized(const Options& o, ThesisPattern& t, Index n, Row& row) {
+  SolverOptions so;
+  so.ordering = o.ordering;
+  so.block_size = o.system == "tf" ? 3 : 1;
+  DistributedMumps dm(so);
+  std::vector<int> rows, cols;
+  if (mpi::rank() == 0) pattern_entries(t, rows, cols);
+  std::vector<int>().swap(t.pattern.colptr);
+  std::vector<int>().swap(t.pattern.rows);
+  Timer ta;
+  const double c0 = cpu_seconds();
+  dm.analyze_centralized(n, std::move(rows), std::move(cols));
+  row.add("analyze_s", ta.seconds());
+  row.add("analyze_cpu_s", cpu_seconds() - c0);  // rank 0's
+  add_report(row, dm.report());
+  row.add("ordering_used", dm.stats().ordering_used);
 }
 
 // One registry backend in this process (the comparison's other side).
@@ -192,28 +238,38 @@ void finish_solution(const Options& o, const ThesisSystem& t, const DenseMat& x,
 }
 
 int run(const Options& o) {
-  const bool distributed = o.solver == "distributed";
+  const bool distributed = o.solver == "distributed", centralized = o.input == "centralized";
   if (!distributed && mpi::launched() && mpi::size() > 1)
     throw UsageError("--solver " + o.solver + " runs in one process: start it without mpirun, or use distributed");
+  if (centralized && !(distributed && o.analysis_only))
+    throw UsageError("--input centralized is an analysis of the pattern: --solver distributed --analysis-only");
   if (!o.csv.empty()) cli::check_output("--csv", o.csv, {".csv"}, {o.mesh});
   const bool builds = !distributed || o.input == "split" || mpi::rank() == 0;
-  ThesisSystem t = builds ? build_thesis_system(o.mesh, o.system) : ThesisSystem{};
-  std::vector<int> n{int(t.K.cols())};
-  if (distributed) mpi::broadcast(n);
+  ThesisSystem t = builds && !centralized ? build_thesis_system(o.mesh, o.system) : ThesisSystem{};
+  ThesisPattern tp = builds && centralized ? build_thesis_pattern(o.mesh, o.system) : ThesisPattern{};
+  std::vector<double> sizes{centralized ? double(tp.n()) : double(t.K.cols()),
+                            centralized ? double(tp.nnz_upper()) : double(t.K.nonZeros()),
+                            double(centralized ? tp.vertices : t.vertices), centralized ? tp.build_s : t.build_s};
+  if (distributed) mpi::broadcast(sizes);
+  const Index n = Index(sizes[0]);
+  const double built_ranks = distributed ? mpi::sum_all(builds ? 1.0 : 0.0) : 1.0;
   Row row;
   row.add("model", o.label.empty() ? std::string(std::filesystem::path(o.mesh).stem()) : o.label);
   row.add("system", o.system);
-  row.add("vertices", t.vertices);
-  row.add("n", n[0]);
-  row.add("nnz_upper", double(t.K.nonZeros()));
+  row.add("vertices", sizes[2]);
+  row.add("n", double(n));
+  row.add("nnz_upper", sizes[1]);
   row.add("solver", distributed ? "mumps_distributed" : o.solver);
   row.add("ranks", distributed ? mpi::size() : 1);
   row.add("input", distributed ? o.input : "whole");
   row.add("ordering", o.ordering);
   row.add("factor_storage", o.factor_dir.empty() ? "memory" : "disk");
   row.add("phases", o.analysis_only ? "analysis" : "all");
-  row.add("build_s", t.build_s);
-  const DenseMat x = distributed ? run_distributed(o, t, Index(n[0]), row) : run_single(o, t, row);
+  row.add("build_s", sizes[3]);
+  row.add("built_ranks", built_ranks);
+  DenseMat x;
+  if (centralized) run_centralized(o, tp, n, row);
+  else x = distributed ? run_distributed(o, t, n, row) : run_single(o, t, row);
   const std::vector<double> rss = distributed ? mpi::gather_to_root(double(peak_rss_bytes()))
                                               : std::vector<double>{double(peak_rss_bytes())};
   if (distributed && mpi::rank() != 0) return 0;

@@ -6,12 +6,18 @@
 #                                                           "1 2 3 4 5 6 7 8"); rank 0 passes every entry
 #   scripts/mumps_ranks.sh threads MESH OUT.csv [ROUNDS]   mumps on 1 rank with every core's BLAS thread, on 1
 #                                                           rank with 1 BLAS thread, on 2 ranks, interleaved
+#   scripts/mumps_ranks.sh estimate MESH OUT.csv ["NP..."]  MUMPS's analysis only on each NP ranks (default
+#                                                           "1 2 4 8"): rank 0 alone builds the pattern and passes
+#                                                           it as centralized input; the other ranks mostly wait,
+#                                                           and yield their core while they do (Open MPI's
+#                                                           mpi_yield_when_idle; at nice 19 they answered so late
+#                                                           that the 104k analysis on 4 ranks took twice as long)
 # Every run is one row of OUT.csv (rows appended in run order, one header). Threads: the one-process runs use
 # the machine's cores (BLAS and the multifrontal's threads); on N ranks each rank's BLAS gets cores/N threads, at
 # least 1, so the ranks share the cores rather than oversubscribe them. The 2-rank solutions are compared with
 # the multifrontal one of the same round (max_diff_vs_compare, units of the bounding-box diagonal).
 set -euo pipefail
-(($# >= 3)) || { sed -n 2,11p "$0" >&2; exit 1; }
+(($# >= 3)) || { sed -n 2,16p "$0" >&2; exit 1; }
 mode=$1 mesh=$2 out=$3
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 EXE=$ROOT/build/exp_mumps_ranks
@@ -44,7 +50,10 @@ case $mode in
     done ;;
   analysis)
     for np in ${4:-1 2 3 4 5 6 7 8}; do row "$np" --analysis-only --input root; done ;;
-  *) echo "mumps_ranks.sh: mode is solve or analysis" >&2; exit 1 ;;
+  estimate)
+    export OMPI_MCA_mpi_yield_when_idle=${OMPI_MCA_mpi_yield_when_idle:-1}
+    for np in ${4:-1 2 4 8}; do BLAS_THREADS=1 row "$np" --analysis-only --input centralized; done ;;
+  *) echo "mumps_ranks.sh: mode is solve, threads, analysis or estimate" >&2; exit 1 ;;
 esac
 /usr/bin/python3 - "$out" "$tmp" "$k" <<'EOF'
 import csv, os, sys

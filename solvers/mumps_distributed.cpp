@@ -32,7 +32,7 @@ DistributedMumps::DistributedMumps(const SolverOptions& options) : options_(opti
 
 DistributedMumps::~DistributedMumps() = default;
 
-void DistributedMumps::analyze(Index n, std::vector<int> rows, std::vector<int> cols) {
+void DistributedMumps::take_entries(Index n, std::vector<int> rows, std::vector<int> cols) {
   std::string bad;
   if (rows.size() != cols.size()) bad = fmt::format("{} rows against {} columns", rows.size(), cols.size());
   for (std::size_t k = 0; k < rows.size() && bad.empty(); ++k)
@@ -44,12 +44,37 @@ void DistributedMumps::analyze(Index n, std::vector<int> rows, std::vector<int> 
   jcn_ = std::move(cols);
   for (int& i : irn_) ++i;  // MUMPS counts from 1
   for (int& j : jcn_) ++j;
+}
+
+void DistributedMumps::analyze(Index n, std::vector<int> rows, std::vector<int> cols) {
+  take_entries(n, std::move(rows), std::move(cols));
+  centralized_ = false;
   mumps_ = std::make_unique<mumps::Instance>(MPI_COMM_WORLD, options_, kWho, true);
   DMUMPS_STRUC_C& id = mumps_->id();
   id.n = MUMPS_INT(n);
   id.nnz_loc = MUMPS_INT8(irn_.size());
   id.irn_loc = irn_.data();
   id.jcn_loc = jcn_.data();
+  run_analysis(n);
+}
+
+void DistributedMumps::analyze_centralized(Index n, std::vector<int> rows, std::vector<int> cols) {
+  if (!all_ranks(mpi::rank() == 0 || rows.empty()))
+    throw Error(fmt::format("{}: centralized input: only rank 0 passes entries", kWho));
+  take_entries(n, std::move(rows), std::move(cols));
+  centralized_ = true;
+  mumps_ = std::make_unique<mumps::Instance>(MPI_COMM_WORLD, options_, kWho, false);
+  DMUMPS_STRUC_C& id = mumps_->id();
+  id.n = MUMPS_INT(n);
+  if (mpi::rank() == 0) {
+    id.nnz = MUMPS_INT8(irn_.size());
+    id.irn = irn_.data();
+    id.jcn = jcn_.data();
+  }
+  run_analysis(n);
+}
+
+void DistributedMumps::run_analysis(Index n) {
   std::vector<int> identity;
   if (options_.ordering == "natural" && mpi::rank() == 0) {
     identity.resize(std::size_t(n));
@@ -64,6 +89,7 @@ void DistributedMumps::analyze(Index n, std::vector<int> rows, std::vector<int> 
 
 void DistributedMumps::factorize(std::vector<double> values) {
   if (!mumps_) throw SolverError(fmt::format("{}: factorize() before analyze()", kWho));
+  if (centralized_) throw SolverError(fmt::format("{}: analyze_centralized() is an analysis only", kWho));
   std::string bad;
   if (values.size() != irn_.size())
     bad = fmt::format("{} values for {} analyzed entries", values.size(), irn_.size());

@@ -33,6 +33,11 @@ class DistributedMumps {
   //! them again at the factorization). \throw SolverError naming MUMPS's error, Error for an entry out of range
   //! or below the diagonal.
   void analyze(Index n, std::vector<int> rows, std::vector<int> cols);
+  //! Collective: the analysis of a pattern that rank 0 passes whole (MUMPS's centralized assembled input,
+  //! ICNTL(18)=0; the other ranks pass empty arrays and need build nothing): MUMPS's estimates for this many
+  //! ranks (report()) of a system too large to build on every rank. Analysis only: factorize() after it throws.
+  //! \throw as analyze().
+  void analyze_centralized(Index n, std::vector<int> rows, std::vector<int> cols);
   //! Collective: the factorization of this rank's values, in the order of its analyzed entries (taken over).
   //! \throw SolverError: a count that does not match, a non-finite value, MUMPS's errors, pivots as the `mumps`
   //! backend (not positive definite; numerically singular with SolverOptions::pivot_singularity_test).
@@ -47,6 +52,10 @@ class DistributedMumps {
   FactorStats stats() const { return stats_; }
 
  private:
+  //! Checks this rank's entries on every rank (all throw, or none) and keeps them 1-based in irn_, jcn_.
+  void take_entries(Index n, std::vector<int> rows, std::vector<int> cols);
+  //! JOB=1 on the entries set in the instance; the statistics of the analysis.
+  void run_analysis(Index n);
   //! The matrix's diagonal on rank 0 (empty elsewhere), for the scaling.
   std::vector<double> diagonal_on_root() const;
 
@@ -55,6 +64,7 @@ class DistributedMumps {
   std::vector<int> irn_, jcn_;
   std::vector<double> values_;
   std::vector<double> scaling_;  //!< 1 / sqrt(A_kk), on every rank (values_ are scaled by it)
+  bool centralized_ = false;     //!< analyze_centralized(): no factorization
   FactorStats stats_;
 };
 

@@ -185,6 +185,26 @@ ThesisSystem build_thesis_system(const std::string& mesh, const std::string& sys
   return t;
 }
 
+ThesisPattern build_thesis_pattern(const std::string& mesh, const std::string& system) {
+  SolverCell c;
+  c.mesh = mesh;
+  c.system = system;
+  const Problem p = make_problem(c);
+  Timer tb;
+  ThesisPattern t;
+  t.pattern = interaction_pattern(p.adj, p.unk);  // the structured build's own (structured_build.cpp)
+  t.build_s = tb.seconds();
+  t.vertices = p.mesh.num_vertices();
+  t.block = p.block;
+  return t;
+}
+
+long long ThesisPattern::nnz_upper() const {
+  if (pattern.colptr.empty()) return 0;
+  const long long blocks = pattern.colptr.back(), diagonal = static_cast<long long>(pattern.colptr.size()) - 1;
+  return block * block * (blocks - diagonal) + diagonal * block * (block + 1) / 2;
+}
+
 namespace {
 
 // A registry backend on the structured K: analyze, factorize (repeated), solve (repeated).

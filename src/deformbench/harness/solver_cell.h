@@ -26,6 +26,7 @@
 #include "core/types.h"
 #include "harness/cell.h"
 #include "harness/runner.h"
+#include "systems/normal_system.h"
 
 namespace db::harness {
 
@@ -61,6 +62,22 @@ struct ThesisSystem {
 };
 //! \throw InputError for a mesh that cannot be read or is degenerate.
 ThesisSystem build_thesis_system(const std::string& mesh, const std::string& system);
+
+//! The same system's pattern alone, for an analysis that needs no values (MUMPS's estimates of systems too large
+//! to build on one machine): K's upper triangle is `pattern` (block columns of the unknowns) expanded to
+//! block x block entries (systems/normal_system.h, expand_upper), no entry of K or the right-hand side formed.
+struct ThesisPattern {
+  InteractionPattern pattern;
+  int vertices = 0, block = 1;
+  double build_s = 0;  //!< the pattern alone (mesh reading and the edit not counted)
+  long long n() const {
+    return pattern.colptr.empty() ? 0 : block * (static_cast<long long>(pattern.colptr.size()) - 1);
+  }
+  //! Entries of K's upper triangle: b^2 per off-diagonal block, b (b + 1) / 2 per diagonal one.
+  long long nnz_upper() const;
+};
+//! \throw InputError as build_thesis_system.
+ThesisPattern build_thesis_pattern(const std::string& mesh, const std::string& system);
 
 CellResult measure_solver_cell(const CellSpec& spec);
 inline CellKind solver_kind() { return {"solve", measure_solver_cell}; }
