@@ -6,12 +6,8 @@
 #   bench_compare_test.sh SOURCE_DIR
 set -u
 SRC=$(cd "$1" && pwd)
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
 [ -f /usr/share/benchmark/compare.py ] || { echo "FAIL /usr/share/benchmark/compare.py is missing: install libbenchmark-tools (./run does)"; exit 1; }
-fails=0
-fail() { echo "FAIL $*"; fails=$((fails + 1)); }
-ok() { echo "ok   $*"; }
 B=$SRC/results/bench/baseline.json
 NAME="factorize/mesh:armadillo/system:tf/build:structured/backend:multifrontal"
 # scaled COUNTER FACTOR OUT: the baseline with one benchmark's counter scaled in every entry

@@ -6,15 +6,11 @@
 set -u
 SRC=$1
 BIN=$2
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
 cd "$SRC" || exit 1
-fails=0
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=python3
 
-fail() { echo "FAIL $*"; fails=$((fails + 1)); }
-ok() { echo "ok   $*"; }
 
 # expect NAME EXIT_CODE MESSAGE_REGEX -- driver args...
 expect() {

@@ -7,12 +7,8 @@
 set -u
 SRC=$1
 EXE=$2/exp_mumps_ranks
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
 cd "$SRC" || exit 1
-fails=0
-fail() { echo "FAIL $*"; fails=$((fails + 1)); }
-ok() { echo "ok   $*"; }
 export OPENBLAS_NUM_THREADS=1
 M=data/bs08/cylinder.off
 value() { grep -o "$1=[^ ]*" "$2" | head -1 | cut -d= -f2; }

@@ -7,15 +7,11 @@
 set -u
 SRC=$1
 BIN=$2
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
 cd "$SRC" || exit 1
-fails=0
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=python3
 
-fail() { echo "FAIL $*"; fails=$((fails + 1)); }
-ok() { echo "ok   $*"; }
 run() { # NAME EXPECTED_EXIT -- COMMAND...
   local name=$1 code=$2; shift 3
   "$@" >"$T/out" 2>&1

@@ -6,11 +6,7 @@
 #   track_scripts_test.sh SOURCE_DIR
 set -u
 SRC=$(cd "$1" && pwd)
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-fails=0
-fail() { echo "FAIL $*"; fails=$((fails + 1)); }
-ok() { echo "ok   $*"; }
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
 export DEFORMBENCH_TRACK_MEASURE="/usr/bin/python3 $SRC/tests/track_fake_measure.py"
 
 R=$T/repo

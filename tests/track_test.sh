@@ -10,12 +10,8 @@
 set -u
 SRC=$(cd "$1" && pwd)
 BIN=$(cd "$2" && pwd)
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
 cd "$SRC" || exit 1
-fails=0
-fail() { echo "FAIL $*"; fails=$((fails + 1)); }
-ok() { echo "ok   $*"; }
 # expect NAME EXIT_CODE REGEX -- command...
 expect() {
   local name=$1 code=$2 re=$3; shift 4
