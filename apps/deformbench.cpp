@@ -192,7 +192,9 @@ std::string backend(const DeformArgs& a) {
 }
 
 // The backends whose solves are refined (--refine-*): the mixed-precision one and its double twin.
-bool refines(const std::string& backend) { return backend == kMixedBackend || backend == "multifrontal_refined"; }
+bool refines(const std::string& backend) {
+  return backend == kMixedBackend || backend == "multifrontal_refined" || backend == "mumps_refined";
+}
 bool mixed(const DeformArgs& a) { return refines(backend(a)); }
 
 // Options the chosen method, constraints or build do not use are refused, not ignored.
@@ -220,8 +222,8 @@ void refuse_unused(const CLI::App& d, const DeformArgs& a) {
                                  a.solver));
   if (!mixed(a))
     for (const char* o : {"--refine-tolerance", "--refine-max-iterations", "--vs-double"})
-      refuse(o, fmt::format("is for the refined backends only (--precision mixed, --solver {} or "
-                            "multifrontal_refined)",
+      refuse(o, fmt::format("is for the refined backends only (--precision mixed, --solver {}, "
+                            "multifrontal_refined or mumps_refined)",
                             kMixedBackend));
   if (a.build == "dense") {
     if (lri) throw UsageError("--build dense: lri offers the structured and naive builds only");
@@ -359,9 +361,8 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
                  s.name, s.factor.iterations, s.factor.last_correction, o.solver_options.tolerance,
                  s.factor.achieved_tolerance);
   if (x.vs_double >= 0)
-    fmt::print("  against the double solve (multifrontal): largest coordinate difference {:.3g} of the bounding-box "
-               "diagonal\n",
-               x.vs_double);
+    fmt::print("  against the double solve ({}): largest coordinate difference {:.3g} of the bounding-box diagonal\n",
+               o.solver == "mumps_refined" ? "mumps" : "multifrontal", x.vs_double);
   fmt::print("build {:.4f} s | analyze {:.4f} s | factorize {:.4f} s | init {:.4f} s\n", t.build, t.analyze,
              t.factorize, t.init());
   if (!deformer.frame_mode_note().empty()) fmt::print("note: {}\n", deformer.frame_mode_note());
@@ -436,17 +437,19 @@ CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& d
 // backend then works with the others (solvers/mumps_ranks_solver.cpp). Returns N (1 without a launcher).
 int check_ranks(const DeformArgs& a) {
   const int ranks = mpi::launched() ? mpi::size() : 1;
-  if (ranks > 1 && backend(a) != "mumps")
-    throw UsageError(fmt::format("started on {} ranks: only --solver mumps runs distributed under mpirun; --solver {} "
+  if (ranks > 1 && backend(a) != "mumps" && backend(a) != "mumps_refined")
+    throw UsageError(fmt::format("started on {} ranks: only --solver mumps or mumps_refined runs distributed under "
+                                 "mpirun; --solver {} "
                                  "runs in one process (start it without mpirun)",
                                  ranks, backend(a)));
   return ranks;
 }
 
-// --vs-double: the last frame's positions again with the double factor (the same options otherwise), their largest
+// --vs-double: the last frame's positions again with the double factor, unrefined (the same options otherwise; mumps
+// for mumps_refined, multifrontal else), their largest
 // coordinate difference from `mixed` over the rest mesh's bounding-box diagonal.
 double difference_from_double(const EditCase& ec, DeformOptions o, long long frames, const Points& mixed) {
-  o.solver = "multifrontal";
+  o.solver = o.solver == "mumps_refined" ? "mumps" : "multifrontal";  // mumps also on ranks
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
   const long long given = ec.edit.target_frames();
   const Eigen::Index h = ec.edit.count(Role::Handle);
@@ -483,8 +486,9 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   RunExtras extras;
   extras.rss = rank_peak_rss(ranks);
   if (ranks > 1) extras.matrix = mpi::gather_to_root(double(deformer->matrix_bytes()));
-  if (ranks > 1 && mpi::rank() != 0) return 0;  // rank 0 prints and writes
+  // Every rank: on ranks the twin's solver (mumps) is collective too.
   if (a.vs_double) extras.vs_double = difference_from_double(ec, o, frames, result);
+  if (ranks > 1 && mpi::rank() != 0) return 0;  // rank 0 prints and writes
 
   StagedOutputs outputs;  // the mesh and the CSV row land together or not at all
   Mesh deformed = ec.mesh;

@@ -166,9 +166,9 @@ std::vector<std::string> orderings_for(const Options& o, const std::string& back
   const bool sparse_direct = family == "sparse-cholesky" || family == "sparse-lu";
   if (sparse_direct && contains(v, "natural")) v.push_back(kVertexOrdering);
   if (!sparse_direct) v = {"default"};  // dense and iterative: nothing to order; spqr: its own choice
-  // The refined backends factor as multifrontal does (its orderings' rows say what they cost); their rows are about
-  // precision: the default ordering only.
-  if (backend == "multifrontal_mixed" || backend == "multifrontal_refined") v = {"default"};
+  // The refined backends factor as multifrontal or mumps does (their orderings' rows say what they cost); their rows
+  // are about precision: the default ordering only.
+  if (backend == "multifrontal_mixed" || backend == "multifrontal_refined" || backend == "mumps_refined") v = {"default"};
   if (o.orderings.empty()) return v;
   std::vector<std::string> keep;
   for (const auto& x : v)
@@ -208,24 +208,28 @@ void log_record(const Record& r) {
                              c.message.rfind(c.status, 0) == 0 ? c.message : c.status + ": " + c.message);
 }
 
-// error_vs_double of the refined cells (multifrontal_mixed, multifrontal_refined): the largest coordinate difference
-// from the double multifrontal cell's positions (default ordering), which are normalized: units of the
-// bounding-box diagonal; error_vs_refined of the mixed cell: the same from the refined cell's (both solve the system
-// to the tolerance, so this is what the float factor leaves).
+// error_vs_double of the refined cells (multifrontal_mixed, multifrontal_refined, mumps_refined): the largest
+// coordinate difference from the double multifrontal cell's positions (default ordering), which are normalized:
+// units of the bounding-box diagonal; error_vs_refined of every other cell: the same from the multifrontal_refined
+// cell's, the exact solution to the tolerance (of the mixed cell, what the float factor leaves; of a direct one, its
+// own rounding's effect on this ill-conditioned system).
 void compare_with_double(std::vector<Record>& group) {
   auto find = [&group](const char* backend) {
     return std::find_if(group.begin(), group.end(), [backend](const Record& r) {
       return r.cell.backend == backend && r.cell.ordering == "default" && r.res.ok() && fs::exists(r.cell.positions);
     });
   };
-  const auto dbl = find("multifrontal"), ref = find("multifrontal_refined"), mix = find("multifrontal_mixed");
+  const auto dbl = find("multifrontal"), ref = find("multifrontal_refined");
   auto apart = [](const Record& a, const Record& b) {
     return (read_positions(a.cell.positions) - read_positions(b.cell.positions)).cwiseAbs().maxCoeff();
   };
   if (dbl != group.end())
-    for (auto r : {ref, mix})
+    for (auto r : {ref, find("multifrontal_mixed"), find("mumps_refined")})
       if (r != group.end()) r->res.set("error_vs_double", apart(*r, *dbl), "diagonal");
-  if (ref != group.end() && mix != group.end()) mix->res.set("error_vs_refined", apart(*mix, *ref), "diagonal");
+  if (ref == group.end()) return;
+  for (Record& r : group)
+    if (&r != &*ref && r.res.ok() && fs::exists(r.cell.positions))
+      r.res.set("error_vs_refined", apart(r, *ref), "diagonal");
 }
 
 // error_vs_cholmod of every cell of one tier and system that left positions, against the reference's.

@@ -36,9 +36,14 @@ std::unique_ptr<LinearSolver> make_cg(bool ichol, const SolverOptions& options);
 //! launcher with more than one rank (mpi::launched(), mpi::size() > 1): make_mumps_on_ranks().
 std::unique_ptr<LinearSolver> make_mumps(const SolverOptions& options);
 //! MUMPS on every rank of MPI_COMM_WORLD behind the LinearSolver contract: every rank calls each phase with the
-//! same system and passes MUMPS its own share of the columns; every rank gets the solution.
-std::unique_ptr<LinearSolver> make_mumps_on_ranks(const SolverOptions& options);
+//! same system and passes MUMPS its own share of the columns; every rank gets the solution. `refined`
+//! ("mumps_refined", on any number of ranks, one included): each solve refined as multifrontal_refined's
+//! (double-double residuals, CG corrections preconditioned by MUMPS's solve) to SolverOptions::tolerance, the
+//! products with A summed over the ranks' shares.
+std::unique_ptr<LinearSolver> make_mumps_on_ranks(const SolverOptions& options, bool refined = false);
 //! The orderings it accepts (SCOTCH's where Debian's ptscotch build of MUMPS is linked).
 std::vector<std::string> mumps_orderings();
+//! mumps_orderings() less "metis" (distributed input).
+std::vector<std::string> mumps_refined_orderings();
 
 }  // namespace db::backends

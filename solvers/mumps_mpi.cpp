@@ -82,6 +82,48 @@ void sum_to_root(double* data, std::size_t count) {
 }
 
 namespace {
+
+//! MPI_Op on pairs (hi, lo): inout := in + inout in double-double. The file is compiled with -ffp-contract=off
+//! (solvers/CMakeLists.txt): a fused step would break the error-free sum.
+void add_double_double(void* in, void* inout, int* len, MPI_Datatype*) {
+  const double* a = static_cast<const double*>(in);
+  double* b = static_cast<double*>(inout);
+  for (int k = 0; k < 2 * *len; k += 2) {
+    const double s = a[k] + b[k], v = s - a[k];
+    const double e = (a[k] - (s - v)) + (b[k] - v);  // a + b = s + e exactly
+    const double lo = e + a[k + 1] + b[k + 1];
+    b[k] = s + lo;  // renormalized: |lo| below half an ulp of hi
+    b[k + 1] = lo - (b[k] - s);
+  }
+}
+
+}  // namespace
+
+void sum_double_double_to_root(double* hi, double* lo, std::size_t count) {
+  const int n = count_of(count, "a double-double sum");
+  std::vector<double> pairs(2 * count);
+  for (std::size_t k = 0; k < count; ++k) {
+    pairs[2 * k] = hi[k];
+    pairs[2 * k + 1] = lo[k];
+  }
+  MPI_Datatype pair;
+  MPI_Op op;
+  check(MPI_Type_contiguous(2, MPI_DOUBLE, &pair), "MPI_Type_contiguous");
+  check(MPI_Type_commit(&pair), "MPI_Type_commit");
+  check(MPI_Op_create(&add_double_double, 1, &op), "MPI_Op_create");
+  const int rc = rank() == 0 ? MPI_Reduce(MPI_IN_PLACE, pairs.data(), n, pair, op, 0, MPI_COMM_WORLD)
+                             : MPI_Reduce(pairs.data(), nullptr, n, pair, op, 0, MPI_COMM_WORLD);
+  MPI_Op_free(&op);
+  MPI_Type_free(&pair);
+  check(rc, "MPI_Reduce");
+  if (rank() != 0) return;
+  for (std::size_t k = 0; k < count; ++k) {
+    hi[k] = pairs[2 * k];
+    lo[k] = pairs[2 * k + 1];
+  }
+}
+
+namespace {
 template <class T>
 void broadcast_vector(std::vector<T>& data, MPI_Datatype type) {
   unsigned long long n = data.size();

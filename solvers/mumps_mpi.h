@@ -25,6 +25,10 @@ int size();
 std::vector<double> gather_to_root(double value);
 //! Element-wise sum of every rank's `data` into rank 0's (others keep theirs). Collective; same count everywhere.
 void sum_to_root(double* data, std::size_t count);
+//! Every rank's double-double numbers hi[k] + lo[k] summed in double-double (Knuth's two-sum, the low parts
+//! renormalized) into rank 0's hi and lo (others keep theirs): a sum of the ranks' shares of an extended-precision
+//! residual whose rounding happens once, on rank 0. Collective; same count everywhere.
+void sum_double_double_to_root(double* hi, double* lo, std::size_t count);
 //! Rank 0's `data` on every rank (resized to rank 0's size). Collective.
 void broadcast(std::vector<int>& data);
 void broadcast(std::vector<double>& data);

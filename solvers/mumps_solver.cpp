@@ -1,6 +1,7 @@
 //! "mumps": MUMPS's multifrontal LDL^T for symmetric positive definite matrices (SYM=1) on this process alone
 //! (MPI_COMM_SELF, centralized input), with MUMPS's orderings and its out-of-core factor. The same instance
 //! settings as the distributed run (mumps_instance.h); MPI is initialized on first use (mumps_mpi.h).
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -121,6 +122,12 @@ class MumpsSolver final : public LinearSolver {
 }  // namespace
 
 std::vector<std::string> backends::mumps_orderings() { return mumps::orderings(); }
+
+std::vector<std::string> backends::mumps_refined_orderings() {
+  std::vector<std::string> o = mumps::orderings();
+  o.erase(std::find(o.begin(), o.end(), "metis"));
+  return o;
+}
 
 std::unique_ptr<LinearSolver> backends::make_mumps(const SolverOptions& options) {
   // Under a launcher with several ranks every rank takes part (mumps_ranks_solver.cpp).

@@ -35,6 +35,11 @@ const std::vector<Entry>& table() {
        [](const SolverOptions& o) { return backends::make_multifrontal(o, backends::Precision::Refined); }},
       {{"mumps", "sparse-cholesky", true, backends::mumps_orderings(), true, false},
        [](const SolverOptions& o) { return backends::make_mumps(o); }},
+      // MUMPS's double factor with multifrontal_refined's refinement, on one process or under mpirun: the exact
+      // solution of a distributed run. Distributed input on one process too, so no "metis" (it needs the whole
+      // graph on one rank).
+      {{"mumps_refined", "sparse-cholesky", true, backends::mumps_refined_orderings(), true, false},
+       [](const SolverOptions& o) { return backends::make_mumps_on_ranks(o, true); }},
       {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
       {{"dense_llt", "dense", true, kDenseOrderings},
@@ -80,9 +85,10 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& name, const SolverO
     throw Error(fmt::format("{}: cannot keep its factor out of core (factor directory '{}'); {} can", name,
                             options.factor_dir, fmt::join(can, " and ")));
   }
-  if (options.rank_shares != 1 && name != "mumps")
-    throw Error(fmt::format("{}: takes the whole system in one process; only mumps sums the shares of {} ranks", name,
-                            options.rank_shares));
+  if (options.rank_shares != 1 && name != "mumps" && name != "mumps_refined")
+    throw Error(fmt::format("{}: takes the whole system in one process; only mumps and mumps_refined sum the shares "
+                            "of {} ranks",
+                            name, options.rank_shares));
   return e.make(options);
 }
 

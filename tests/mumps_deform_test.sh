@@ -4,7 +4,8 @@
 # multifrontal one to 1e-8 of the bounding-box diagonal, its CSV row names 2 ranks and each rank's peak RSS, and
 # rank 0 alone prints the report (with its per-rank line); each rank holds only its share of the matrix. The same equality for what else the deform path does on
 # ranks: soft constraints, TF's normalized scale pass, handle-mode frames (each rank assembling its own share of
-# LAP's and TF's systems) and LRI (the whole system on every rank). Another backend under 2 ranks is refused
+# LAP's and TF's systems) and LRI (the whole system on every rank). mumps_refined on 2 ranks equals
+# multifrontal_refined (the exact solution) to 1e-12. Another backend under 2 ranks is refused
 # (exit 1), and so are the subcommands that do not run on ranks (coat, transplant, solvers).
 #   mumps_deform_test.sh SOURCE_DIR BUILD_DIR
 set -u
@@ -69,6 +70,31 @@ for v in "${variants[@]}"; do
   rm -f "$T/r2.off"
 done
 
+# mumps_refined: on 2 ranks (rank-local shares, products summed over the ranks in double-double) it reaches the
+# exact solution, as multifrontal_refined does in one process; --vs-double compares with plain mumps on the ranks.
+# Compared where the 2-rank system is bitwise the one-process system: TF soft's shares sum exactly, and LAP's naive
+# build is whole on every rank. (LAP's rank-local shares sum some right-hand side entries in another order; on
+# these ill-conditioned systems that moves the exact solution itself by ~1e-10 of the diagonal.)
+for m in "tf --constraints soft" "lap --build naive"; do
+  read -r -a opts <<<"$m"
+  "$EXE" deform $E --method "${opts[@]}" --solver multifrontal_refined --refine-tolerance 1e-13 --out "$T/ref.off" \
+    >"$T/ref.out" 2>&1 || { fail "$m multifrontal_refined: $(tail -c 300 "$T/ref.out")"; continue; }
+  scripts/mpirun.sh 2 "$EXE" deform $E --method "${opts[@]}" --solver mumps_refined --refine-tolerance 1e-13 \
+    --vs-double --out "$T/r2.off" --csv "$T/r2.csv" >"$T/r2.out" 2>&1 ||
+    { fail "$m mumps_refined 2 ranks: $(tail -c 400 "$T/r2.out")"; continue; }
+  d=$(diff_off "$T/ref.off" "$T/r2.off")
+  /usr/bin/python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) <= 1e-12 else 1)" "$d" &&
+    ok "$m: mumps_refined on 2 ranks = multifrontal_refined to $d of the diagonal (<= 1e-12)" ||
+    fail "$m: mumps_refined on 2 ranks differs by $d"
+  /usr/bin/python3 - "$T/r2.csv" <<'PY' && ok "$m: the row has the refinement and the plain solve's distance" || fail "$m: mumps_refined row: $(cat "$T/r2.csv")"
+import csv, sys
+r = list(csv.DictReader(open(sys.argv[1])))[0]
+sys.exit(0 if r["backend"] == "mumps_refined" and r["ranks"] == "2" and int(r["refine_iterations"]) > 0
+         and float(r["refine_correction"]) <= 1e-13 and 0 <= float(r["mixed_vs_double"]) < 1e-6 else 1)
+PY
+  rm -f "$T/r2.off"
+done
+
 for sub in "coat data/bs08/cylinder.off data/bs08/cylinder.off --out $T/no.ply" \
            "transplant data/bs08/cylinder.off data/bs08/cylinder.off --out $T/no.ply" "solvers"; do
   read -r -a args <<<"$sub"
@@ -80,7 +106,7 @@ for sub in "coat data/bs08/cylinder.off data/bs08/cylinder.off --out $T/no.ply" 
 done
 
 scripts/mpirun.sh 2 "$EXE" deform $E --method tf --solver multifrontal --out "$T/no.off" >"$T/s.out" 2>&1
-[ $? -eq 1 ] && grep -q "only --solver mumps runs distributed" "$T/s.out" && [ ! -e "$T/no.off" ] &&
+[ $? -eq 1 ] && grep -q "only --solver mumps or mumps_refined runs distributed" "$T/s.out" && [ ! -e "$T/no.off" ] &&
   ok "another backend under 2 ranks refused (exit 1)" || fail "multifrontal under 2 ranks: $(tail -c 300 "$T/s.out")"
 scripts/mpirun.sh 2 "$EXE" deform $E.nope --solver mumps --out "$T/no.off" >"$T/b.out" 2>&1
 rc=$?

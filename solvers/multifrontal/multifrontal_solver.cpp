@@ -275,7 +275,8 @@ void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {
         backward_all(factor(), solve_plan_, y);
       }
     };
-    const Refinement r = refine(kept_, precondition, b, y_, options_.tolerance, options_.max_iterations);
+    const Refinement r = refine(refined_system(kept_), precondition, b, y_, options_.tolerance, options_.max_iterations,
+                                name());
     stats_.iterations = r.iterations;
     stats_.achieved_tolerance = r.residual;
     stats_.last_correction = r.last_correction;

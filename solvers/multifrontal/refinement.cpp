@@ -53,10 +53,11 @@ inline void subtract_product(double& hi, double& lo, double a, double x) {
 
 }  // namespace
 
-void extended_residual(const SpMat& upper, const RowMajorMat& X, const RowMajorMat& B, RowMajorMat& R) {
+void extended_residual_parts(const SpMat& upper, const RowMajorMat& X, const RowMajorMat& B, RowMajorMat& R,
+                             std::vector<double>& low) {
   const Index n = upper.cols(), r = X.cols();
   R = B;  // the high parts
-  std::vector<double> low(std::size_t(n * r), 0.0);
+  low.assign(std::size_t(n * r), 0.0);
   const int* Ap = upper.outerIndexPtr();
   const int* Ai = upper.innerIndexPtr();
   const double* Ax = upper.valuePtr();
@@ -70,7 +71,18 @@ void extended_residual(const SpMat& upper, const RowMajorMat& X, const RowMajorM
         if (i != j) subtract_product(hi[j * r + c], low[std::size_t(j * r + c)], Ax[p], x[i * r + c]);
       }
     }
-  for (Index k = 0; k < n * r; ++k) hi[k] += low[std::size_t(k)];
+}
+
+void extended_residual(const SpMat& upper, const RowMajorMat& X, const RowMajorMat& B, RowMajorMat& R) {
+  std::vector<double> low;
+  extended_residual_parts(upper, X, B, R, low);
+  double* hi = R.data();
+  for (Index k = 0; k < R.size(); ++k) hi[k] += low[std::size_t(k)];
+}
+
+RefinedSystem refined_system(const SpMat& upper) {
+  return {[&upper](const RowMajorMat& X, RowMajorMat& Y) { symmetric_product(upper, X, Y); },
+          [&upper](const RowMajorMat& X, const RowMajorMat& B, RowMajorMat& R) { extended_residual(upper, X, B, R); }};
 }
 
 namespace {
@@ -82,7 +94,8 @@ constexpr double kInnerTolerance = 1e-6;
 //! Conjugate gradients on A D = R for the active columns, D from 0, each until its recursive residual is
 //! kInnerTolerance of its start; stops early when `budget` iterations are spent. Returns the iterations run.
 struct CorrectionSolve {
-  const SpMat& A;
+  const RefinedSystem& A;
+  const std::string& who;
   const std::function<void(RowMajorMat&)>& precondition;
   const std::vector<char>& active;
   RowMajorMat Z, P, Q;
@@ -101,14 +114,13 @@ struct CorrectionSolve {
     int it = 0;
     while (it < budget && std::find(going.begin(), going.end(), 1) != going.end()) {
       ++it;
-      symmetric_product(A, P, Q);
+      A.product(P, Q);
       for (Index c = 0; c < cols; ++c) {
         if (!going[std::size_t(c)]) continue;
         const double pq = P.col(c).dot(Q.col(c));
         if (!(pq > 0))
-          throw SolverError(fmt::format("multifrontal_mixed: refinement met p^T A p = {:.3g}: the matrix is not "
-                                        "positive definite",
-                                        pq));
+          throw SolverError(fmt::format("{}: refinement met p^T A p = {:.3g}: the matrix is not positive definite",
+                                        who, pq));
         const double alpha = rz[std::size_t(c)] / pq;
         D.col(c) += alpha * P.col(c);
         R.col(c) -= alpha * Q.col(c);
@@ -128,10 +140,11 @@ struct CorrectionSolve {
   }
 };
 
-SolverError not_converged(double tolerance, double reached, int iterations, const std::string& why) {
-  return SolverError(fmt::format("multifrontal_mixed: the refinement did not reach a relative correction of "
-                                 "{:.3g} ({}; {:.3g} after {} CG iterations)",
-                                 tolerance, why, reached, iterations));
+SolverError not_converged(const std::string& who, double tolerance, double reached, int iterations,
+                          const std::string& why) {
+  return SolverError(fmt::format("{}: the refinement did not reach a relative correction of {:.3g} ({}; {:.3g} "
+                                 "after {} CG iterations)",
+                                 who, tolerance, why, reached, iterations));
 }
 
 double relative_max(const RowMajorMat& D, const RowMajorMat& X, Index c) {
@@ -141,22 +154,22 @@ double relative_max(const RowMajorMat& D, const RowMajorMat& X, Index c) {
 
 }  // namespace
 
-Refinement refine(const SpMat& upper, const std::function<void(RowMajorMat&)>& precondition, const RowMajorMat& B,
-                  RowMajorMat& X, double tolerance, int max_iterations) {
+Refinement refine(const RefinedSystem& A, const std::function<void(RowMajorMat&)>& precondition,
+                  const RowMajorMat& B, RowMajorMat& X, double tolerance, int max_iterations, const std::string& who) {
   const Index cols = B.cols();
   X = B;
   precondition(X);  // the rounded factor's own solution: the start
   std::vector<char> active(std::size_t(cols), 1);
   std::vector<double> before(std::size_t(cols), std::numeric_limits<double>::infinity());
-  CorrectionSolve cg{upper, precondition, active, {}, {}, {}};
+  CorrectionSolve cg{A, who, precondition, active, {}, {}, {}};
   RowMajorMat R, D;
   Refinement out;
   out.last_correction = std::numeric_limits<double>::infinity();  // no correction yet
   while (std::find(active.begin(), active.end(), 1) != active.end()) {
     if (out.iterations >= max_iterations)
-      throw not_converged(tolerance, out.last_correction, out.iterations,
+      throw not_converged(who, tolerance, out.last_correction, out.iterations,
                           fmt::format("the iteration cap, {}", max_iterations));
-    extended_residual(upper, X, B, R);
+    A.residual(X, B, R);
     out.iterations += cg.run(R, D, max_iterations - out.iterations);
     ++out.steps;
     X += D;
@@ -168,11 +181,11 @@ Refinement refine(const SpMat& upper, const std::function<void(RowMajorMat&)>& p
       active[std::size_t(c)] = dx > tolerance;
       // A correction not even half the one before: the steps no longer gain on the rounding.
       if (active[std::size_t(c)] && !(dx < 0.5 * before[std::size_t(c)]) && out.iterations < max_iterations)
-        throw not_converged(tolerance, dx, out.iterations, "stalled: a correction no longer halves the one before");
+        throw not_converged(who, tolerance, dx, out.iterations, "stalled: a correction no longer halves the one before");
       before[std::size_t(c)] = dx;
     }
   }
-  extended_residual(upper, X, B, R);
+  A.residual(X, B, R);
   for (Index c = 0; c < cols; ++c) {
     const double b = B.col(c).norm();
     out.residual = std::max(out.residual, b > 0 ? R.col(c).norm() / b : R.col(c).norm());

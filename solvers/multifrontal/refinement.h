@@ -13,6 +13,8 @@
 //! same order (double solves with other orderings or backends differ by as much). An accurate residual lets each
 //! refinement step shrink the error of x itself, and the size of the last correction bounds what is left.
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "core/types.h"
 #include "solvers/multifrontal/triangular_solve.h"
@@ -24,6 +26,19 @@ namespace db::multifrontal {
 void symmetric_product(const SpMat& upper, const RowMajorMat& X, RowMajorMat& Y);
 //! R := B - A X, each entry accumulated in double-double (as if in twice double's precision) and rounded once.
 void extended_residual(const SpMat& upper, const RowMajorMat& X, const RowMajorMat& B, RowMajorMat& R);
+//! extended_residual() before its rounding: B - A X = R + low (low: R's layout, row-major), for callers that add
+//! several such sums in double-double before rounding (the ranks' shares of A, mumps_ranks_solver.cpp).
+void extended_residual_parts(const SpMat& upper, const RowMajorMat& X, const RowMajorMat& B, RowMajorMat& R,
+                             std::vector<double>& low);
+
+//! The system a refinement solves, by its two products: Y := A X in double, and R := B - A X in double-double
+//! rounded once (extended_residual()). One process: from A's upper triangle; on ranks, collective ones.
+struct RefinedSystem {
+  std::function<void(const RowMajorMat& X, RowMajorMat& Y)> product;
+  std::function<void(const RowMajorMat& X, const RowMajorMat& B, RowMajorMat& R)> residual;
+};
+//! The products of the upper triangle `upper` (kept by reference).
+RefinedSystem refined_system(const SpMat& upper);
 
 struct Refinement {
   int iterations = 0;        //!< CG iterations (products with A and preconditioner solves), all steps together
@@ -37,8 +52,10 @@ struct Refinement {
 //! positive definite.
 //! \throw SolverError naming the tolerance and the correction reached when the CG iterations of all steps
 //! exceed `max_iterations`, when a correction is no longer half the one before (stalled above the tolerance),
-//! or when p^T A p <= 0 (A not positive definite).
-Refinement refine(const SpMat& upper, const std::function<void(RowMajorMat&)>& precondition, const RowMajorMat& B,
-                  RowMajorMat& X, double tolerance, int max_iterations);
+//! or when p^T A p <= 0 (A not positive definite); `who` (the backend) begins the message.
+//! Deterministic: processes that call it with bitwise equal inputs and products take the same steps.
+Refinement refine(const RefinedSystem& A, const std::function<void(RowMajorMat&)>& precondition,
+                  const RowMajorMat& B, RowMajorMat& X, double tolerance, int max_iterations,
+                  const std::string& who = "multifrontal_mixed");
 
 }  // namespace db::multifrontal
