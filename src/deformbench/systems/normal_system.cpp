@@ -316,6 +316,18 @@ void renumber_unknowns(NormalSystem& sys, const std::vector<int>& new_of_old) {
   sys.g0.swap(g);
 }
 
+namespace {
+
+//! What every build records besides its matrices.
+void label(NormalSystem& sys, const EnergyOperator& op, Build build, const Timer& t) {
+  sys.build = build;
+  sys.block = op.block();
+  sys.rhs_cols = op.rhs_cols();
+  sys.build_seconds = t.seconds();
+}
+
+}  // namespace
+
 NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, Build build,
                                  std::size_t byte_budget) {
   check_build(op, unk, build, byte_budget);
@@ -329,10 +341,7 @@ NormalSystem build_normal_system(const EnergyOperator& op, const Unknowns& unk, 
     }
     return detail::build_structured(op, unk);
   }();
-  sys.build = build;
-  sys.block = op.block();
-  sys.rhs_cols = op.rhs_cols();
-  sys.build_seconds = t.seconds();
+  label(sys, op, build, t);
   return sys;
 }
 
@@ -348,13 +357,10 @@ NormalSystem build_structured_share(const EnergyOperator& op, const Unknowns& un
   const auto [first, last] = share_range(unk.num_unknowns(), part, parts);
   Timer t;
   NormalSystem sys = detail::build_structured(op, unk, nullptr, 0, first, last);
-  sys.build = Build::Structured;
-  sys.block = op.block();
-  sys.rhs_cols = op.rhs_cols();
   sys.parts = parts;
   sys.own_begin = first;
   sys.own_end = last;
-  sys.build_seconds = t.seconds();
+  label(sys, op, Build::Structured, t);
   return sys;
 }
 
