@@ -191,7 +191,7 @@ std::string backend(const DeformArgs& a) {
   return a.solver.empty() ? resolve_solver("", parse_build(a.build)) : a.solver;
 }
 
-// The backends whose solves are refined (--refine-*): the mixed-precision one and its double twin.
+// The backends whose solves are refined (--refine-*): the mixed-precision one and the double ones refined alike.
 bool refines(const std::string& backend) {
   return backend == kMixedBackend || backend == "multifrontal_refined" || backend == "mumps_refined";
 }
@@ -439,15 +439,14 @@ int check_ranks(const DeformArgs& a) {
   const int ranks = mpi::launched() ? mpi::size() : 1;
   if (ranks > 1 && backend(a) != "mumps" && backend(a) != "mumps_refined")
     throw UsageError(fmt::format("started on {} ranks: only --solver mumps or mumps_refined runs distributed under "
-                                 "mpirun; --solver {} "
-                                 "runs in one process (start it without mpirun)",
+                                 "mpirun; --solver {} runs in one process (start it without mpirun)",
                                  ranks, backend(a)));
   return ranks;
 }
 
 // --vs-double: the last frame's positions again with the double factor, unrefined (the same options otherwise; mumps
-// for mumps_refined, multifrontal else), their largest
-// coordinate difference from `mixed` over the rest mesh's bounding-box diagonal.
+// for mumps_refined, multifrontal else), their largest coordinate difference from `mixed` over the rest mesh's
+// bounding-box diagonal.
 double difference_from_double(const EditCase& ec, DeformOptions o, long long frames, const Points& mixed) {
   o.solver = o.solver == "mumps_refined" ? "mumps" : "multifrontal";  // mumps also on ranks
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);

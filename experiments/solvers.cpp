@@ -168,7 +168,8 @@ std::vector<std::string> orderings_for(const Options& o, const std::string& back
   if (!sparse_direct) v = {"default"};  // dense and iterative: nothing to order; spqr: its own choice
   // The refined backends factor as multifrontal or mumps does (their orderings' rows say what they cost); their rows
   // are about precision: the default ordering only.
-  if (backend == "multifrontal_mixed" || backend == "multifrontal_refined" || backend == "mumps_refined") v = {"default"};
+  if (backend == "multifrontal_mixed" || backend == "multifrontal_refined" || backend == "mumps_refined")
+    v = {"default"};
   if (o.orderings.empty()) return v;
   std::vector<std::string> keep;
   for (const auto& x : v)

@@ -129,7 +129,7 @@ class MumpsOnRanks final : public LinearSolver {
     share_.makeCompressed();
   }
 
-  //! Rank 0's X (n x k) on every rank, n x k.
+  //! Rank 0's X (n x k) copied to every rank.
   void broadcast(DenseMat& X) const {
     const Index n = Index(stats_.n);
     std::vector<int> cols{int(X.cols())};
@@ -164,8 +164,8 @@ class MumpsOnRanks final : public LinearSolver {
         for (Index k = 0; k < out.size(); ++k) out.data()[k] += low[std::size_t(k)];
       broadcast_rows(out);
     };
-    const multifrontal::Refinement r =
-        multifrontal::refine({product, residual}, precondition, b, y, options_.tolerance, options_.max_iterations, name());
+    const multifrontal::Refinement r = multifrontal::refine({product, residual}, precondition, b, y, options_.tolerance,
+                                                            options_.max_iterations, name());
     stats_.iterations = r.iterations;
     stats_.achieved_tolerance = r.residual;
     stats_.last_correction = r.last_correction;

@@ -181,7 +181,8 @@ Refinement refine(const RefinedSystem& A, const std::function<void(RowMajorMat&)
       active[std::size_t(c)] = dx > tolerance;
       // A correction not even half the one before: the steps no longer gain on the rounding.
       if (active[std::size_t(c)] && !(dx < 0.5 * before[std::size_t(c)]) && out.iterations < max_iterations)
-        throw not_converged(who, tolerance, dx, out.iterations, "stalled: a correction no longer halves the one before");
+        throw not_converged(who, tolerance, dx, out.iterations,
+                            "stalled: a correction no longer halves the one before");
       before[std::size_t(c)] = dx;
     }
   }
