@@ -312,15 +312,7 @@ FrameMedians run_frames(Deformer& deformer, long long frames, const std::functio
 // The drag: the handle transform interpolated from the rest pose over the frames, or the edit's per-vertex targets
 // frame by frame (cycling when --frames asks for more frames than the targets give).
 FrameMedians drag(Deformer& deformer, const Edit& edit, long long frames, Points& result) {
-  const long long given = edit.target_frames();
-  if (given == 0)
-    return run_frames(deformer, frames, [&](long long f) {
-      return deformer.deform(interpolate_transform(edit.transform, static_cast<double>(f) / static_cast<double>(frames)));
-    }, result);
-  const Eigen::Index h = edit.count(Role::Handle);
-  return run_frames(deformer, frames, [&](long long f) {
-    return deformer.deform_targets(edit.targets.middleRows(((f - 1) % given) * h, h));
-  }, result);
+  return run_frames(deformer, frames, [&](long long f) { return deform_frame(deformer, edit, f, frames); }, result);
 }
 
 // Every rank's peak RSS on rank 0 (one entry without a launcher); collective under one.
@@ -450,10 +442,7 @@ int check_ranks(const DeformArgs& a) {
 double difference_from_double(const EditCase& ec, DeformOptions o, long long frames, const Points& mixed) {
   o.solver = o.solver == "mumps_refined" ? "mumps" : "multifrontal";  // mumps also on ranks
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
-  const long long given = ec.edit.target_frames();
-  const Eigen::Index h = ec.edit.count(Role::Handle);
-  const Points twin = given > 0 ? deformer->deform_targets(ec.edit.targets.middleRows(((frames - 1) % given) * h, h))
-                                : deformer->deform(interpolate_transform(ec.edit.transform, 1.0));
+  const Points twin = deform_frame(*deformer, ec.edit, frames, frames);
   return (mixed - twin).cwiseAbs().maxCoeff() / bbox_diagonal(ec.mesh.V);
 }
 

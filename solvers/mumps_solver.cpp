@@ -125,7 +125,7 @@ std::vector<std::string> backends::mumps_orderings() { return mumps::orderings()
 
 std::vector<std::string> backends::mumps_refined_orderings() {
   std::vector<std::string> o = mumps::orderings();
-  o.erase(std::find(o.begin(), o.end(), "metis"));
+  o.erase(std::remove(o.begin(), o.end(), "metis"), o.end());
   return o;
 }
 

@@ -12,7 +12,6 @@ EXE=$2/exp_mumps_ranks
 cd "$SRC" || exit 1
 export OPENBLAS_NUM_THREADS=1
 M=data/bs08/cylinder.off
-value() { grep -o "\b$1=[^ ]*" "$2" | head -1 | cut -d= -f2; }
 positive() { /usr/bin/python3 -c "import sys; sys.exit(0 if all(float(x) > 0 for x in sys.argv[1:]) else 1)" "$@"; }
 
 scripts/mpirun.sh 2 "$EXE" --mesh $M --analysis-only --input centralized --ordering amd --csv "$T/c.csv" \

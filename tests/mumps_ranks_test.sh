@@ -11,7 +11,6 @@ EXE=$2/exp_mumps_ranks
 cd "$SRC" || exit 1
 export OPENBLAS_NUM_THREADS=1
 M=data/bs08/cylinder.off
-value() { grep -o "$1=[^ ]*" "$2" | head -1 | cut -d= -f2; }
 
 for sys in tf lap; do
   "$EXE" --mesh $M --system $sys --solver multifrontal --positions "$T/mf_$sys.bin" >"$T/mf.out" 2>&1 ||

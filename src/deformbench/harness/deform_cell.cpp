@@ -24,13 +24,10 @@ struct Drag {
 // The edit's handle transform interpolated over the frames, or its per-vertex targets frame by frame (cycling, as
 // `deformbench deform` does).
 Drag drag(Deformer& d, const Edit& e, int frames) {
-  const long long given = e.target_frames();
-  const Eigen::Index h = e.count(Role::Handle);
   Drag g;
   for (int f = 1; f <= frames; ++f) {
     const CpuTimer cpu;
-    g.V = given > 0 ? d.deform_targets(e.targets.middleRows(((f - 1) % given) * h, h))
-                    : d.deform(interpolate_transform(e.transform, static_cast<double>(f) / frames));
+    g.V = deform_frame(d, e, f, frames);
     g.frame_cpu.push_back(cpu.seconds());
     const PhaseTimes& t = d.times();
     g.frame.push_back(t.frame());

@@ -17,4 +17,12 @@ Mat4 interpolate_transform(const Mat4& T, double f) {
   return P;
 }
 
+Points deform_frame(Deformer& d, const Edit& e, long long f, long long frames) {
+  const long long given = e.target_frames();
+  if (given == 0)
+    return d.deform(interpolate_transform(e.transform, static_cast<double>(f) / static_cast<double>(frames)));
+  const Eigen::Index h = e.count(Role::Handle);
+  return d.deform_targets(e.targets.middleRows(((f - 1) % given) * h, h));
+}
+
 }  // namespace db

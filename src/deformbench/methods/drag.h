@@ -1,11 +1,18 @@
 #pragma once
-//! A handle drag: the frames of an interactive edit interpolate the identity to the final handle transform.
+//! A handle drag: the frames of an interactive edit interpolate the identity to the final handle transform, or
+//! (an edit with per-vertex targets) take its target frames in turn.
 #include "core/types.h"
+#include "edit/edit.h"
+#include "methods/deformer.h"
 
 namespace db {
 
 //! Fraction f in [0,1] of T: a rigid T is interpolated by axis-angle and linear translation; any other
 //! linear part is blended linearly (a rotation cannot be extracted meaningfully).
 Mat4 interpolate_transform(const Mat4& T, double f);
+
+//! Frame f (1..frames) of the edit's drag: its per-vertex targets' frame (f - 1) mod their count when it has
+//! targets, else its handle transform interpolated to f / frames.
+Points deform_frame(Deformer& d, const Edit& e, long long f, long long frames);
 
 }  // namespace db
