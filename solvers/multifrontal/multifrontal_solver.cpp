@@ -22,7 +22,6 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -217,9 +216,9 @@ SpMat MultifrontalSolver::permuted(const SpMat& given) const {
 
 bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFactorization& fronts) {
   std::atomic<bool> ok{true};
-  std::mutex top_mutex;
+  Handover handover(S_, factor_plan_);
   const std::vector<int> counts = MatrixChunk::lower_counts(A);
-  run_subtrees(factor_plan_.subtrees.size(), [&](std::size_t t) {
+  run_subtrees(factor_plan_.subtrees.size(), worth_threads(S_.flops, Work::Dense), [&](std::size_t t) {
     Workspace ws(S_.n);
     MatrixChunk chunk;
     ColumnRelease release(A, may_release);
@@ -237,13 +236,7 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
         release_block(s);
         release.dead_before(S_.col0[std::size_t(s) + 1], s == root);
       }
-      // Hand the subtree's update matrix to its (top) parent now rather than when the top phase reaches it:
-      // otherwise every subtree root's update is resident at once when the top phase starts. Threads finish
-      // their subtrees at different times, so this rarely waits.
-      if (const int parent = S_.parent[std::size_t(root)]; parent >= 0) {
-        std::lock_guard<std::mutex> lock(top_mutex);
-        fronts.assemble_child(root, parent, ws);
-      }
+      handover.finished(root, [&](int c, int p) { fronts.assemble_child(c, p, ws); });
     }
   });
   if (!ok) return false;

@@ -1,6 +1,7 @@
 #include "solvers/multifrontal/schedule.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <numeric>
 
 #include <dlfcn.h>
@@ -84,8 +85,30 @@ namespace {
 
 double update_bytes(const Symbolic& S, int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); }
 
+//! Roots that may wait at their parent for an earlier sibling (Handover): one in another group, or later in its
+//! own group's order (groups take their roots ascending).
+std::vector<char> may_wait(const Symbolic& S, const Plan& plan) {
+  std::vector<int> group(std::size_t(S.nsuper()), -1);
+  for (std::size_t t = 0; t < plan.subtrees.size(); ++t)
+    for (int r : plan.subtrees[t]) group[std::size_t(r)] = int(t);
+  std::vector<char> wait(std::size_t(S.nsuper()), 0);
+  for (int p : plan.top) {
+    std::vector<int> earlier;  // root children before this one in p's child list
+    bool behind = false;       // one of them may wait itself
+    for (int q = S.cptr[std::size_t(p)]; q < S.cptr[std::size_t(p) + 1]; ++q) {
+      const int c = S.child[std::size_t(q)];
+      if (group[std::size_t(c)] < 0) continue;
+      for (int e : earlier) behind = behind || group[std::size_t(e)] != group[std::size_t(c)] || e > c;
+      wait[std::size_t(c)] = behind;
+      earlier.push_back(c);
+    }
+  }
+  return wait;
+}
+
 //! The subtree phase's part of update_peak: each thread's peak, summed.
 double subtree_peaks(const Symbolic& S, const Plan& plan) {
+  const std::vector<char> wait = may_wait(S, plan);
   double subtrees = 0;
   for (const auto& roots : plan.subtrees) {
     double live = 0, peak = 0;
@@ -96,7 +119,7 @@ double subtree_peaks(const Symbolic& S, const Plan& plan) {
         for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q)
           live -= update_bytes(S, S.child[std::size_t(q)]);
       }
-      live -= update_bytes(S, root);  // handed to its top parent
+      if (!wait[std::size_t(root)]) live -= update_bytes(S, root);  // handed to its top parent
     }
     subtrees += peak;
   }
@@ -138,9 +161,41 @@ const BlasThreads& blas_threads() {
   return b;
 }
 
-void run_subtrees(std::size_t threads, const std::function<void(std::size_t)>& fn) {
-  if (threads <= 1) {
-    if (threads == 1) fn(0);
+Handover::Handover(const Symbolic& S, const Plan& plan)
+    : S_(S), root_(std::size_t(S.nsuper()), 0), done_(std::size_t(S.nsuper()), 0), next_(std::size_t(S.nsuper()), 0) {
+  for (const auto& roots : plan.subtrees)
+    for (int r : roots) root_[std::size_t(r)] = 1;
+}
+
+void Handover::finished(int root, const std::function<void(int, int)>& assemble) {
+  const int p = S_.parent[std::size_t(root)];
+  if (p < 0) return;
+  const std::lock_guard<std::mutex> lock(mutex_);
+  done_[std::size_t(root)] = 1;
+  const int begin = S_.cptr[std::size_t(p)], end = S_.cptr[std::size_t(p) + 1];
+  for (int& k = next_[std::size_t(p)]; begin + k < end; ++k) {
+    const int c = S_.child[std::size_t(begin + k)];
+    if (!root_[std::size_t(c)]) continue;  // a top child: the top phase assembles it
+    if (!done_[std::size_t(c)]) break;
+    assemble(c, p);
+  }
+}
+
+bool worth_threads(double flops, Work kind) {
+  // Rough rates of one core: dense factorization work (BLAS-3) and triangular solves, which stream the factor
+  // from memory. The tests lower the bound (DEFORMBENCH_PARALLEL_MIN_SECONDS=0) to run small systems' plans on
+  // threads.
+  static const double min_seconds = [] {
+    const char* e = std::getenv("DEFORMBENCH_PARALLEL_MIN_SECONDS");
+    return e && *e ? std::strtod(e, nullptr) : 2e-3;
+  }();
+  const double flops_per_second = kind == Work::Dense ? 2e10 : 2.5e9;
+  return flops / flops_per_second >= min_seconds;
+}
+
+void run_subtrees(std::size_t groups, bool parallel, const std::function<void(std::size_t)>& fn) {
+  if (groups <= 1) {
+    if (groups == 1) fn(0);
     return;
   }
   const int saved = blas_threads().get();
@@ -149,7 +204,10 @@ void run_subtrees(std::size_t threads, const std::function<void(std::size_t)>& f
     int n;
     ~Restore() { blas_threads().set(n); }
   } restore{saved};
-  run_on_threads(int(threads), [&](int t) { fn(std::size_t(t)); });
+  if (parallel)
+    run_tasks(int(groups), [&](int t) { fn(std::size_t(t)); });
+  else
+    for (std::size_t t = 0; t < groups; ++t) fn(t);
 }
 
 }  // namespace db::multifrontal

@@ -2,8 +2,14 @@
 //! Scheduling of the multifrontal backend: independent subtrees of the assembly tree run on separate threads
 //! with a single-threaded BLAS, the few top supernodes after them with the BLAS's own threads; the solves are
 //! split the same way.
+//!
+//! Determinism: the plan depends only on the tree and the thread count, and every floating-point sum is taken in
+//! an order the plan fixes (the subtree roots' hand-over to their parents in child order, the solves' per-thread
+//! accumulators added in thread order). Running a plan's groups one after another on one thread gives the same
+//! bytes as running them on threads: that is how a job too small for threads runs (worth_threads).
 #include <cstddef>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 #include "solvers/multifrontal/symbolic.h"
@@ -27,8 +33,36 @@ Plan schedule(const Symbolic& S, int threads, const std::vector<double>& cost);
 //! Bytes of update matrices alive at once in a factorization by `plan`, an upper bound: each thread's subtrees in
 //! order (a supernode's matrix is born while its children's still live; theirs die after it), the threads'
 //! peaks summed as if they coincided, plus the matrices of the top supernodes that receive a subtree root's
-//! (born during the subtree phase); or the top phase's own peak, when larger.
+//! (born during the subtree phase); or the top phase's own peak, when larger. A root that may have to wait for an
+//! earlier sibling's hand-over (Handover) counts as alive until its thread's subtrees are done.
 double update_peak(const Symbolic& S, const Plan& plan);
+
+//! The subtree phase's hand-over of each subtree root's update matrix to its (top) parent, early rather than when
+//! the top phase reaches the parent (else every root's update would be resident at once), in a fixed order: a
+//! parent takes its root children in the order of its child list, whichever thread finishes first, so that the
+//! sums into its front do not depend on thread timing. A root finished before an earlier sibling keeps its
+//! update matrix until that sibling is handed over.
+class Handover {
+ public:
+  Handover(const Symbolic& S, const Plan& plan);
+  //! Subtree root `root` is factored: under one lock, assemble(child, parent) for each root that is now next in
+  //! line at its parent (this one, and later siblings that finished before it).
+  void finished(int root, const std::function<void(int child, int parent)>& assemble);
+
+ private:
+  const Symbolic& S_;
+  std::mutex mutex_;
+  std::vector<char> root_, done_;  //!< per supernode: a subtree root; a root finished
+  std::vector<int> next_;          //!< per supernode: position in its child list of the next child to take
+};
+
+//! Whether a job of `flops` floating-point operations is worth running on threads: below about two milliseconds
+//! of one core's work, a worker's start and, on a machine where another process holds a core, its wait for a
+//! scheduler slice cost more than the share it takes over. A job that is not runs its plan's groups serially.
+//! Dense work (the factorization's fronts) runs several times more flops a second than the solves, which stream
+//! the factor from memory.
+enum class Work { Dense, Solve };
+bool worth_threads(double flops, Work kind);
 
 //! OpenBLAS runs its own thread pool; while our threads each work on a subtree it must run single-threaded
 //! (two pools on the same cores oversubscribe them). Looked up at run time: other BLAS builds simply lack the
@@ -47,8 +81,9 @@ class BlasThreads {
 };
 const BlasThreads& blas_threads();
 
-//! fn(t) for every thread t < `threads`, on threads when there are several, the BLAS single-threaded meanwhile
-//! (its thread count restored afterwards, also on an exception).
-void run_subtrees(std::size_t threads, const std::function<void(std::size_t)>& fn);
+//! fn(t) for every group t < `groups` of a plan, the BLAS single-threaded meanwhile (its thread count restored
+//! afterwards, also on an exception): as tasks on up to `groups` threads (run_tasks) when `parallel`, else one after
+//! another on the calling thread (the same results, bit for bit).
+void run_subtrees(std::size_t groups, bool parallel, const std::function<void(std::size_t)>& fn);
 
 }  // namespace db::multifrontal

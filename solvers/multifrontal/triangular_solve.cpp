@@ -40,6 +40,9 @@ Panel<float> panel(const FloatFactorView&, const FactorBlockOf<const float>& L, 
   return {L.tri(p), L.rect(p)};
 }
 
+//! Flops of one triangular solve (either direction) with r right-hand sides: two per factor entry and column.
+double solve_flops(const Symbolic& S, Index r) { return 2.0 * double(S.nnz) * double(r); }
+
 }  // namespace
 
 template <class View>
@@ -116,7 +119,7 @@ void forward_all(const View& F, const Plan& plan, RowMajorMat& y, std::vector<Ro
     a.resize(n, r);
     for (int j : plan.top_columns) a.row(j).setZero();
   }
-  run_subtrees(T, [&](std::size_t t) {
+  run_subtrees(T, worth_threads(solve_flops(F.S, r), Work::Solve), [&](std::size_t t) {
     SolveScratch tmp;
     const ForeignRows foreign{int(t), plan.owner, acc[t]};
     for (int root : plan.subtrees[t])
@@ -132,7 +135,7 @@ template <class View>
 void backward_all(const View& F, const Plan& plan, RowMajorMat& y) {
   SolveScratch tmp;
   for (auto it = plan.top.rbegin(); it != plan.top.rend(); ++it) backward_supernode(F, *it, y, tmp);
-  run_subtrees(plan.subtrees.size(), [&](std::size_t t) {
+  run_subtrees(plan.subtrees.size(), worth_threads(solve_flops(F.S, y.cols()), Work::Solve), [&](std::size_t t) {
     SolveScratch tmp_t;
     for (auto it = plan.subtrees[t].rbegin(); it != plan.subtrees[t].rend(); ++it)
       for (int s = *it; s >= F.S.first[std::size_t(*it)]; --s) backward_supernode(F, s, y, tmp_t);

@@ -4,10 +4,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -61,6 +64,53 @@ void run_on_threads(int threads, const std::function<void(int)>& fn) {
   if (threads >= 1) guarded(0);
   for (auto& th : pool) th.join();
   if (error) std::rethrow_exception(error);
+}
+
+namespace {
+
+//! One run_tasks call's state, shared with its helpers: a helper that starts after the last task was claimed
+//! finds nothing to do and only touches this (kept alive by its shared_ptr), never the caller's frame.
+struct TaskJob {
+  const std::function<void(int)>* fn = nullptr;
+  int tasks = 0;
+  std::atomic<int> next{0};
+  std::atomic<bool> failed{false};
+  int finished = 0;  // guarded by mutex
+  std::exception_ptr error;
+  std::mutex mutex;
+  std::condition_variable all_done;
+
+  //! Claims and runs tasks until none is left.
+  void work() {
+    for (int t; (t = next.fetch_add(1)) < tasks;) {
+      std::exception_ptr e;
+      if (!failed.load())
+        try {
+          (*fn)(t);
+        } catch (...) {
+          e = std::current_exception();
+          failed = true;
+        }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (e && !error) error = e;
+      if (++finished == tasks) all_done.notify_all();
+    }
+  }
+};
+
+}  // namespace
+
+void run_tasks(int tasks, const std::function<void(int)>& fn) {
+  if (tasks <= 0) return;
+  if (tasks == 1) return fn(0);
+  auto job = std::make_shared<TaskJob>();
+  job->fn = &fn;
+  job->tasks = tasks;
+  for (int h = 1; h < tasks; ++h) std::thread([job] { job->work(); }).detach();
+  job->work();
+  std::unique_lock<std::mutex> lock(job->mutex);
+  job->all_done.wait(lock, [&] { return job->finished == tasks; });
+  if (job->error) std::rethrow_exception(job->error);
 }
 
 void advise_huge_pages(void* p, std::size_t bytes) {

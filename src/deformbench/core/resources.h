@@ -16,10 +16,20 @@ std::size_t physical_memory_bytes();
 //! else the hardware threads.
 int worker_threads();
 
-//! Runs fn(0) .. fn(threads - 1) on plain threads (fn(0) on the caller's) and joins them; the first exception
-//! any of them throws is rethrown after all have finished. Plain threads rather than an OpenMP pool, which
-//! would keep spinning after the region and slow the BLAS threads that follow.
+//! Runs fn(0) .. fn(threads - 1) each on a thread of its own (fn(0) on the caller's) and joins them; the first
+//! exception any of them throws is rethrown after all have finished. For measuring what threads do at the same
+//! time (machine rates); computations use run_tasks.
 void run_on_threads(int threads, const std::function<void(int)>& fn);
+
+//! Runs the independent tasks fn(0) .. fn(tasks - 1) on the caller's thread and up to tasks - 1 helper threads,
+//! each thread claiming the next unclaimed task; returns when every task has finished. The caller waits only for
+//! tasks a helper has claimed, never for a helper that has not started yet: where another process holds a core,
+//! a new thread may wait a whole scheduler slice (milliseconds) for it, and the caller does that share itself
+//! meanwhile. Helpers are plain detached threads rather than an OpenMP pool, which would keep spinning after the
+//! region and slow the BLAS threads that follow. Tasks must not wait for each other; each must compute the same
+//! whichever thread runs it (then the results do not depend on thread timing). The first exception a task
+//! throws is rethrown; tasks not yet claimed then do not run.
+void run_tasks(int tasks, const std::function<void(int)>& fn);
 
 //! Asks the kernel to back the whole 2 MB pages inside [p, p + bytes) with transparent huge pages before they
 //! are first touched (no-op where unsupported). Why: first-touch faults on 4 KB pages of a 100 MB matrix cost

@@ -108,7 +108,7 @@ bool HandleResponse::evaluate(const DenseMat& theta, double* out) const {
   const int threads = std::clamp(static_cast<int>(bytes() >> 21), 1, std::max(1, worker_threads()));
   if (threads == 1) return block(0, rows_);
   std::vector<char> ok(static_cast<std::size_t>(threads), 1);
-  run_on_threads(threads, [&](int t) {
+  run_tasks(threads, [&](int t) {
     const long long per = (static_cast<long long>(rows_) + threads - 1) / threads;
     const int begin = static_cast<int>(std::min<long long>(rows_, per * t));
     const int end = static_cast<int>(std::min<long long>(rows_, per * (t + 1)));

@@ -87,7 +87,7 @@ InteractionPattern interaction_pattern(const Adjacency& adj, const Unknowns& unk
       cnt.push_back(static_cast<int>(out.size() - start));
     }
   };
-  run_on_threads(T, work);
+  run_tasks(T, work);
   InteractionPattern p;
   p.colptr.assign(nu + 1, 0);
   std::size_t total = 0;
@@ -126,7 +126,7 @@ SpMat expand_upper(const InteractionPattern& p, int b) {
   // Row indices and zero values written by column ranges on the worker threads: K is the build's largest array,
   // and writing it is mostly first-touch page faults, which parallelize.
   const int T = std::max(1, std::min(worker_threads(), nu / 4096 + 1));
-  run_on_threads(T, [&](int t) {
+  run_tasks(T, [&](int t) {
     const int k0 = static_cast<int>(static_cast<long long>(nu) * t / T);
     const int k1 = static_cast<int>(static_cast<long long>(nu) * (t + 1) / T);
     for (int k = k0; k < k1; ++k)

@@ -140,7 +140,7 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
   // jumps across the whole matrix.
   std::vector<int> row_order(unk.unknown_vertices);
   row_order.insert(row_order.end(), unk.hard_vertices.begin(), unk.hard_vertices.end());
-  run_on_threads(T, [&](int t) {
+  run_tasks(T, [&](int t) {
     ColumnRangeFill<B>(op, unk, pat, sys, split[t], split[t + 1]).run(row_order, ctrip[t]);
   });
 
