@@ -8,6 +8,18 @@ namespace db::harness {
 //! Median (mean of the two middle values for an even count). NaN for an empty input.
 double median(std::vector<double> v);
 
+//! A timing's repeats summarized: the median with the least and the largest value and how many there were (NaN
+//! and 0 for none; NaN samples are not counted).
+struct Spread {
+  double min, median, max;
+  int count = 0;
+};
+Spread spread(std::vector<double> v);
+//! Repeats further apart than this (max > ratio x min) are flagged wherever a timing is shown (reports, the CLI): a
+//! thread waited on a descheduled worker or the machine was busy, and the median may be unreliable.
+constexpr double kSpreadFlagRatio = 2.0;
+inline bool spread_flagged(const Spread& s) { return s.count > 1 && s.max > kSpreadFlagRatio * s.min; }
+
 //! y = c * x^exponent fitted by least squares on (log x, log y). Points with x <= 0 or y <= 0 are skipped.
 struct PowerFit {
   double exponent = 0, coefficient = 0;
