@@ -367,10 +367,10 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
              deformer.frame_mode()), frames, m.frame.median, m.rhs.median, m.solve.median, m.write.median);
   if (deformer.frame_mode() == FrameMode::Handle) fmt::print(", responses {:.5f}", m.response.median);
   if (o.method == "lri") fmt::print(", of rhs orthonormalize {:.5f}", m.orthonormalize.median);
-  fmt::print(")\nframes ranged {:.5f} - {:.5f} s{}\n", m.frame.min, m.frame.max,
-             harness::spread_flagged(m.frame) ? fmt::format(" (more than {:g}x apart: a thread waited on a descheduled "
-                                                            "worker or the machine was busy; the median may be "
-                                                            "unreliable)", harness::kSpreadFlagRatio) : "");
+  const std::string flag = fmt::format(" (more than {:g}x apart: a thread waited on a descheduled worker or the "
+                                       "machine was busy; the median may be unreliable)", harness::kSpreadFlagRatio);
+  fmt::print(")\n{} ranged {:.5f} - {:.5f} s{}\n", m.frame.count < frames ? "frames after the first" : "frames",
+             m.frame.min, m.frame.max, harness::spread_flagged(m.frame) ? flag : "");
   double flops = 0;
   for (const auto& s : deformer.systems()) flops += s.factor.flops;
   fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",

@@ -180,9 +180,10 @@ void add_row(CsvTable& csv, const CellSpec& s, const CellResult& r, const CellRe
                        {"backend", r.text("backend")},
                        {"status", r.status},
                        {"message", r.message}};
-  for (const Measure& m : (r.ok() || !shape ? r : *shape).measures)
+  const CellResult& columns = r.ok() || !shape ? r : *shape;
+  for (const Measure& m : columns.measures)
     if (m.name != "peak_rss_bytes" && m.name != "cell_wall_s" && m.name != "load_avg_1m" && m.name != "runs" &&
-        m.name != "ru_maxrss_bytes" && m.name != "parent_rss_bytes" && !is_spread_of_measure(r, m.name)) {
+        m.name != "ru_maxrss_bytes" && m.name != "parent_rss_bytes" && !is_spread_of_measure(columns, m.name)) {
       const double v = r.get(m.name);
       row.emplace_back(m.name, std::isnan(v) ? "" : num(v));
       if (m.unit == "s") add_spread_columns(row, r, m.name);

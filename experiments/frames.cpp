@@ -402,7 +402,7 @@ void define_options(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))
       ->capture_default_str();
-  app.add_option("--frame-repeats", o.frame_repeats, "times each frame is solved again, for its median and spread")
+  app.add_option("--frame-repeats", o.frame_repeats, "times each frame is solved, for its median and spread")
       ->check(cli::Integer(1, 100000))->capture_default_str();
 }
 

@@ -106,8 +106,9 @@ def fmt(x, spec="{:.3g}", missing="-"):
 SPREAD_FLAG = 2.0
 FLAG = "**(!)**"
 SPREAD_NOTE = (f"{FLAG}: this timing's repeats are more than {SPREAD_FLAG:g}x apart (largest / least): a thread waited "
-               "on a descheduled worker or the machine was busy, so its median may be unreliable; the spread is "
-               "written as (least - largest, n = repeats).")
+               "on a descheduled worker or the machine was busy, so its median may be unreliable. A spread is "
+               "written (least - largest, n = repeats); from three repeats on it leaves out the first, which warms up "
+               "(a drag's first frame also stores the rest pose's forward substitution).")
 
 
 def spread_name(measure, stat):

@@ -201,7 +201,7 @@ def memory_detail(run):
 
 def phase_times(run):
     out = ["## Phase times (s) and prediction\n\nEach timing is the median with its spread over the repeats, (least - "
-           "largest, n = repeats): the runs of the cell for build, analyze, factorize and init; every frame of every run "
+           "largest, n = repeats): the runs of the cell for build, analyze, factorize and init; the frames of every run "
            "for the frames (rhs / solve / write: their medians). factorize GFlop/s: the factorization's flops over its "
            "time; BLAS dgemm: the rate of the BLAS's dgemm (1024^3, its own threads) measured by the driver just before "
            "and after the cell, their mean: the ceiling of the factorization's dense kernels at that moment; memory "

@@ -185,10 +185,17 @@ CellResult decode_result(const std::string& out) {
   return r;
 }
 
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
 std::string spread_name(const std::string& timed, const std::string& stat) {
-  const std::size_t n = timed.size();
-  if (n < 3 || timed.compare(n - 2, 2, "_s") != 0) throw Error("spread_name: '" + timed + "' is not a timed measure");
-  const std::string base = timed.substr(0, n - 2);
+  if (!ends_with(timed, "_s")) throw Error("spread_name: '" + timed + "' is not a timed measure");
+  const std::string base = timed.substr(0, timed.size() - 2);
   if (stat == "min" || stat == "max") return base + "_" + stat + "_s";
   if (stat == "reps") return base + "_reps";
   throw Error("spread_name: unknown statistic '" + stat + "'");
@@ -203,9 +210,7 @@ void set_spread(CellResult& r, const std::string& name, const Spread& s) {
   r.set(spread_name(name, "reps"), s.count, "count");
 }
 
-bool timed(const Measure& m) {
-  return m.unit == "s" && m.name.size() > 2 && m.name.compare(m.name.size() - 2, 2, "_s") == 0;
-}
+bool timed(const Measure& m) { return m.unit == "s" && ends_with(m.name, "_s"); }
 
 // The spread of timed measure `name` over the runs: each run's own spread where it has one, else its value.
 Spread spread_over(const std::vector<CellResult>& runs, const std::string& name) {
@@ -232,11 +237,8 @@ void set_spread(CellResult& r, const std::string& name, const std::vector<double
 }
 
 bool is_spread_of_measure(const CellResult& r, const std::string& name) {
-  for (const char* suffix : {"_min_s", "_max_s", "_reps"}) {
-    const std::size_t k = std::char_traits<char>::length(suffix);
-    if (name.size() > k && name.compare(name.size() - k, k, suffix) == 0 && r.has(name.substr(0, name.size() - k) + "_s"))
-      return true;
-  }
+  for (const std::string suffix : {"_min_s", "_max_s", "_reps"})
+    if (ends_with(name, suffix) && r.has(name.substr(0, name.size() - suffix.size()) + "_s")) return true;
   return false;
 }
 

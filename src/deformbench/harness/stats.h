@@ -9,11 +9,16 @@ namespace db::harness {
 double median(std::vector<double> v);
 
 //! A timing's repeats summarized: the median with the least and the largest value and how many there were (NaN
-//! and 0 for none; NaN samples are not counted).
+//! and 0 for none).
 struct Spread {
   double min, median, max;
   int count = 0;
 };
+//! The spread of repeats in the order they ran (NaN samples are none): the median of them all; the least, the
+//! largest and the count leave the first out from three repeats on. The first warms up, slower by design (a drag's
+//! first frame also stores the rest pose's forward substitution and touches fresh memory; a first factorization or
+//! solve allocates): counted in, it would set every cell's largest repeat and flag it. (From three on the median of
+//! all lies within the range of the others.)
 Spread spread(std::vector<double> v);
 //! Repeats further apart than this (max > ratio x min) are flagged wherever a timing is shown (reports, the CLI): a
 //! thread waited on a descheduled worker or the machine was busy, and the median may be unreliable.
