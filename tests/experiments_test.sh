@@ -97,6 +97,14 @@ rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["status"] == "ok"]
 assert rows and all(r["frame_reps"] == "4" for r in rows), [r["frame_reps"] for r in rows]
 assert all(float(r["frame_min_s"]) <= float(r["frame_s"]) <= float(r["frame_max_s"]) for r in rows)
 PYEOF
+expect "deform --csv with the frame spread" 0 "frames after the first ranged" -- "$BIN/deformbench" deform data/bs08/bar \
+  --method lap --frames 4 --out "$T/cli.ply" --csv "$T/cli.csv"
+"$PY" - "$T/cli.csv" <<'PYEOF' && ok "the CLI row: frame_min_s <= frame_median_s <= frame_max_s over 3 frames" || fail "CLI spread columns"
+import csv, sys
+r = next(csv.DictReader(open(sys.argv[1])))
+assert r["frame_reps"] == "3" and r["response_reps"] == "3", r
+assert float(r["frame_min_s"]) <= float(r["frame_median_s"]) <= float(r["frame_max_s"]), r
+PYEOF
 grep -q "^| cactus | lap | structured | .*(.* - .*, n=1).* n=2)" "$R/table_2_1.md" &&
   grep -q "^| bar | lap | .* (.* - .*, n=4)" "$R/frames.md" && ok "table_2_1.md and frames.md show the spread" ||
   fail "the reports do not show the spread"
