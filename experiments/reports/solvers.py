@@ -107,10 +107,12 @@ def header(run, p):
            "right-hand-side columns) or 3#V x 3#V (tf, 1 column). `spqr` solves the least-squares problem on the naive "
            "build's A itself (QR, A^T A never formed).",
            f"- Every cell (tier, system, backend, ordering) ran in its own child process: peak RSS is that process' "
-           f"VmHWM (mesh + system + solver). Factorize: up to {fmt(reps('factorize_reps'), '{:.0f}')} repetitions "
-           f"measured; solve: up to {fmt(reps('solve_reps'), '{:.0f}')} solves of the deformation's right-hand side "
-           "(each phase stops repeating after --rep-seconds). Tables below show the minimum over the repetitions "
-           "(interference from other jobs only adds time; the CSV has the medians too: `factorize_s`, `solve_s`). "
+           "VmHWM (mesh + system + solver). Factorize and solve (of the deformation's right-hand side) repeat up to "
+           "--factor-reps / --solve-reps times, each phase no longer than --rep-seconds; from three repetitions on the "
+           "first warms up and the spread leaves it out: up to "
+           f"{fmt(reps('factorize_reps'), '{:.0f}')} factorizations and {fmt(reps('solve_reps'), '{:.0f}')} solves "
+           "counted. Tables below show the minimum of those (interference from other jobs only adds time; the CSV has "
+           "the medians too, `factorize_s`, `solve_s`, and the largest, `factorize_max_s`, `solve_max_s`). "
            "One thread (BLAS, OpenMP, assembly) unless `--threads`.",
            "- Errors: `residual` = ||Kx-b||/||b|| (deformation RHS); `error_exact` = ||x-x_ref||/||x_ref|| for "
            "b = K x_ref (spqr: b = A x_ref) with a seeded random x_ref; `error_vs_cholmod` = deformed positions against "
