@@ -230,7 +230,8 @@ int run(Options& o) {
   }
   // The rows of the cells that ran set the columns; a failed cell's row has them empty.
   const auto ran = std::find_if(results.begin(), results.end(), [](const CellResult& r) { return r.ok(); });
-  for (std::size_t i = 0; i < grid.size(); ++i) add_row(csv, grid[i], results[i], ran == results.end() ? nullptr : &*ran);
+  const CellResult* shape = ran == results.end() ? nullptr : &*ran;
+  for (std::size_t i = 0; i < grid.size(); ++i) add_row(csv, grid[i], results[i], shape);
   csv.write(o.out);
   std::cerr << "[applications] wrote " << o.out << "\n";
   return failed.exit_code();

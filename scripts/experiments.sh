@@ -31,7 +31,8 @@ step deform_cases "$BUILD/exp_deform_cases" --config "$CONF/deform_cases.toml" -
 # budget (default 120 s a cell, --full 900 s) checked on predictions; about 5 minutes on 2 cores (--full adds
 # armadillo Loop levels 2-3, up to 1.66M vertices).
 log "table 2-1 (dense / naive / structured builds of LAP and TF; scaling of the structured build)"
-step table_2_1 "$BUILD/exp_table_2_1" --config "$CONF/table_2_1.toml" --data "$ROOT/data" --results "$ROOT/results" ${FULL:+--full}
+step table_2_1 "$BUILD/exp_table_2_1" --config "$CONF/table_2_1.toml" --data "$ROOT/data" --results "$ROOT/results" \
+  ${FULL:+--full}
 
 # Solver choice: backends x orderings on the LAP and TF systems, and the BLAS kernel set. OPENBLAS_CORETYPE is read
 # when OpenBLAS loads, so each kernel set is its own driver run: first the other kernel sets (BLAS-calling backends

@@ -266,8 +266,8 @@ def tf_scale_verdict(vals, large):
          + " (the chained twists lose volume as LRI polar does; plain TF's smaller volume change there comes with a larger "
          "edge-length distortion, see the table).",
          f"- **Cost:** a second, scalar factor and a second solve per frame: median over the cases of normalized TF's "
-         f"init time over plain TF's {f3(ratio('init_s'))}, of its frame time {f3(ratio('frame_s'))} (one child per cell on "
-         "a shared machine).",
+         f"init time over plain TF's {f3(ratio('init_s'))}, of its frame time {f3(ratio('frame_s'))} (one child per "
+         "cell on a shared machine).",
          f"- **Against LAP and LRI:** closer to the ideal than LAP in {il[0]} of {il[1]} cases and than LRI polar in "
          f"{ir[0]} of {ir[1]}; lower edge-length distortion than LRI polar in {el[0]} of {el[1]} cases.",
          f"- **Large rotations** ({len(large)} cases of 180 degrees or more, or chained twists): closer to the ideal "

@@ -74,7 +74,8 @@ int FailedCells::exit_code() const {
   if (failed_.empty()) return 0;
   std::cerr << fmt::format("[{}] {} cell(s) failed (their rows say status error; exit {}):\n", driver_, failed_.size(),
                            kCellsFailedExit);
-  for (const auto& [spec, why] : failed_) std::cerr << fmt::format("[{}] FAILED {}\n[{}]   {}\n", driver_, spec, driver_, why);
+  for (const auto& [spec, why] : failed_)
+    std::cerr << fmt::format("[{0}] FAILED {1}\n[{0}]   {2}\n", driver_, spec, why);
   return kCellsFailedExit;
 }
 
