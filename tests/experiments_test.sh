@@ -165,6 +165,12 @@ expect "applications with a failing cell" 5 "FAILED kind=application name=broken
 [ "$(grep -c ',ok,' "$T/apps_failed.csv")" = 1 ] && grep -q ',error,' "$T/apps_failed.csv" &&
   ok "applications wrote the good and the failed row" || fail "applications rows: $(cut -c 1-80 "$T/apps_failed.csv")"
 
+expect "frames with failing cells (killed at their timeout)" 5 "2 cell\(s\) failed" -- "$BIN/exp_frames" \
+  --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" --methods lap,tf --frame-repeats 100000 \
+  --cell-timeout-s 1 --no-meshes --out "$T/failed_results/frames.csv"
+[ "$(grep -c ',error (timed out' "$T/failed_results/frames.csv")" = 2 ] && ok "frames.csv has the failed cells' rows" ||
+  fail "frames.csv rows: $(cut -c 1-80 "$T/failed_results/frames.csv")"
+
 # scripts/experiments.sh runs every driver even after one failed, then exits with the first failure's code and
 # names the failed drivers (stub drivers in a copy of the tree: nothing measured, nothing of this tree touched).
 mkdir -p "$T/tree/scripts" "$T/stubs"
