@@ -24,6 +24,7 @@
 #include "core/resources.h"
 #include "edit/edit_io.h"
 #include "edit/transform.h"
+#include "harness/cell.h"
 #include "harness/stats.h"
 #include "mesh/mesh_io.h"
 #include "methods/deformer.h"
@@ -278,8 +279,9 @@ DeformOptions deform_options(const DeformArgs& a) {
   return o;
 }
 
+// Every phase's median over the frames, with its spread (harness/stats.h).
 struct FrameMedians {
-  double frame = 0, rhs = 0, solve = 0, write = 0, response = 0, orthonormalize = 0;
+  harness::Spread frame, rhs, solve, write, response, orthonormalize;
 };
 
 // What a run measured besides the deformer's report: every rank's peak RSS (one entry without a launcher; rank 0
@@ -305,8 +307,8 @@ FrameMedians run_frames(Deformer& deformer, long long frames, const std::functio
     response.push_back(t.response);
     ortho.push_back(t.orthonormalize);
   }
-  using harness::median;
-  return {median(all), median(rhs), median(solve), median(write), median(response), median(ortho)};
+  using harness::spread;
+  return {spread(all), spread(rhs), spread(solve), spread(write), spread(response), spread(ortho)};
 }
 
 // The drag: the handle transform interpolated from the rest pose over the frames, or the edit's per-vertex targets
@@ -362,10 +364,13 @@ void print_report(const EditCase& ec, const DeformOptions& o, const Deformer& de
     fmt::print("precompute {:.4f} s (handle responses, {:.2f} MB streamed per frame) | init + precompute {:.4f} s\n",
                t.precompute, deformer.response_bytes() / 1e6, t.init() + t.precompute);
   fmt::print("per frame ({} mode, median of {}): {:.5f} s (medians: rhs {:.5f}, solve {:.5f}, write {:.5f}", to_string(
-             deformer.frame_mode()), frames, m.frame, m.rhs, m.solve, m.write);
-  if (deformer.frame_mode() == FrameMode::Handle) fmt::print(", responses {:.5f}", m.response);
-  if (o.method == "lri") fmt::print(", of rhs orthonormalize {:.5f}", m.orthonormalize);
-  fmt::print(")\n");
+             deformer.frame_mode()), frames, m.frame.median, m.rhs.median, m.solve.median, m.write.median);
+  if (deformer.frame_mode() == FrameMode::Handle) fmt::print(", responses {:.5f}", m.response.median);
+  if (o.method == "lri") fmt::print(", of rhs orthonormalize {:.5f}", m.orthonormalize.median);
+  const std::string flag = fmt::format(" (more than {:g}x apart: a thread waited on a descheduled worker or the "
+                                       "machine was busy; the median may be unreliable)", harness::kSpreadFlagRatio);
+  fmt::print(")\n{} ranged {:.5f} - {:.5f} s{}\n", m.frame.count < frames ? "frames after the first" : "frames",
+             m.frame.min, m.frame.max, harness::spread_flagged(m.frame) ? flag : "");
   double flops = 0;
   for (const auto& s : deformer.systems()) flops += s.factor.flops;
   fmt::print("matrix {:.2f} MB | factor {:.2f} MB ({:.1f} GFlop/s in factorize) | peak RSS {:.1f} MB\n",
@@ -408,8 +413,14 @@ CsvTable csv_table(const EditCase& ec, const DeformOptions& o, const Deformer& d
            {"frame_mode", to_string(deformer.frame_mode())},
            {"precompute_s", num(t.precompute)},
            {"frames", std::to_string(frames)},
-           {"frame_median_s", num(m.frame)},
-           {"response_median_s", num(m.response)},
+           {"frame_median_s", num(m.frame.median)},
+           {harness::spread_name("frame_s", "min"), num(m.frame.min)},
+           {harness::spread_name("frame_s", "max"), num(m.frame.max)},
+           {harness::spread_name("frame_s", "reps"), std::to_string(m.frame.count)},
+           {"response_median_s", num(m.response.median)},
+           {harness::spread_name("response_s", "min"), num(m.response.min)},
+           {harness::spread_name("response_s", "max"), num(m.response.max)},
+           {harness::spread_name("response_s", "reps"), std::to_string(m.response.count)},
            {"response_bytes", std::to_string(deformer.response_bytes())},
            {"matrix_bytes", std::to_string(deformer.matrix_bytes())},
            {"factor_bytes", std::to_string(deformer.factor_bytes())},

@@ -9,7 +9,8 @@
 //
 // Cases, "NAME: APP key=value ..." with APP coat or transplant; keys source=, target= (a mesh path relative to
 // --data, or plane:NX:NY:SIZE:HEIGHT:BUMPS), source_region=, target_region= (the selection forms of .edit files,
-// default all), smooth_weight=, amplitude= (coat), zone= (transplant). A case whose mesh is absent is skipped.
+// default all), smooth_weight=, amplitude= (coat), zone= (transplant). A case whose mesh is absent is skipped; a
+// case that fails is a row with its status, and the driver then exits with kCellsFailedExit (harness/driver.h).
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -133,6 +134,11 @@ std::vector<int> graft_vertices(const Transplant& t) {
   return ids;
 }
 
+// The application's measures; a name ending in "_s" is a time (unit "s", so that it gets its spread).
+void set_measures(CellResult& r, const NamedValues& values) {
+  for (const auto& [k, v] : values) r.set(k, v, k.size() > 2 && k.compare(k.size() - 2, 2, "_s") == 0 ? "s" : "");
+}
+
 CellResult measure_application(const CellSpec& s) {
   s.check_keys({"name", "app", "meshes", "source", "target", "source_region", "target_region", "smooth_weight",
                 "amplitude", "zone"});
@@ -147,14 +153,14 @@ CellResult measure_application(const CellSpec& s) {
     o.amplitude = s.real("amplitude", o.amplitude, -1e3, 1e3);
     const Coating c = extract_coating(source, sr, o);
     const CoatedTarget res = transfer_coating(c, target, tr, o);
-    for (const auto& [k, v] : coat_measures(c, res, target, t.seconds())) r.set(k, v);
+    set_measures(r, coat_measures(c, res, target, t.seconds()));
     r.set_text("backend", res.solve.system.backend);
     if (s.has("meshes")) write_meshes(s, source, target, res.result, c.patch, res.patch, res.patch.parent);
   } else {
     TransplantOptions o;
     o.zone = s.real("zone", o.zone, 0.01, 1);
     const Transplant res = transplant_patch(source, sr, target, tr, o);
-    for (const auto& [k, v] : transplant_measures(res, target, t.seconds())) r.set(k, v);
+    set_measures(r, transplant_measures(res, target, t.seconds()));
     r.set_text("backend", res.solve.system.backend);
     if (s.has("meshes")) write_meshes(s, source, target, res.result, res.source_patch, res.patch, graft_vertices(res));
   }
@@ -163,18 +169,25 @@ CellResult measure_application(const CellSpec& s) {
   return r;
 }
 
-void add_row(CsvTable& csv, const CellSpec& s, const CellResult& r) {
+// One row a case; `shape` (a cell that ran) gives a failed cell's columns, left empty.
+void add_row(CsvTable& csv, const CellSpec& s, const CellResult& r, const CellResult* shape) {
   CsvTable::Row row = {{"case", s.get("name")},
                        {"app", s.get("app")},
                        {"source", fs::path(s.get("source")).filename().string()},
                        {"target", fs::path(s.get("target")).filename().string()},
                        {"source_region", s.get("source_region", "all")},
                        {"target_region", s.get("target_region", "all")},
-                       {"backend", r.text("backend")}};
-  for (const Measure& m : r.measures)
+                       {"backend", r.text("backend")},
+                       {"status", r.status},
+                       {"message", r.message}};
+  const CellResult& columns = r.ok() || !shape ? r : *shape;
+  for (const Measure& m : columns.measures)
     if (m.name != "peak_rss_bytes" && m.name != "cell_wall_s" && m.name != "load_avg_1m" && m.name != "runs" &&
-        m.name != "ru_maxrss_bytes" && m.name != "parent_rss_bytes")
-      row.emplace_back(m.name, num(m.value));
+        m.name != "ru_maxrss_bytes" && m.name != "parent_rss_bytes" && !is_spread_of_measure(columns, m.name)) {
+      const double v = r.get(m.name);
+      row.emplace_back(m.name, std::isnan(v) ? "" : num(v));
+      if (m.unit == "s") add_spread_columns(row, r, m.name);
+    }
   row.emplace_back("process_peak_rss_bytes", num(r.get("peak_rss_bytes")));
   csv.add(row);
 }
@@ -200,18 +213,28 @@ int run(Options& o) {
   CsvTable csv;
   RunOptions ro;
   ro.timeout_s = o.cell_timeout_s;
+  FailedCells failed("applications");
+  std::vector<CellResult> results;
   for (const CellSpec& s : grid) {
-    const CellResult r = run_cell(self_executable(), s, ro);
-    if (!r.ok()) throw Error(fmt::format("{}: {} ({})", s.get("name"), r.message, r.exit));
+    results.push_back(run_cell(self_executable(), s, ro));
+    const CellResult& r = results.back();
+    failed.note(s.text(), r);
+    if (!r.ok()) {
+      std::cerr << fmt::format("[applications] {}: {}: {} ({})\n", s.get("name"), r.status, r.message, r.exit);
+      continue;
+    }
     std::cerr << fmt::format("[applications] {:24s} patch {:6.0f} v  total {:.3f} s  detail error {:.3g}  seam max "
                              "{:.1f} -> {:.1f} deg\n",
                              s.get("name"), r.get("patch_vertices"), r.get("total_s"), r.get("detail_error"),
                              r.get("seam_max_deg_before"), r.get("seam_max_deg_after"));
-    add_row(csv, s, r);
   }
+  // The rows of the cells that ran set the columns; a failed cell's row has them empty.
+  const auto ran = std::find_if(results.begin(), results.end(), [](const CellResult& r) { return r.ok(); });
+  const CellResult* shape = ran == results.end() ? nullptr : &*ran;
+  for (std::size_t i = 0; i < grid.size(); ++i) add_row(csv, grid[i], results[i], shape);
   csv.write(o.out);
   std::cerr << "[applications] wrote " << o.out << "\n";
-  return 0;
+  return failed.exit_code();
 }
 
 }  // namespace

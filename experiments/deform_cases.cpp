@@ -1,7 +1,9 @@
 // Deforms the edit cases of a config (data/experiments/deform_cases.toml: the BS08 survey cases, the bundled CGAL
 // cactus edit) with each method and writes one tidy row per (case, method): sizes, phase times, median frame time
 // over a handle drag, bytes, and the peak RSS of the cell, which runs in a fresh child process (harness/
-// deform_cell.h with the library's default options). Options: --help.
+// deform_cell.h with the library's default options). Every timing has its spread (harness/cell.h spread_name); a
+// failed cell is a row with its status, and the driver then exits with kCellsFailedExit (harness/driver.h). Options:
+// --help.
 #include <filesystem>
 #include <iostream>
 
@@ -53,7 +55,7 @@ bool edit_exists(const std::string& path) {
 
 void add_row(CsvTable& csv, const DeformCell& c, const CellResult& r) {
   auto count = [&](const char* m) { return num(r.get(m)); };
-  csv.add({{"case", c.model},
+  CsvTable::Row row = {{"case", c.model},
            {"mesh", r.text("mesh_name")},
            {"vertices", count("vertices")},
            {"faces", count("faces")},
@@ -67,22 +69,29 @@ void add_row(CsvTable& csv, const DeformCell& c, const CellResult& r) {
            {"n", count("n")},
            {"nnz", count("nnz")},
            {"nnz_factor", count("nnz_factor")},
-           {"build_s", num(r.get("build_s"))},
-           {"analyze_s", num(r.get("analyze_s"))},
-           {"factorize_s", num(r.get("factorize_s"))},
-           {"init_s", num(r.get("init_s"))},
-           {"frames", count("frames")},
-           {"frame_median_s", num(r.get("frame_s"))},
-           {"matrix_bytes", count("matrix_bytes")},
-           {"factor_bytes", count("factor_bytes")},
-           {"process_peak_rss_bytes", count("peak_rss_bytes")}});
+           {"frames", count("frames")}};
+  // Each timing with its spread: the phases of init over the one run, the frame over the frames of the drag.
+  for (const char* m : {"build_s", "analyze_s", "factorize_s", "init_s", "frame_s"}) {
+    row.emplace_back(std::string(m) == "frame_s" ? "frame_median_s" : m, num(r.get(m)));
+    add_spread_columns(row, r, m);
+  }
+  row.insert(row.end(), {{"matrix_bytes", count("matrix_bytes")},
+                         {"factor_bytes", count("factor_bytes")},
+                         {"process_peak_rss_bytes", count("peak_rss_bytes")},
+                         {"status", r.status},
+                         {"message", r.message}});
+  csv.add(std::move(row));
 }
 
-CellResult run_one(const Options& o, const DeformCell& c) {
+CellResult run_one(const Options& o, const DeformCell& c, FailedCells& failed) {
   RunOptions ro;
   ro.timeout_s = o.cell_timeout_s;
   CellResult r = run_cell(self_executable(), c.to_spec(), ro);
-  if (!r.ok()) throw Error(fmt::format("{} {}: {} ({})", c.model, c.method, r.message, r.exit));
+  failed.note(c.to_spec().text(), r);
+  if (!r.ok()) {
+    std::cerr << fmt::format("[deform_cases] {} {}: {}: {} ({})\n", c.model, c.method, r.status, r.message, r.exit);
+    return r;
+  }
   std::cerr << fmt::format("[deform_cases] {:14s} {:3s} n={:6.0f} init {:.3f} s  frame {:.4f} s  peak {:.1f} MiB\n",
                            c.model, c.method, r.get("n"), r.get("init_s"), r.get("frame_s"),
                            r.get("peak_rss_bytes") / 1048576.0);
@@ -117,10 +126,11 @@ int run(Options& o) {
   if (!o.meshes.empty()) fs::create_directories(o.meshes);
   std::cerr << "[deform_cases] " << provenance_summary() << "\n";
   CsvTable csv;
-  for (const DeformCell& c : grid) add_row(csv, c, run_one(o, c));
+  FailedCells failed("deform_cases");
+  for (const DeformCell& c : grid) add_row(csv, c, run_one(o, c, failed));
   csv.write(o.out);
   std::cerr << "[deform_cases] wrote " << o.out << "\n";
-  return 0;
+  return failed.exit_code();
 }
 
 }  // namespace

@@ -7,7 +7,9 @@
 //   results/meshes/frames/CASE__*.ply   rest, ideal, every result (binary PLY), CASE__roles.sel (0 fixed/1/2 handle)
 // Every (case, configuration) is a cell (kind "frames") run in a fresh child process: its own peak RSS; the
 // differences between configurations (diff_vs_first_*, diff_vs_polar_max) are measured afterwards from the
-// positions the cells leave. results/frames.md is the report step's (experiments/reports/). Options: --help.
+// positions the cells leave. A cell solves its frame --frame-repeats times: frame_s is the median, with its spread
+// (frame_min_s, frame_max_s, frame_reps). results/frames.md is the report step's (experiments/reports/). Options:
+// --help. Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing every row.
 //
 // Cases, "NAME: KIND key=value ..." (a case whose input is absent is skipped with a message):
 //   bend   mesh=cylinder:RINGS:SEGMENTS:RADIUS:HEIGHT | mesh=half_tube:PATH, z0, z1, degrees: fixed below z0,
@@ -237,7 +239,8 @@ struct Config {
 // One configuration on one case: the deformed positions and what the deformers reported.
 struct Run {
   Points V;
-  double init_s = 0, frame_s = 0;
+  double init_s = 0;
+  std::vector<double> frame_s;  // per repetition of the frame: its time (a chain: the sum over its steps)
   double fallbacks = kNaN, sigma_min = kNaN;  // LRI: sigma_min = smallest singular value of a solved frame
   std::size_t n_frames = 0, n_positions = 0, factor_bytes = 0;
 };
@@ -246,7 +249,6 @@ struct Run {
 // sigma_min the minimum over all steps (1 for a rotation; near 0 where least squares averaged opposite rotations).
 void note(Run& r, const Deformer& d) {
   r.init_s += d.times().init();
-  r.frame_s += d.times().frame();
   if (auto* l = dynamic_cast<const LriDeformer*>(&d)) {
     r.fallbacks = l->rest_frames().fallbacks;
     double sm = std::isnan(r.sigma_min) ? 1e300 : r.sigma_min;
@@ -262,7 +264,20 @@ void note(Run& r, const Deformer& d) {
   r.factor_bytes = d.factor_bytes();
 }
 
-Run run_config(const Case& c, const Config& cfg, unsigned seed) {
+// The frame `repeats` times with the same transform, for its spread (the first result kept); repetition k's time is
+// added to r.frame_s[k].
+Points repeated_deform(Deformer& d, const Mat4& transform, int repeats, Run& r) {
+  r.frame_s.resize(static_cast<std::size_t>(repeats), 0.0);
+  Points V;
+  for (int k = 0; k < repeats; ++k) {
+    Points P = d.deform(transform);
+    if (k == 0) V = std::move(P);
+    r.frame_s[static_cast<std::size_t>(k)] += d.times().frame();
+  }
+  return V;
+}
+
+Run run_config(const Case& c, const Config& cfg, unsigned seed, int repeats) {
   DeformOptions o;
   o.method = cfg.method == "tf-normalized" ? "tf" : cfg.method == "lri-uncoordinated" ? "lri" : cfg.method;
   o.tf_normalize_scale = cfg.method == "tf-normalized";  // TF's rotations without its scale (issue 17)
@@ -275,14 +290,14 @@ Run run_config(const Case& c, const Config& cfg, unsigned seed) {
   Run r;
   if (c.chain.empty()) {
     auto d = make_deformer(c.mesh, c.edit, o);
-    r.V = d->deform(c.edit.transform);
+    r.V = repeated_deform(*d, c.edit.transform, repeats, r);
     note(r, *d);
     return r;
   }
   Mesh cur = c.mesh;
   for (const Mat4& step : c.chain) {
     auto d = make_deformer(cur, c.edit, o);  // rebuilt on the previous result: a new rest pose per step
-    cur.V = d->deform(step);
+    cur.V = repeated_deform(*d, step, repeats, r);
     note(r, *d);
   }
   r.V = cur.V;
@@ -323,10 +338,12 @@ void add_metrics(CellResult& res, const Case& c, const Points& V) {
 }
 
 CellResult measure_frames_cell(const CellSpec& s) {
-  s.check_keys({"case", "data", "twist_step", "method", "frames", "ortho", "seed", "positions", "mesh_out"});
+  s.check_keys({"case", "data", "twist_step", "method", "frames", "ortho", "seed", "frame_repeats", "positions",
+                "mesh_out"});
   const Case c = build_case(parse_case(s.get("case")), s.get("data"), s.real("twist_step", 30, 1e-3, 180));
   const Config cfg{s.get("method"), s.get("frames", "n/a"), s.get("ortho", "n/a")};
-  const Run r = run_config(c, cfg, static_cast<unsigned>(s.integer("seed", 1, 0, 4294967295LL)));
+  const Run r = run_config(c, cfg, static_cast<unsigned>(s.integer("seed", 1, 0, 4294967295LL)),
+                           static_cast<int>(s.integer("frame_repeats", 1, 1, 100000)));
   CellResult res;
   add_metrics(res, c, r.V);
   res.set("frame_fallbacks", r.fallbacks);
@@ -336,7 +353,7 @@ CellResult measure_frames_cell(const CellSpec& s) {
   res.set("n_positions_system", double(r.n_positions));
   res.set("factor_bytes", double(r.factor_bytes), "bytes");
   res.set("init_s", r.init_s, "s");
-  res.set("frame_s", r.frame_s, "s");
+  set_spread(res, "frame_s", r.frame_s);  // the median repetition, with frame_min_s, frame_max_s, frame_reps
   res.set("peak_rss_bytes", double(peak_rss_bytes()), "bytes");
   if (s.has("positions")) write_positions(s.get("positions"), r.V);
   if (!s.get("mesh_out", "").empty()) {
@@ -352,6 +369,7 @@ struct Options {
   std::string data = "data", out = "results/frames.csv", meshes = "results/meshes/frames";
   bool no_meshes = false, dry_run = false;
   double twist_step = 30, cell_timeout_s = 600;
+  int frame_repeats = 5;
   std::string only;
   unsigned seed = 1;
   std::vector<std::string> cases, methods = {"lap", "tf", "tf-normalized", "lri", "lri-uncoordinated"},
@@ -384,6 +402,8 @@ void define_options(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))
       ->capture_default_str();
+  app.add_option("--frame-repeats", o.frame_repeats, "times each frame is solved, for its median and spread")
+      ->check(cli::Integer(1, 100000))->capture_default_str();
 }
 
 std::vector<Config> configs_of(const Options& o) {
@@ -422,19 +442,22 @@ CellSpec spec_for(const Options& o, const CaseDef& d, const Config& cfg, const s
   CellSpec s("frames");
   s.set("case", d.text).set("data", o.data).set("twist_step", o.twist_step).set("method", cfg.method);
   if (cfg.method == "lri") s.set("frames", cfg.frames).set("ortho", cfg.ortho);
-  s.set("seed", static_cast<double>(o.seed));
+  s.set("seed", static_cast<double>(o.seed)).set("frame_repeats", o.frame_repeats);
   if (!positions.empty()) s.set("positions", positions);
   if (!o.no_meshes) s.set("mesh_out", (fs::path(o.meshes) / (d.name + "__" + cfg.label() + ".ply")).string());
   return s;
 }
 
-std::vector<Outcome> run_case(const Options& o, const CaseDef& d, const Case& c, const fs::path& scratch) {
+std::vector<Outcome> run_case(const Options& o, const CaseDef& d, const Case& c, const fs::path& scratch,
+                              FailedCells& failed) {
   std::vector<Outcome> out;
   RunOptions ro;
   ro.timeout_s = o.cell_timeout_s;
   for (const Config& cfg : configs_of(o)) {
     Outcome x{cfg, {}, (scratch / (c.name + "__" + cfg.label() + ".pos")).string()};
-    x.res = run_cell(self_executable(), spec_for(o, d, cfg, x.positions), ro);
+    const CellSpec spec = spec_for(o, d, cfg, x.positions);
+    x.res = run_cell(self_executable(), spec, ro);
+    failed.note(spec.text(), x.res);
     if (!x.res.ok()) std::cerr << fmt::format("[frames] {} {}: {} ({})\n", c.name, cfg.label(), x.res.message, x.res.exit);
     else if (!x.res.text("notes").empty())
       std::cerr << fmt::format("[frames] {} {}: {}\n", c.name, cfg.label(), x.res.text("notes"));
@@ -491,8 +514,10 @@ void add_rows(CsvTable& csv, const Case& c, const std::vector<Outcome>& runs) {
                           "lri_detail_error", "normal_dev_ideal_mean_deg", "normal_dev_ideal_max_deg", "normal_dev_local_mean_deg",
                           "volume_change", "diff_vs_first_max", "diff_vs_first_rms", "diff_vs_polar_max",
                           "frame_fallbacks", "frame_sigma_min", "n_frames_system", "n_positions_system",
-                          "factor_bytes", "init_s", "frame_s", "peak_rss_bytes"})
+                          "factor_bytes", "init_s", "frame_s", "peak_rss_bytes"}) {
       row.emplace_back(m, opt_num(r.get(m)));
+      if (std::string(m) == "init_s" || std::string(m) == "frame_s") add_spread_columns(row, r, m);
+    }
     csv.add(std::move(row));
   }
 }
@@ -534,6 +559,7 @@ int run(Options& o) {
   CsvTable csv;
   Timer total;
   int cases = 0;
+  FailedCells failed("frames");
   for (const CaseDef& d : defs) {
     Timer tc;
     std::optional<Case> c;
@@ -544,7 +570,7 @@ int run(Options& o) {
       continue;
     }
     if (!o.no_meshes) write_case_meshes(*c, o.meshes);
-    std::vector<Outcome> runs = run_case(o, d, *c, scratch);
+    std::vector<Outcome> runs = run_case(o, d, *c, scratch, failed);
     add_differences(runs, *c);
     add_rows(csv, *c, runs);
     log_case(*c, runs, tc.seconds());
@@ -555,9 +581,10 @@ int run(Options& o) {
   write_settings((fs::path(o.out).parent_path() / "frames_settings.csv").string(),
                  {{"cases", std::to_string(cases)}, {"rows", std::to_string(csv.size())},
                   {"seconds", fmt::format("{:.0f}", total.seconds())}, {"twist_step_deg", num(o.twist_step)},
-                  {"seed", std::to_string(o.seed)}, {"csv", fs::path(o.out).filename().string()}});
+                  {"seed", std::to_string(o.seed)}, {"frame_repeats", std::to_string(o.frame_repeats)},
+                  {"csv", fs::path(o.out).filename().string()}});
   std::cerr << fmt::format("[frames] wrote {} ({} rows) in {:.1f} s\n", o.out, csv.size(), total.seconds());
-  return 0;
+  return failed.exit_code();
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // Writes RESULTS/table_2_1.csv (long: one row per model x system x build x measure), table_2_1_thesis.csv,
 // scaling.csv, scaling_fits.csv and table_2_1_settings.csv; per-cell raw child lines go to
 // RESULTS/cells/table_2_1/. results/table_2_1.md is the report step's (experiments/reports/). Options: --help.
+// Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing every row.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -315,7 +316,7 @@ CellResult TableRunner::run_one(const DeformCell& c) const {
 
 // ------------------------------------------------------------------------------------------------ CSV
 // The schema of table_2_1.csv and scaling.csv: every cell keeps the Always rows, so every (model, system, build)
-// has the same rows whether it ran or not.
+// has the same rows whether it ran or not; each timing is followed by its spread (harness/cell.h spread_name).
 const std::vector<MeasureDef>& table_measures() {
   static const std::vector<MeasureDef> d = {
       {"vertices", "count"}, {"n", "count"}, {"nnz", "count"}, {"nnz_factor", "count"}, {"factor_flops", "flop"},
@@ -333,7 +334,7 @@ const std::vector<MeasureDef>& table_measures() {
       {"predicted_build_bytes", "bytes", Keep::Always}, {"predicted_factor_bytes", "bytes", Keep::Always},
       {"predicted_workspace_bytes", "bytes", Keep::Always}, {"predicted_bytes", "bytes", Keep::Always},
       {"predicted_factor_nnz", "count", Keep::Always}, {"predicted_factor_flops", "flop", Keep::Always},
-      {"predicted_s", "s", Keep::Always},
+      {"predicted_s", "s", Keep::Always, false},
       // The machine's speed around the cell, for telling a slow machine from a slow code.
       {"blas_dgemm_before", "GFlop/s", Keep::IfMeasured}, {"memory_read_before", "GB/s", Keep::IfMeasured},
       {"blas_dgemm_after", "GFlop/s", Keep::IfMeasured}, {"memory_read_after", "GB/s", Keep::IfMeasured},
@@ -458,13 +459,15 @@ std::string edit_note(const std::string& path) {
   }
 }
 
-// Runs the grid; the CSVs are rewritten after every mesh: an interrupted run keeps what it measured.
+// Runs the grid; the CSVs are rewritten after every mesh: an interrupted run keeps what it measured. Failed cells
+// are noted in `failed` (a failed cell's rows are written like any other's).
 void run_grid(const Options& o, const std::vector<Planned>& grid, TableRunner& runner,
-              std::vector<std::pair<std::string, std::string>>& notes) {
+              std::vector<std::pair<std::string, std::string>>& notes, FailedCells& failed) {
   const fs::path dir(o.results);
   std::vector<Record> table, scaling;
   for (std::size_t i = 0; i < grid.size(); ++i) {
     Record r = runner.run(grid[i]);
+    failed.note(r.cell.to_spec().text(), r.res);
     const bool last_of_mesh = i + 1 == grid.size() || grid[i + 1].cell.mesh != grid[i].cell.mesh ||
                               grid[i + 1].src.series != grid[i].src.series;
     if (!r.series.empty()) {
@@ -575,11 +578,12 @@ int run(Options& o) {
   TableRunner runner(o, rates);
   write_thesis_csv(o);
   auto notes = settings(o, rates);
-  run_grid(o, grid, runner, notes);
+  FailedCells failed("table_2_1");
+  run_grid(o, grid, runner, notes, failed);
   write_settings((fs::path(o.results) / "table_2_1_settings.csv").string(), notes);
   std::cerr << "[table_2_1] wrote " << o.results << "/table_2_1.csv" << (o.scaling ? ", scaling.csv, scaling_fits.csv" : "")
             << "\n";
-  return 0;
+  return failed.exit_code();
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 // repeat) with the commit, date, machine id, the measure's class (deterministic: compared exactly; memory: peak
 // RSS; cpu: CPU time; time: wall time, normalized by `rate`; info) and the rates around that run. Deterministic
 // measures are recorded once. scripts/track.py runs this, picks a baseline history and gates. Options: --help.
+// Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing the history.
 #include <fnmatch.h>
 #include <unistd.h>
 
@@ -348,7 +349,7 @@ void log_cell(const Planned& p, const CellResult& r, int round) {
 }
 
 // `repeats` rounds over the suite, the machine rates measured between consecutive cells.
-void run_rounds(const Options& o, std::vector<Planned>& suite, Run& run) {
+void run_rounds(const Options& o, std::vector<Planned>& suite, Run& run, FailedCells& failed) {
   RunOptions ro;
   ro.timeout_s = o.cell_timeout_s;
   Rates before = measure_rates(o);
@@ -356,6 +357,7 @@ void run_rounds(const Options& o, std::vector<Planned>& suite, Run& run) {
     for (Planned& p : suite) {
       if (p.failed || round > p.rounds) continue;
       const CellResult r = run_cell(self_executable(), p.spec, ro);
+      failed.note(p.spec.text(), r);
       const Rates after = measure_rates(o);
       log_cell(p, r, round);
       record(run, p, r, round, before, after);
@@ -383,14 +385,15 @@ int run(Options& o) {
   const int runs = std::accumulate(suite.begin(), suite.end(), 0, [](int n, const Planned& p) { return n + p.rounds; });
   std::cerr << fmt::format("[track] {} cells, {} rounds, {} runs; machine {}; {}\n", suite.size(), o.repeats, runs,
                            run.machine, provenance_summary());
-  run_rounds(o, suite, run);
+  FailedCells failed_cells("track");
+  run_rounds(o, suite, run, failed_cells);
   if (!fs::path(out).parent_path().empty()) fs::create_directories(fs::path(out).parent_path());
   run.csv.write(out);
   const auto failed = std::count_if(suite.begin(), suite.end(), [](const Planned& p) { return p.failed; });
   std::cerr << fmt::format("[track] wrote {}{}{}\n", out, failed ? fmt::format("; {} cell(s) FAILED", failed) : "",
                            run.unstable ? fmt::format("; {} deterministic measure(s) varied", run.unstable) : "");
   std::cout << out << "\n";
-  return failed ? 3 : 0;
+  return failed_cells.exit_code();
 }
 
 // The suite runs single-threaded (BLAS, OpenMP, the structured assembly), so that a cell's CPU time is its own

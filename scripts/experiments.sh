@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The measurements ./run reproduce runs, in order. Each driver reads its config (data/experiments/NAME.toml) and
 # writes CSVs only (atomically); ./run then writes the Markdown reports from them (experiments/reports/report.py)
-# and the plots.
+# and the plots. A driver that fails (exit 5: a cell failed, its other cells written; or any other error) does not stop
+# the others: every driver runs, then the script exits with the first failure's code, naming every failed driver on
+# stderr and, when EXPERIMENTS_FAILED names a file, in that file (one line each).
 # usage: scripts/experiments.sh BUILD_DIR [--full]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -9,16 +11,28 @@ BUILD=$1; shift
 FULL=${1:-}
 CONF=$ROOT/data/experiments
 log() { printf '[experiments] %s\n' "$*" >&2; }
+FAILED=() FIRST_RC=0
+# step NAME COMMAND...: runs one driver, remembering a failure.
+step() {
+  local name=$1 rc=0
+  shift
+  "$@" || rc=$?
+  ((rc == 0)) && return 0
+  FAILED+=("exp_$name (exit $rc)")
+  ((FIRST_RC)) || FIRST_RC=$rc
+  log "exp_$name FAILED (exit $rc); the next drivers still run"
+}
 
 log "deform cases (BS08 + bundled cactus, lap and tf)"
-"$BUILD/exp_deform_cases" --config "$CONF/deform_cases.toml" --data "$ROOT/data" \
+step deform_cases "$BUILD/exp_deform_cases" --config "$CONF/deform_cases.toml" --data "$ROOT/data" \
   --out "$ROOT/results/deform_cases.csv" --meshes "$ROOT/results/meshes"
 
 # Thesis Table 2-1: every cell in fresh child processes under a memory budget (default half the RAM) and a time
 # budget (default 120 s a cell, --full 900 s) checked on predictions; about 5 minutes on 2 cores (--full adds
 # armadillo Loop levels 2-3, up to 1.66M vertices).
 log "table 2-1 (dense / naive / structured builds of LAP and TF; scaling of the structured build)"
-"$BUILD/exp_table_2_1" --config "$CONF/table_2_1.toml" --data "$ROOT/data" --results "$ROOT/results" ${FULL:+--full}
+step table_2_1 "$BUILD/exp_table_2_1" --config "$CONF/table_2_1.toml" --data "$ROOT/data" --results "$ROOT/results" \
+  ${FULL:+--full}
 
 # Solver choice: backends x orderings on the LAP and TF systems, and the BLAS kernel set. OPENBLAS_CORETYPE is read
 # when OpenBLAS loads, so each kernel set is its own driver run: first the other kernel sets (BLAS-calling backends
@@ -31,25 +45,31 @@ SOLV_BLAS_BACKENDS=cholmod_supernodal,multifrontal,umfpack,dense_llt,lapack_potr
 rm -f "$ROOT"/results/solvers_blas_*.csv
 if grep -qw avx512f /proc/cpuinfo && [ "${OPENBLAS_CORETYPE:-}" != SkylakeX ]; then
   log "solver choice under OPENBLAS_CORETYPE=SkylakeX (the CPU has avx512f)"
-  OPENBLAS_CORETYPE=SkylakeX "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default \
-    --out "$ROOT/results/solvers_blas_SkylakeX.csv"
+  OPENBLAS_CORETYPE=SkylakeX step "solvers (OPENBLAS_CORETYPE=SkylakeX)" "${SOLV[@]}" \
+    --backends "$SOLV_BLAS_BACKENDS" --orderings default --out "$ROOT/results/solvers_blas_SkylakeX.csv"
 fi
 if [ -n "${OPENBLAS_CORETYPE:-}" ]; then
   log "solver choice with OPENBLAS_CORETYPE unset (OpenBLAS' own CPU detection)"
-  env -u OPENBLAS_CORETYPE "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default \
-    --out "$ROOT/results/solvers_blas_auto.csv"
+  step "solvers (OPENBLAS_CORETYPE unset)" env -u OPENBLAS_CORETYPE "${SOLV[@]}" \
+    --backends "$SOLV_BLAS_BACKENDS" --orderings default --out "$ROOT/results/solvers_blas_auto.csv"
 fi
 log "solver choice, full grid (OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset>})"
-"${SOLV[@]}"
+step solvers "${SOLV[@]}"
 
 # LRI and the frames experiment: bends, twists, the dino head turn and the BS08 edits for lap, tf and lri x frame
 # strategy x orthonormalization; deformed meshes under results/meshes/frames for the renders.
 log "frames (LRI frame strategies against lap and tf)"
-"$BUILD/exp_frames" --config "$CONF/frames.toml" --data "$ROOT/data" --out "$ROOT/results/frames.csv" \
+step frames "$BUILD/exp_frames" --config "$CONF/frames.toml" --data "$ROOT/data" --out "$ROOT/results/frames.csv" \
   --meshes "$ROOT/results/meshes/frames"
 
 # The LSE report's other applications: coating transfer and transplanting on the BS08 plane, the CGAL bunny and a
 # procedural plane; meshes for plots/render_app.py.
 log "applications (coating transfer, transplanting)"
-"$BUILD/exp_applications" --config "$CONF/applications.toml" --data "$ROOT/data" \
+step applications "$BUILD/exp_applications" --config "$CONF/applications.toml" --data "$ROOT/data" \
   --out "$ROOT/results/applications.csv" --meshes "$ROOT/results/meshes/applications"
+
+if ((${#FAILED[@]})); then
+  log "failed: ${FAILED[*]}"
+  [ -z "${EXPERIMENTS_FAILED:-}" ] || printf '%s\n' "${FAILED[@]}" >"$EXPERIMENTS_FAILED"
+  exit "$FIRST_RC"
+fi

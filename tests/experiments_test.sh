@@ -80,5 +80,110 @@ grep -q "error_vs_refined" "$R/solvers.csv" && grep -q "^| cactus | lap | .* | o
 grep -q ",peak_rss_bytes," "$R/frames.csv" || head -1 "$R/frames.csv" | grep -q "peak_rss_bytes" && ok "frames rows carry peak RSS" || fail "frames lacks peak_rss_bytes"
 expect "report unknown name" 1 "unknown report" -- "$PY" experiments/reports/report.py --results "$R" --only tables
 
+# ---------------------------------------------------------------- timings carry their spread (min, max, repeats)
+grep -q ",frame_s,[^,]*,s," "$R/table_2_1.csv" && grep -q ",frame_min_s,[^,]*,s," "$R/table_2_1.csv" &&
+  grep -q ",frame_max_s,[^,]*,s," "$R/table_2_1.csv" && grep -q ",frame_reps,2,count," "$R/table_2_1.csv" &&
+  grep -q ",init_reps,1,count," "$R/table_2_1.csv" && ! grep -q "predicted_min_s" "$R/table_2_1.csv" &&
+  ok "table_2_1.csv: timings with their spread (frames of the drag, runs)" || fail "table_2_1.csv lacks the spread rows"
+grep -q ",factorize_max_s," "$R/solvers.csv" && grep -q ",solve_reps,1,count," "$R/solvers.csv" &&
+  grep -q ",factorize_min_s," "$R/solvers.csv" && ok "solvers.csv: factorize and solve with their spread" ||
+  fail "solvers.csv lacks the spread rows"
+head -1 "$R/deform_cases.csv" | grep -q "frame_median_s,frame_min_s,frame_max_s,frame_reps" &&
+  head -1 "$R/frames.csv" | grep -q "frame_s,frame_min_s,frame_max_s,frame_reps" &&
+  ok "wide CSVs: the spread columns beside the median" || fail "wide CSVs lack the spread columns"
+"$PY" - "$R/frames.csv" <<'PYEOF' && ok "frames.csv: every frame solved 5 times (4 after the first), min <= median <= max" || fail "frames.csv spread values"
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["status"] == "ok"]
+assert rows and all(r["frame_reps"] == "4" for r in rows), [r["frame_reps"] for r in rows]
+assert all(float(r["frame_min_s"]) <= float(r["frame_s"]) <= float(r["frame_max_s"]) for r in rows)
+PYEOF
+expect "deform --csv with the frame spread" 0 "frames after the first ranged" -- "$BIN/deformbench" deform data/bs08/bar \
+  --method lap --frames 4 --out "$T/cli.ply" --csv "$T/cli.csv"
+"$PY" - "$T/cli.csv" <<'PYEOF' && ok "the CLI row: frame_min_s <= frame_median_s <= frame_max_s over 3 frames" || fail "CLI spread columns"
+import csv, sys
+r = next(csv.DictReader(open(sys.argv[1])))
+assert r["frame_reps"] == "3" and r["response_reps"] == "3", r
+assert float(r["frame_min_s"]) <= float(r["frame_median_s"]) <= float(r["frame_max_s"]), r
+PYEOF
+grep -q "^| cactus | lap | structured | .*(.* - .*, n=1).* n=2)" "$R/table_2_1.md" &&
+  grep -q "^| bar | lap | .* (.* - .*, n=4)" "$R/frames.md" && ok "table_2_1.md and frames.md show the spread" ||
+  fail "the reports do not show the spread"
+
+# Planted repeats: one cell's frames 10x apart is flagged, with the footnote; the others are as measured.
+mkdir -p "$T/planted"
+"$PY" - "$R" "$T/planted" <<'PYEOF'
+import csv, sys
+src, dst = sys.argv[1], sys.argv[2]
+for name, match, key in (("table_2_1.csv", lambda r: r["build"] == "structured", "measure"),
+                         ("frames.csv", lambda r: r["config"] == "tf", None)):
+    rows = list(csv.DictReader(open(f"{src}/{name}")))
+    for r in rows:
+        if match(r):
+            if key is None:
+                r["frame_max_s"] = str(10 * float(r["frame_min_s"]))
+            elif r[key] == "frame_max_s":
+                lo = next(x for x in rows if match(x) and x[key] == "frame_min_s")["value"]
+                r["value"] = str(10 * float(lo))
+    with open(f"{dst}/{name}", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+PYEOF
+expect "report on planted repeats" 0 "table_2_1.md: written" -- "$PY" experiments/reports/report.py --results "$T/planted" \
+  --only table_2_1,frames
+grep -q '^| cactus | lap | structured | .*n=2) \*\*(!)\*\*' "$T/planted/table_2_1.md" &&
+  grep -q '^| cactus | .* / [0-9.]* \*\*(!)\*\* |' "$T/planted/table_2_1.md" &&
+  grep -q "more than 2x apart .*median may be unreliable" "$T/planted/table_2_1.md" &&
+  ok "table_2_1.md flags the planted frame (phase table and fps) with the footnote" ||
+  fail "table_2_1.md does not flag the planted frame: $(grep '^| cactus | lap | structured' "$T/planted/table_2_1.md" | head -2)"
+grep -q '^| bar | tf | .*n=4) \*\*(!)\*\* |' "$T/planted/frames.md" && grep -q "more than 2x apart" "$T/planted/frames.md" &&
+  ok "frames.md flags the planted frame" || fail "frames.md does not flag the planted frame"
+
+# Reports get a new file's mode (0666 less the umask), as the CSVs do, not a temporary file's 0600.
+(umask 022 && "$PY" experiments/reports/report.py --results "$R" --only table_2_1 2>/dev/null)
+[ "$(stat -c %a "$R/table_2_1.md")" = 644 ] && [ "$(stat -c %a "$R/table_2_1.csv")" = "$(stat -c %a "$R/frames.md")" ] &&
+  ok "reports are 0644 under umask 022, like the CSVs" || fail "report modes: $(stat -c '%n %a' "$R"/*.md "$R/table_2_1.csv")"
+(umask 027 && "$PY" experiments/reports/report.py --results "$R" --only table_2_1 2>/dev/null)
+[ "$(stat -c %a "$R/table_2_1.md")" = 640 ] && ok "a report respects the umask" || fail "umask 027 gave $(stat -c %a "$R/table_2_1.md")"
+
+# ---------------------------------------------------------------- a failed cell: every row written, exit 5
+printf 'OFF\n3 1 0\nnot a number\n' >"$T/broken.off"
+expect "deform_cases with a failing cell" 5 "FAILED kind=deform model=broken" -- "$BIN/exp_deform_cases" \
+  --case bar=bs08/bar,broken="$T/broken" --methods lap --frames 2 --out "$T/cases_failed.csv"
+[ "$(grep -c ',ok,' "$T/cases_failed.csv")" = 1 ] && grep -q ',error,' "$T/cases_failed.csv" &&
+  ok "deform_cases wrote the good and the failed row" || fail "deform_cases rows: $(cut -c 1-80 "$T/cases_failed.csv")"
+expect "table_2_1 with a failing cell" 5 "1 cell\(s\) failed.*|FAILED kind=deform model=broken" -- "$BIN/exp_table_2_1" \
+  --mesh broken="$T/broken.off" --only broken --no-scaling --systems lap --builds structured --repeats 1 --frames 2 \
+  --results "$T/failed_results"
+grep -q ",error," "$T/failed_results/table_2_1.csv" && ok "table_2_1.csv has the failed cell's rows" ||
+  fail "table_2_1.csv lacks the failed cell"
+expect "solvers with a failing cell" 5 "FAILED kind=solve model=broken" -- "$BIN/exp_solvers" --mesh broken="$T/broken.off" \
+  --only broken --systems lap --backends cholmod_supernodal --orderings default --results "$T/failed_results"
+expect "applications with a failing cell" 5 "FAILED kind=application name=broken" -- "$BIN/exp_applications" \
+  --case "flat: coat source=bs08/plane.off target=plane:20:20:1:0:1 target_region=sphere:0,0,0,0.4" \
+  --case "broken: coat source=$T/broken.off target=plane:20:20:1:0:1" --out "$T/apps_failed.csv"
+[ "$(grep -c ',ok,' "$T/apps_failed.csv")" = 1 ] && grep -q ',error,' "$T/apps_failed.csv" &&
+  ok "applications wrote the good and the failed row" || fail "applications rows: $(cut -c 1-80 "$T/apps_failed.csv")"
+
+expect "frames with failing cells (killed at their timeout)" 5 "2 cell\(s\) failed" -- "$BIN/exp_frames" \
+  --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" --methods lap,tf --frame-repeats 100000 \
+  --cell-timeout-s 1 --no-meshes --out "$T/failed_results/frames.csv"
+[ "$(grep -c ',error (timed out' "$T/failed_results/frames.csv")" = 2 ] && ok "frames.csv has the failed cells' rows" ||
+  fail "frames.csv rows: $(cut -c 1-80 "$T/failed_results/frames.csv")"
+
+# scripts/experiments.sh runs every driver even after one failed, then exits with the first failure's code and
+# names the failed drivers (stub drivers in a copy of the tree: nothing measured, nothing of this tree touched).
+mkdir -p "$T/tree/scripts" "$T/stubs"
+cp scripts/experiments.sh "$T/tree/scripts/"
+for d in deform_cases table_2_1 solvers frames applications; do
+  code=0; [ $d = table_2_1 ] && code=5; [ $d = frames ] && code=2
+  printf '#!/bin/sh\necho %s >>"%s/ran"\nexit %s\n' "$d" "$T" "$code" >"$T/stubs/exp_$d"
+  chmod +x "$T/stubs/exp_$d"
+done
+expect "experiments.sh goes on after a failed driver" 5 "failed: exp_table_2_1 \(exit 5\) exp_frames \(exit 2\)" -- \
+  env EXPERIMENTS_FAILED="$T/failed_drivers" bash "$T/tree/scripts/experiments.sh" "$T/stubs"
+grep -q applications "$T/ran" && [ "$(cat "$T/failed_drivers")" = "$(printf 'exp_table_2_1 (exit 5)\nexp_frames (exit 2)')" ] &&
+  ok "every driver ran; the failed ones listed" || fail "drivers ran: $(tr '\n' ' ' <"$T/ran"); failed: $(cat "$T/failed_drivers")"
+
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi
 echo "all passed"

@@ -22,6 +22,7 @@
 #include "harness/budget.h"
 #include "harness/cell.h"
 #include "harness/deform_cell.h"
+#include "harness/driver.h"
 #include "harness/mesh_source.h"
 #include "harness/positions.h"
 #include "harness/runner.h"
@@ -181,11 +182,102 @@ TEST(ResultLine, TidyMeasuresKeepTheSchemaForCellsThatDidNotRun) {
     for (const auto& x : m) v.push_back(x.name);
     return v;
   };
-  EXPECT_EQ(names(tidy_measures(ok, defs)), (std::vector<std::string>{"init_s", "n", "held_bytes:K"}));
+  const std::vector<std::string> init = {"init_s", "init_min_s", "init_max_s", "init_reps"};  // with its spread
+  std::vector<std::string> all = init;
+  all.insert(all.end(), {"n", "held_bytes:K"});
+  EXPECT_EQ(names(tidy_measures(ok, defs)), all);
   EXPECT_EQ(tidy_measures(ok, defs)[0].unit, "s");
   const CellResult over = CellResult::with_status("#over", "predicted too much");
-  EXPECT_EQ(names(tidy_measures(over, defs)), (std::vector<std::string>{"init_s"}));
+  EXPECT_EQ(names(tidy_measures(over, defs)), init);
   EXPECT_TRUE(std::isnan(tidy_measures(over, defs)[0].value));
+}
+
+// Planted repeats: three runs of a cell, each with the frames of its drag, the first of them slower by design (run 1
+// also had a frame that waited 40 ms on a descheduled worker), and an init measured once.
+TEST(ResultLine, TimingsCarryTheirSpreadOverEveryRepeatOfEveryRun) {
+  std::vector<CellResult> runs(3);
+  set_spread(runs[0], "frame_s", {0.005, 0.001, 0.002, 0.003});
+  set_spread(runs[1], "frame_s", {0.005, 0.002, 0.04, 0.003, 0.002});
+  set_spread(runs[2], "frame_s", {0.005, 0.0015, 0.0025});
+  const double init[] = {0.5, 0.7, 0.6};
+  for (int i = 0; i < 3; ++i) {
+    runs[i].set("init_s", init[i], "s");
+    runs[i].set("n", 10, "count");
+  }
+  // One run: the median of all its frames; the spread of those after the first.
+  EXPECT_DOUBLE_EQ(runs[1].get("frame_s"), 0.003);
+  EXPECT_DOUBLE_EQ(runs[1].get("frame_min_s"), 0.002);
+  EXPECT_DOUBLE_EQ(runs[1].get("frame_max_s"), 0.04);
+  EXPECT_EQ(runs[1].get("frame_reps"), 4);
+  const CellResult m = median_of(runs);
+  EXPECT_DOUBLE_EQ(m.get("frame_s"), 0.0025);  // the median of the runs' medians 0.0025, 0.003, 0.0025
+  EXPECT_DOUBLE_EQ(m.get("frame_min_s"), 0.001);
+  EXPECT_DOUBLE_EQ(m.get("frame_max_s"), 0.04);
+  EXPECT_EQ(m.get("frame_reps"), 9);  // every repeat of every run
+  EXPECT_DOUBLE_EQ(m.get("init_s"), 0.6);
+  EXPECT_DOUBLE_EQ(m.get("init_min_s"), 0.5);
+  EXPECT_DOUBLE_EQ(m.get("init_max_s"), 0.7);
+  EXPECT_EQ(m.get("init_reps"), 3);  // fresh children: none warms up
+  EXPECT_FALSE(m.has("n_reps"));  // counts are exact: no spread
+  EXPECT_FALSE(m.has("frame_min_min_s"));
+  EXPECT_TRUE(is_spread_of_measure(m, "frame_max_s"));
+  EXPECT_FALSE(is_spread_of_measure(m, "init_s"));
+  EXPECT_TRUE(spread_flagged(Spread{m.get("frame_min_s"), m.get("frame_s"), m.get("frame_max_s"), 9}));
+  EXPECT_FALSE(spread_flagged(Spread{m.get("init_min_s"), m.get("init_s"), m.get("init_max_s"), 3}));
+}
+
+TEST(ResultLine, SpreadNamesFollowTheMeasure) {
+  EXPECT_EQ(spread_name("frame_s", "min"), "frame_min_s");
+  EXPECT_EQ(spread_name("factorize_s", "max"), "factorize_max_s");
+  EXPECT_EQ(spread_name("frame_cpu_s", "reps"), "frame_cpu_reps");
+  EXPECT_THROW(spread_name("fps", "min"), Error);
+  EXPECT_THROW(spread_name("frame_s", "mean"), Error);
+}
+
+TEST(ResultLine, TidyMeasuresFollowATimingWithItsSpread) {
+  const std::vector<MeasureDef> defs = {{"init_s", "s", Keep::Always},
+                                        {"solve_s", "s", Keep::IfMeasured},
+                                        {"predicted_s", "s", Keep::Always, false}};
+  std::vector<CellResult> runs(2);
+  runs[0].set("init_s", 1, "s");
+  runs[1].set("init_s", 3, "s");
+  auto names = [](const std::vector<Measure>& m) {
+    std::vector<std::string> v;
+    for (const auto& x : m) v.push_back(x.name);
+    return v;
+  };
+  const std::vector<Measure> t = tidy_measures(median_of(runs), defs);
+  EXPECT_EQ(names(t), (std::vector<std::string>{"init_s", "init_min_s", "init_max_s", "init_reps", "predicted_s"}));
+  EXPECT_EQ(t[3].unit, "count");
+  EXPECT_EQ(t[3].value, 2);
+  EXPECT_EQ(t[2].value, 3);
+  // A cell that did not run keeps the Always rows, spread included (empty values).
+  const std::vector<Measure> over = tidy_measures(CellResult::with_status("#over", "predicted too much"), defs);
+  EXPECT_EQ(names(over), names(t));
+  EXPECT_TRUE(std::isnan(over[1].value));
+}
+
+// ------------------------------------------------------------------------------------------------ the drivers
+TEST(Driver, FailedCellsAreListedAndGiveTheExitCode) {
+  FailedCells f("test");
+  f.note("kind=echo", CellResult{});
+  f.note("kind=big", CellResult::with_status("#over", "predicted 9 GiB; not attempted"));
+  f.note("kind=slow", CellResult::with_status("#slow", "predicted 1e4 s; not attempted"));
+  f.note("kind=same", CellResult::with_status("skipped", "same as the default ordering"));
+  EXPECT_EQ(f.exit_code(), 0);  // budget refusals and skipped cells are no failures
+  CellSpec bad("fail");
+  bad.set("why", "planted");
+  const CellResult r = run_cell(self_executable(), bad, RunOptions{});  // a cell made to fail
+  f.note(bad.text(), r);
+  f.note(bad.text(), r);  // a result reused for another table is one cell
+  EXPECT_EQ(f.size(), 1u);
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(f.exit_code(), kCellsFailedExit);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("1 cell(s) failed"), std::string::npos) << err;
+  EXPECT_NE(err.find("FAILED kind=fail why=planted"), std::string::npos) << err;
+  EXPECT_NE(err.find("singular: planted"), std::string::npos) << err;
+  EXPECT_NE(err.find("(exit 3)"), std::string::npos) << err;
 }
 
 // ------------------------------------------------------------------------------------------------ the runner
@@ -272,6 +364,10 @@ TEST(Runner, RepeatsGiveTheMedianOfFreshChildren) {
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.get("runs"), 3);
   EXPECT_EQ(r.get("count"), 2);  // the median of 1, 2, 3
+  EXPECT_FALSE(r.has("count_reps"));
+  EXPECT_EQ(r.get("cell_wall_reps"), 3);  // the parent's timings: their spread over the children
+  EXPECT_LE(r.get("cell_wall_min_s"), r.get("cell_wall_s"));
+  EXPECT_LE(r.get("cell_wall_s"), r.get("cell_wall_max_s"));
   Prediction p;
   p.seconds = 100;
   o.repeat_max_s = 50;  // predicted above it: once
@@ -325,6 +421,13 @@ TEST(DeformCell, MeasuredInAChild) {
   EXPECT_EQ(r.get("vertices"), nv);
   EXPECT_EQ(r.get("n"), 3 * nv);  // soft constraints: every vertex is an unknown
   EXPECT_EQ(r.get("frames"), 5);
+  for (const char* m : {"frame_s", "rhs_s", "solve_s", "write_s", "frame_cpu_s"}) {  // the frames after the first
+    EXPECT_EQ(r.get(spread_name(m, "reps")), 4) << m;
+    EXPECT_LE(r.get(spread_name(m, "min")), r.get(m)) << m;
+    EXPECT_LE(r.get(m), r.get(spread_name(m, "max"))) << m;
+  }
+  EXPECT_EQ(r.get("init_reps"), 1);  // once per run, one run
+  EXPECT_EQ(r.get("init_min_s"), r.get("init_s"));
   EXPECT_NEAR(r.get("init_s"), r.get("build_s") + r.get("analyze_s") + r.get("factorize_s"), 1e-9);
   EXPECT_NEAR(r.get("fps") * r.get("frame_s"), 1.0, 1e-12);
   EXPECT_GT(r.get("factor_bytes"), 0);
@@ -469,6 +572,12 @@ TEST(SolverCell, LeastSquaresAgreesWithCholesky) {
     EXPECT_LT(b.get("residual"), 1e-10) << system;
     EXPECT_EQ(b.get("analyze_s"), 0);
     EXPECT_GT(b.get("factor_bytes"), 0);
+    for (const char* m : {"factorize_s", "solve_s", "factorize_cpu_s", "solve_cpu_s"}) {  // over the repetitions
+      EXPECT_GE(a.get(spread_name(m, "reps")), 1) << m;
+      EXPECT_LE(a.get(spread_name(m, "reps")), std::string(m).rfind("solve", 0) == 0 ? 2 : 1) << m;
+      EXPECT_LE(a.get(spread_name(m, "min")), a.get(m)) << m;
+      EXPECT_LE(a.get(m), a.get(spread_name(m, "max"))) << m;
+    }
     EXPECT_EQ(solver_family(qr.backend), "least-squares");
   }
 }
@@ -545,6 +654,23 @@ TEST(ThesisEdit, OverlappingAnchorsAreDropped) {
   EXPECT_GT(e.count(Role::Handle), 0);
   EXPECT_GT(e.count(Role::Fixed), 0);
   EXPECT_EQ(e.count(Role::Handle) + e.count(Role::Fixed) + e.count(Role::Free), m.num_vertices());
+}
+
+TEST(Stats, SpreadOfRepeats) {
+  const Spread s = spread({0.009, std::nan(""), 0.001, 0.0012, 0.0011});  // a warm-up repeat, then three
+  EXPECT_DOUBLE_EQ(s.median, 0.00115);  // of all four
+  EXPECT_DOUBLE_EQ(s.min, 0.001);       // the range and the count: after the first
+  EXPECT_DOUBLE_EQ(s.max, 0.0012);
+  EXPECT_EQ(s.count, 3);  // NaN is no repeat
+  EXPECT_FALSE(spread_flagged(s));
+  EXPECT_TRUE(spread_flagged(spread({0.001, 0.001, 0.0021})));  // more than 2x apart after the first
+  EXPECT_FALSE(spread_flagged(spread({0.001, 0.001, 0.002})));  // 2x: not more
+  const Spread two = spread({0.004, 0.001});  // under three repeats every one counts
+  EXPECT_EQ(two.count, 2);
+  EXPECT_TRUE(spread_flagged(two));
+  EXPECT_FALSE(spread_flagged(spread({0.001})));
+  EXPECT_EQ(spread({}).count, 0);
+  EXPECT_TRUE(std::isnan(spread({}).median));
 }
 
 TEST(Stats, MedianAndPowerLaw) {

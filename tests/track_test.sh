@@ -57,6 +57,11 @@ default = ["kind=deform: constraints=soft frames=2"]
 repeats = 1
 EOF
 expect "baseline run" 0 "wrote" -- "$X" --config "$T/small.toml" --data "$SRC/data" --out "$T/base.csv"
+# A cell made to fail (killed at its timeout): the history is written with its status row, the run exits 5.
+expect "a failed cell" 5 "FAILED kind=deform model=cactus method=tf .*frames=100000" -- "$X" --config "$T/small.toml" \
+  --data "$SRC/data" --out "$T/failed.csv" --only 'deform/cactus/tf/*' --override "kind=deform: frames=100000" \
+  --cell-timeout-s 1
+grep -q ",status,.*timed out" "$T/failed.csv" && ok "the failed cell's status row" || fail "no status row: $(cat "$T/failed.csv")"
 [ "$(cut -d, -f4 "$T/base.csv" | sort -u | grep -c /)" -eq 4 ] && ok "four cells in the history" || fail "cells: $(cut -d, -f4 "$T/base.csv" | sort -u)"
 TRACK=(env DEFORMBENCH_BUILD_DIR="$BIN" /usr/bin/python3 "$SRC/scripts/track.py" --no-build --no-plots
   --config "$T/small.toml" --history-dir "$T/history" --report "$T/track.md" --baseline-file "$T/base.csv")

@@ -100,11 +100,61 @@ def fmt(x, spec="{:.3g}", missing="-"):
     return missing if isnan(x) else spec.format(x)
 
 
+# A timing's spread over its repeats (harness/cell.h spread_name): NAME_s is the median, NAME_min_s and NAME_max_s the
+# least and largest repeat, NAME_reps their count. Repeats further apart than SPREAD_FLAG (max > SPREAD_FLAG x min,
+# harness/stats.h kSpreadFlagRatio) are flagged with FLAG wherever the timing is shown.
+SPREAD_FLAG = 2.0
+FLAG = "**(!)**"
+SPREAD_NOTE = (f"{FLAG}: this timing's repeats are more than {SPREAD_FLAG:g}x apart (largest / least): a thread waited "
+               "on a descheduled worker or the machine was busy, so its median may be unreliable. A spread is "
+               "written (least - largest, n = repeats); from three repeats on it leaves out the first, which warms up "
+               "(a drag's first frame also stores the rest pose's forward substitution).")
+
+
+def spread_name(measure, stat):
+    """"frame_s", "min" -> "frame_min_s"; "reps" -> "frame_reps"."""
+    base = measure[:-2] if measure.endswith("_s") else measure
+    return f"{base}_reps" if stat == "reps" else f"{base}_{stat}_s"
+
+
+def spread(get, measure):
+    """(least, largest, repeats) of a timed measure; `get` maps a measure name to its value (NaN when absent)."""
+    return get(spread_name(measure, "min")), get(spread_name(measure, "max")), get(spread_name(measure, "reps"))
+
+
+def flagged(get, measure):
+    """Whether the measure's repeats disagree by more than SPREAD_FLAG."""
+    lo, hi, n = spread(get, measure)
+    return not isnan(n) and n > 1 and not isnan(hi) and hi > 0 and not lo * SPREAD_FLAG >= hi
+
+
+def mark(get, measure):
+    """" (!)" for a flagged timing, "" otherwise."""
+    return " " + FLAG if flagged(get, measure) else ""
+
+
+def spread_text(get, measure, form=lambda x: f"{x:.3g}"):
+    """"(0.29 - 3.97, n=5) (!)": the measure's spread with its flag; "" when the CSV has none."""
+    lo, hi, n = spread(get, measure)
+    if isnan(lo) or isnan(hi) or isnan(n):
+        return ""
+    return f"({form(lo)} - {form(hi)}, n={n:.0f}){mark(get, measure)}"
+
+
+def count_flagged(items, measures):
+    """How many (item, measure) pairs of `items` (getters) are flagged."""
+    return sum(flagged(get, m) for get in items for m in measures)
+
+
 def write_atomically(path, text):
-    """Writes `text` to a temporary file beside `path`, then renames it into place: no partial report."""
+    """Writes `text` to a temporary file beside `path`, then renames it into place: no partial report. The report
+    gets the mode a newly created file gets (0666 less the umask, as the drivers' CSVs), not mkstemp's 0600."""
     d = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=os.path.basename(path) + ".", suffix=".tmp", dir=d)
     try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)
         with os.fdopen(fd, "w") as f:
             f.write(text)
         os.replace(tmp, path)

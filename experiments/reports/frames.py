@@ -2,7 +2,8 @@
 change the result? The short answer, the algebra behind it, and the measured tables. Reads CSVs only."""
 import os
 
-from common import NAN, isnan, number, provenance, read_rows, settings, write_atomically
+from common import (NAN, SPREAD_NOTE, count_flagged, fmt, isnan, number, provenance, read_rows, settings, spread_text,
+                    write_atomically)
 
 # Regular cases: every solved frame kept some rank (sigma_min >= 1e-3). Where a frame collapses the rotation it is
 # orthonormalized to is decided by round-off, so strategies can differ there even with polar.
@@ -265,8 +266,8 @@ def tf_scale_verdict(vals, large):
          + " (the chained twists lose volume as LRI polar does; plain TF's smaller volume change there comes with a larger "
          "edge-length distortion, see the table).",
          f"- **Cost:** a second, scalar factor and a second solve per frame: median over the cases of normalized TF's "
-         f"init time over plain TF's {f3(ratio('init_s'))}, of its frame time {f3(ratio('frame_s'))} (single runs on "
-         "a shared machine).",
+         f"init time over plain TF's {f3(ratio('init_s'))}, of its frame time {f3(ratio('frame_s'))} (one child per "
+         "cell on a shared machine).",
          f"- **Against LAP and LRI:** closer to the ideal than LAP in {il[0]} of {il[1]} cases and than LRI polar in "
          f"{ir[0]} of {ir[1]}; lower edge-length distortion than LRI polar in {el[0]} of {el[1]} cases.",
          f"- **Large rotations** ({len(large)} cases of 180 degrees or more, or chained twists): closer to the ideal "
@@ -285,6 +286,24 @@ def tf_scale_table(vals):
                 o.append(f"| {name} | {label} |" + "".join(
                     " n/a |" if isnan(case[c][m]) else f" {case[c][m]:.4f} |" for m, _ in TF_SCALE_MEASURES))
     return "\n".join(o) + "\n"
+
+
+def timings(rows, st):
+    """Every cell's init and frame time, the frame's with its spread over the repetitions, flagged where they
+    disagree."""
+    getters = [(r, lambda m, r=r: number(r.get(m, ""))) for r in rows if r["status"] == "ok"]
+    ms = lambda x: f"{x * 1e3:.3g}"  # noqa: E731
+    o = ["## Timings\n",
+         "Init: build + analyze + factorize, once per cell; frame: the edit's frame solved "
+         f"{st.get('frame_repeats', 'once or more')} times with the same transform (`--frame-repeats`), the median with "
+         "its spread (least - largest, n = repetitions). A chained twist sums its steps (init, and each repetition of "
+         "the frame). One child process per cell on a shared machine: compare orders of magnitude.\n",
+         "| case | configuration | init ms | frame ms |", "|---|---|---:|---:|"]
+    for r, get in getters:
+        o.append(f"| {r['case']} | {r['config']} | {fmt(get('init_s') * 1e3, '{:.3g}')} | "
+                 f"{fmt(get('frame_s') * 1e3, '{:.3g}')} {spread_text(get, 'frame_s', ms)} |")
+    o.append(f"\n{SPREAD_NOTE} Flagged here: {count_flagged([g for _, g in getters], ['frame_s'])} frame(s).\n")
+    return "\n".join(o)
 
 
 def write(results):
@@ -307,6 +326,6 @@ def write(results):
     if any("tf-normalized" in c for c in tfs.values()):
         large = {s.name for s in ss if s.angle >= 180 - 1e-9 or s.protocol == "chained"}
         parts += [tf_scale_verdict(tfs, large), tf_scale_table(tfs)]
-    parts.append(observations(ss))
+    parts += [observations(ss), timings(rows, st)]
     write_atomically(os.path.join(results, "frames.md"), "\n".join(parts))
     return True

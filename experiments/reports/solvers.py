@@ -5,7 +5,8 @@ per tier and the BLAS kernel sets. Reads CSVs only, never measures."""
 import glob
 import os
 
-from common import MIB, NAN, cells, fmt, geomean, isnan, median, minmax, number, provenance, read_rows, write_atomically
+from common import (MIB, NAN, SPREAD_NOTE, cells, count_flagged, fmt, geomean, isnan, mark, median, minmax, number,
+                    provenance, read_rows, spread_text, write_atomically)
 
 KEY = ("model", "system", "backend", "family", "ordering", "ordering_used")
 # The summary reads the minimum over a cell's repetitions: on a shared machine interference only adds time.
@@ -106,10 +107,12 @@ def header(run, p):
            "right-hand-side columns) or 3#V x 3#V (tf, 1 column). `spqr` solves the least-squares problem on the naive "
            "build's A itself (QR, A^T A never formed).",
            f"- Every cell (tier, system, backend, ordering) ran in its own child process: peak RSS is that process' "
-           f"VmHWM (mesh + system + solver). Factorize: up to {fmt(reps('factorize_reps'), '{:.0f}')} repetitions "
-           f"measured; solve: up to {fmt(reps('solve_reps'), '{:.0f}')} solves of the deformation's right-hand side "
-           "(each phase stops repeating after --rep-seconds). Tables below show the minimum over the repetitions "
-           "(interference from other jobs only adds time; the CSV has the medians too: `factorize_s`, `solve_s`). "
+           "VmHWM (mesh + system + solver). Factorize and solve (of the deformation's right-hand side) repeat up to "
+           "--factor-reps / --solve-reps times, each phase no longer than --rep-seconds; from three repetitions on the "
+           "first warms up and the spread leaves it out: up to "
+           f"{fmt(reps('factorize_reps'), '{:.0f}')} factorizations and {fmt(reps('solve_reps'), '{:.0f}')} solves "
+           "counted. Tables below show the minimum of those (interference from other jobs only adds time; the CSV has "
+           "the medians too, `factorize_s`, `solve_s`, and the largest, `factorize_max_s`, `solve_max_s`). "
            "One thread (BLAS, OpenMP, assembly) unless `--threads`.",
            "- Errors: `residual` = ||Kx-b||/||b|| (deformation RHS); `error_exact` = ||x-x_ref||/||x_ref|| for "
            "b = K x_ref (spqr: b = A x_ref) with a seeded random x_ref; `error_vs_cholmod` = deformed positions against "
@@ -270,13 +273,17 @@ def every_backend(run):
                 if r is None:
                     continue
                 v = lambda k: value(r, k)  # noqa: E731
+                sp = lambda k: spread_text(r.get, k, fsec) if r.ok() else ""  # noqa: E731
                 out.append(f"| {m} | {sys} | {fmt(r.get('n'), '{:.0f}')} | {be} | {r.ordering_used or '-'} | "
-                           f"{fsec(v('analyze_s'))} | {fsec(v(FACTOR))} | {fsec(v(SOLVE))} | "
+                           f"{fsec(v('analyze_s'))} | {fsec(v(FACTOR))} {sp('factorize_s')} | "
+                           f"{fsec(v(SOLVE))} {sp('solve_s')} | "
                            f"{fmt(v('nnz_factor'), '{:.0f}')} | {fmt(v('gflops'), '{:.2f}')} | "
                            f"{fmt(v('factor_bytes') / MIB, '{:.1f}')} | {fmt(v('peak_rss_bytes') / MIB, '{:.0f}')} | "
                            f"{fmt(v('residual'), '{:.1e}')} | {fmt(v('error_exact'), '{:.1e}')} | "
                            f"{fmt(v('error_vs_cholmod'), '{:.1e}')} | {'ok' if r.ok() else r.message} |")
-    return "\n".join(out) + "\n"
+    ok = [c.get for c in run.cells if c.ok() and c.ordering == "default"]
+    return ("\n".join(out) + "\n\nfactorize, solve: the least repetition with the spread (least - largest, n = "
+            f"repetitions).\n\n{SPREAD_NOTE} Flagged here: {count_flagged(ok, ['factorize_s', 'solve_s'])} timing(s).\n")
 
 
 def mixed_precision(run):
@@ -319,7 +326,8 @@ def orderings(run):
         for r in run.cells:
             if r.model == big and r.system == sys and r.family in ("sparse-cholesky", "sparse-lu"):
                 out.append(f"| {sys} | {r.backend} | {r.ordering} | {r.ordering_used or '-'} | "
-                           f"{fsec(value(r, 'analyze_s'))} | {fsec(value(r, FACTOR))} | {fsec(value(r, SOLVE))} | "
+                           f"{fsec(value(r, 'analyze_s'))} | {fsec(value(r, FACTOR))}{mark(r.get, 'factorize_s')} | "
+                           f"{fsec(value(r, SOLVE))}{mark(r.get, 'solve_s')} | "
                            f"{fmt(value(r, 'nnz_factor'), '{:.0f}')} | {'ok' if r.ok() else r.message} |")
     return "\n".join(out) + "\n"
 

@@ -3,7 +3,12 @@ scaling_fits.csv, table_2_1_settings.csv): the thesis' layout with its numbers b
 phase times in detail, the targets at the 104k tier and the scaling fits. Reads CSVs only, never measures."""
 import os
 
-from common import MIB, NAN, cells, fmt, isnan, number, provenance, read_rows, settings, write_atomically
+from common import (MIB, NAN, SPREAD_NOTE, cells, count_flagged, fmt, isnan, mark, number, provenance, read_rows,
+                    settings, spread_text, write_atomically)
+
+# The timings the tables show, each with its spread or flag; fps and fps_handle follow their frame's.
+TIMED = ("build_s", "analyze_s", "factorize_s", "init_s", "frame_s", "init_precompute_s", "frame_handle_s")
+FLAG_OF = {"fps": "frame_s", "fps_handle": "frame_handle_s"}
 
 KEY = ("model", "system", "build", "backend", "factor_storage", "ordering_used")
 SCALING_KEY = ("series", "level") + KEY
@@ -66,12 +71,14 @@ def thesis_num(v, prec):
 
 
 def cell_text(c, measure, prec, scale, mem):
-    """A measured value, or the status with the prediction for cells that did not run."""
+    """A measured value (flagged when its repeats disagree), or the status with the prediction for cells that did not
+    run."""
     if c is None:
         return "-"
     if c.ok():
         v = c.get(measure)
-        return "n/a" if isnan(v) else f"{v / scale:.{prec}f}"
+        timing = FLAG_OF.get(measure, measure)
+        return "n/a" if isnan(v) else f"{v / scale:.{prec}f}" + (mark(c.get, timing) if timing.endswith("_s") else "")
     if c.status == "#over":
         return f"#over ({c.get('predicted_bytes') / MIB:.0f} pred.)"
     if c.status == "#slow":
@@ -193,23 +200,33 @@ def memory_detail(run):
 
 
 def phase_times(run):
-    out = ["## Phase times (s) and prediction\n\nfactorize GFlop/s: the factorization's flops over its time; BLAS "
-           "dgemm: the rate of the BLAS's dgemm (1024^3, its own threads) measured by the driver just before and after "
-           "the cell, their mean: the ceiling of the factorization's dense kernels at that moment; memory read: the "
-           "rate the worker threads read a 128 MB array at, likewise (the solves stream the factor). On a shared "
-           "machine both move by up to 2x within a day, and the times in this table with them.\n\n"
+    out = ["## Phase times (s) and prediction\n\nEach timing is the median with its spread over the repeats, (least - "
+           "largest, n = repeats): the runs of the cell for build, analyze, factorize and init; the frames of every run "
+           "for the frames (rhs / solve / write: their medians). factorize GFlop/s: the factorization's flops over its "
+           "time; BLAS dgemm: the rate of the BLAS's dgemm (1024^3, its own threads) measured by the driver just before "
+           "and after the cell, their mean: the ceiling of the factorization's dense kernels at that moment; memory "
+           "read: the rate the worker threads read a 128 MB array at, likewise (the solves stream the factor). On a "
+           "shared machine both move by up to 2x within a day, and the times in this table with them.\n\n"
            "| model | system | build | build s | analyze s | factorize s | init s | frame s (rhs / solve / write) | "
-           "predicted s | ordering | nnz(L) | factorize GFlop/s | BLAS dgemm GFlop/s | memory read GB/s |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "handle frame s | predicted s | ordering | nnz(L) | factorize GFlop/s | BLAS dgemm GFlop/s | memory read "
+           "GB/s |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     g = lambda v: fmt(v, "{:.4g}")  # noqa: E731
     for c in run.cells:
         f = c.get("factorize_s")
         rate = c.get("factor_flops") / f / 1e9 if c.ok() and f > 0 else NAN
-        out.append(f"| {c.model} | {c.system} | {c.build} | {g(c.get('build_s'))} | {g(c.get('analyze_s'))} | {g(f)} | "
-                   f"{g(c.get('init_s'))} | {g(c.get('frame_s'))} ({g(c.get('rhs_s'))} / {g(c.get('solve_s'))} / "
-                   f"{g(c.get('write_s'))}) | {g(c.get('predicted_s'))} | {c.ordering_used or '-'} | "
-                   f"{fmt(c.get('nnz_factor'), '{:.0f}')} | {g(rate)} | {g(gemm(c))} | {g(read_rate(c))} |")
-    return "\n".join(out) + "\n"
+        t = lambda m: f"{g(c.get(m))} {spread_text(c.get, m)}".strip()  # noqa: E731
+        out.append(f"| {c.model} | {c.system} | {c.build} | {t('build_s')} | {t('analyze_s')} | {t('factorize_s')} | "
+                   f"{t('init_s')} | {t('frame_s')} ({g(c.get('rhs_s'))} / {g(c.get('solve_s'))} / "
+                   f"{g(c.get('write_s'))}) | {t('frame_handle_s')} | {g(c.get('predicted_s'))} | "
+                   f"{c.ordering_used or '-'} | {fmt(c.get('nnz_factor'), '{:.0f}')} | {g(rate)} | {g(gemm(c))} | "
+                   f"{g(read_rate(c))} |")
+    return "\n".join(out) + "\n" + spread_footnote(run.cells)
+
+
+def spread_footnote(cs):
+    """The flag's meaning under a table, with how many of its timings carry it."""
+    n = count_flagged([c.get for c in cs if c.ok()], TIMED)
+    return f"\n{SPREAD_NOTE} Flagged here: {n} timing(s).\n"
 
 
 def init_why(c):
@@ -318,7 +335,7 @@ def scaling(run):
                    f"{cell_text(c, 'init_s', 3, 1, False)} | {cell_text(c, 'frame_s', 4, 1, False)} | "
                    f"{cell_text(c, 'factor_bytes', 1, MIB, True)} | {cell_text(c, 'peak_rss_bytes', 1, MIB, True)} | "
                    f"{c.status}{'' if c.factor_storage != 'disk' else ' (factor on disk)'} |")
-    return "\n".join(out) + "\n"
+    return "\n".join(out) + "\n" + spread_footnote(run.scaling)
 
 
 def not_run(run):
@@ -330,8 +347,9 @@ def not_run(run):
 NOTES = """## Notes
 
 - Init is measured once per run of a cell; the table takes the median of --repeats fresh children; frame times are \
-medians over the drag. On a shared 2-core machine other processes (builds) make single-shot timings vary by 2x or \
-more between runs: compare orders of magnitude, not digits.
+medians over the drag (of the runs' medians). On a shared 2-core machine other processes (builds) make single-shot \
+timings vary by 2x or more between runs: compare orders of magnitude, not digits. The phase table gives every \
+timing's spread; the flag under the tables marks a timing whose repeats disagree (fps: its frame's).
 - Thesis vertex counts differ from the bundled meshes (the thesis' models are not available); the planck tier is \
 armadillo Loop-subdivided once, the horse tier CGAL's refined_elephant.
 - The sparse factor prediction comes from a symbolic analysis of the vertex-level 2-ring graph (for TF expanded to 3x3 \
@@ -346,7 +364,8 @@ def write(results):
     run = Run(results)
     if not run.cells:
         return False
-    parts = [header(run), system_table(run, "tf"), system_table(run, "lap"), ratios(run), memory_detail(run),
+    parts = [header(run), system_table(run, "tf"), system_table(run, "lap"), spread_footnote(run.cells), ratios(run),
+             memory_detail(run),
              phase_times(run), targets(run), scaling(run), not_run(run), NOTES]
     write_atomically(os.path.join(results, "table_2_1.md"), "\n".join(p for p in parts if p))
     return True

@@ -185,6 +185,63 @@ CellResult decode_result(const std::string& out) {
   return r;
 }
 
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+std::string spread_name(const std::string& timed, const std::string& stat) {
+  if (!ends_with(timed, "_s")) throw Error("spread_name: '" + timed + "' is not a timed measure");
+  const std::string base = timed.substr(0, timed.size() - 2);
+  if (stat == "min" || stat == "max") return base + "_" + stat + "_s";
+  if (stat == "reps") return base + "_reps";
+  throw Error("spread_name: unknown statistic '" + stat + "'");
+}
+
+namespace {
+
+void set_spread(CellResult& r, const std::string& name, const Spread& s) {
+  r.set(name, s.median, "s");
+  r.set(spread_name(name, "min"), s.min, "s");
+  r.set(spread_name(name, "max"), s.max, "s");
+  r.set(spread_name(name, "reps"), s.count, "count");
+}
+
+bool timed(const Measure& m) { return m.unit == "s" && ends_with(m.name, "_s"); }
+
+// The spread of timed measure `name` over the runs: each run's own spread where it has one, else its value.
+Spread spread_over(const std::vector<CellResult>& runs, const std::string& name) {
+  std::vector<double> medians;
+  Spread s{kNaN, kNaN, kNaN, 0};
+  for (const CellResult& r : runs) {
+    const double v = r.get(name);
+    if (std::isnan(v)) continue;
+    medians.push_back(v);
+    const bool own = r.has(spread_name(name, "reps"));
+    const double lo = own ? r.get(spread_name(name, "min")) : v, hi = own ? r.get(spread_name(name, "max")) : v;
+    s.min = std::isnan(s.min) ? lo : std::min(s.min, lo);
+    s.max = std::isnan(s.max) ? hi : std::max(s.max, hi);
+    s.count += own ? static_cast<int>(r.get(spread_name(name, "reps"))) : 1;
+  }
+  s.median = median(medians);
+  return s;
+}
+
+}  // namespace
+
+void set_spread(CellResult& r, const std::string& name, const std::vector<double>& samples) {
+  set_spread(r, name, spread(samples));
+}
+
+bool is_spread_of_measure(const CellResult& r, const std::string& name) {
+  for (const std::string suffix : {"_min_s", "_max_s", "_reps"})
+    if (ends_with(name, suffix) && r.has(name.substr(0, name.size() - suffix.size()) + "_s")) return true;
+  return false;
+}
+
 CellResult median_of(const std::vector<CellResult>& runs) {
   if (runs.empty()) throw Error("median_of: no runs");
   CellResult m = runs.front();
@@ -194,11 +251,18 @@ CellResult median_of(const std::vector<CellResult>& runs) {
       if (const double y = r.get(x.name); !std::isnan(y)) v.push_back(y);
     x.value = v.empty() ? kNaN : median(v);
   }
+  for (const Measure& x : runs.front().measures)
+    if (timed(x) && !is_spread_of_measure(runs.front(), x.name))
+      if (const Spread s = spread_over(runs, x.name); s.count > 0) set_spread(m, x.name, s);
   return m;
 }
 
 std::vector<Measure> tidy_measures(const CellResult& r, const std::vector<MeasureDef>& defs) {
   std::vector<Measure> out;
+  auto add = [&](const std::string& name, const std::string& unit, Keep keep) {
+    const double v = r.get(name);
+    if (keep == Keep::Always || !std::isnan(v) || (keep == Keep::IfRan && r.ok())) out.push_back({name, v, unit});
+  };
   for (const MeasureDef& d : defs) {
     if (!d.name.empty() && d.name.back() == '*') {
       const std::string prefix = d.name.substr(0, d.name.size() - 1);
@@ -206,9 +270,12 @@ std::vector<Measure> tidy_measures(const CellResult& r, const std::vector<Measur
         if (m.name.rfind(prefix, 0) == 0) out.push_back({m.name, m.value, m.unit.empty() ? d.unit : m.unit});
       continue;
     }
-    const double v = r.get(d.name);
-    const bool keep = d.keep == Keep::Always || !std::isnan(v) || (d.keep == Keep::IfRan && r.ok());
-    if (keep) out.push_back({d.name, v, d.unit});
+    add(d.name, d.unit, d.keep);
+    if (d.unit == "s" && d.spread) {
+      add(spread_name(d.name, "min"), "s", d.keep);
+      add(spread_name(d.name, "max"), "s", d.keep);
+      add(spread_name(d.name, "reps"), "count", d.keep);
+    }
   }
   return out;
 }

@@ -92,8 +92,22 @@ std::string encode_result(const CellResult& r);
 //! Parses the last "DBCELL " line of a child's stdout. \throw Error when there is none or it is malformed.
 CellResult decode_result(const std::string& child_stdout);
 
+//! The spread of a timed measure over its repeats (frames of a drag, repetitions of a phase, fresh children of a
+//! cell): "NAME_s" is the median, "NAME_min_s" and "NAME_max_s" the least and largest repeat, "NAME_reps" how many
+//! repeats there were (count). Every CSV uses these names; a wide row whose median column has another name
+//! (`frame_median_s`) still names the spread after the measure (`frame_min_s`). `stat`: "min", "max" or "reps".
+//! \throw Error for a name that does not end in "_s" or another stat.
+std::string spread_name(const std::string& timed, const std::string& stat);
+//! Sets `name` (a timed measure, "s") to the median of `samples` and its spread measures (spread_name).
+void set_spread(CellResult& r, const std::string& name, const std::vector<double>& samples);
+//! Whether `name` is the spread measure of a timed measure `r` has ("frame_min_s" when "frame_s" is there).
+bool is_spread_of_measure(const CellResult& r, const std::string& name);
+
 //! Measure-by-measure median of repeated runs of one cell (NaN where no run measured it), in the first run's
-//! order; status, strings and exit from the first run. \throw Error for an empty list.
+//! order; status, strings and exit from the first run. Timed measures (unit "s") get their spread over the runs
+//! (spread_name): a run that carries its own spread (the frames of its drag) gives its least and largest repeat and
+//! its count, so NAME_min_s / NAME_max_s are over every repeat of every run and NAME_reps is their total, while
+//! NAME_s is the median of the runs' medians. \throw Error for an empty list.
 CellResult median_of(const std::vector<CellResult>& runs);
 
 //! Which measures a CSV keeps for a cell.
@@ -103,11 +117,14 @@ enum class Keep {
   IfMeasured,  //!< only where measured (not NaN)
 };
 //! One measure of an experiment's CSV schema. A name ending in '*' stands for every measure of the result
-//! whose name starts with the rest ("held_bytes:*"), in the result's order, with the result's units.
+//! whose name starts with the rest ("held_bytes:*"), in the result's order, with the result's units. A timed
+//! measure (unit "s") is followed by its spread (spread_name: NAME_min_s, NAME_max_s, NAME_reps) under the same
+//! keep rule, unless `spread` is false (a prediction, not a measurement).
 struct MeasureDef {
   std::string name;
   std::string unit;
   Keep keep = Keep::IfRan;
+  bool spread = true;
 };
 //! The measures of `r` a CSV writes, in the order of `defs` (units from `defs`).
 std::vector<Measure> tidy_measures(const CellResult& r, const std::vector<MeasureDef>& defs);

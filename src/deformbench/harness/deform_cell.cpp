@@ -7,7 +7,6 @@
 #include "edit/edit_io.h"
 #include "harness/cpu_timer.h"
 #include "harness/machine_rates.h"
-#include "harness/stats.h"
 #include "mesh/mesh_io.h"
 #include "methods/deformer.h"
 #include "methods/drag.h"
@@ -15,7 +14,8 @@
 namespace db::harness {
 namespace {
 
-// The frames of the drag: per-frame phase times (medians go to the result) and the last frame's positions.
+// The frames of the drag: per-frame phase times (their medians and spread go to the result) and the last frame's
+// positions.
 struct Drag {
   std::vector<double> frame, frame_cpu, rhs, solve, write, response, ortho;
   Points V;
@@ -91,11 +91,11 @@ void add_handle_frames(CellResult& r, Deformer& d, const Edit& e, int frames, co
   r.set("precompute_s", t.precompute, "s");
   r.set("precompute_cpu_s", precompute_cpu, "s");
   r.set("init_precompute_s", t.init() + t.precompute, "s");
-  r.set("frame_handle_s", median(g.frame), "s");
-  r.set("response_s", median(g.response), "s");
-  r.set("handle_rhs_s", median(g.rhs), "s");  // lri: orthonormalization + position right-hand side
-  r.set("handle_solve_s", median(g.solve), "s");  // lri: the position solve
-  r.set("orthonormalize_s", median(g.ortho), "s");
+  set_spread(r, "frame_handle_s", g.frame);
+  set_spread(r, "response_s", g.response);
+  set_spread(r, "handle_rhs_s", g.rhs);  // lri: orthonormalization + position right-hand side
+  set_spread(r, "handle_solve_s", g.solve);  // lri: the position solve
+  set_spread(r, "orthonormalize_s", g.ortho);
   r.set("fps_handle", 1.0 / r.get("frame_handle_s"), "1/s");
   r.set("response_bytes", static_cast<double>(d.response_bytes()), "bytes");
   r.set("handle_vs_full", (g.V - full).rowwise().norm().maxCoeff() / bbox_diagonal(full), "bbox_diagonal");
@@ -177,11 +177,11 @@ CellResult measure_deform_cell(const CellSpec& spec) {
   add_system(r, *d);
   r.set("init_cpu_s", init_cpu_s, "s");  // make_deformer: the init phases (and the input checks) in CPU time
   r.set("frames", c.frames, "count");
-  r.set("frame_s", median(g.frame), "s");
-  r.set("frame_cpu_s", median(g.frame_cpu), "s");
-  r.set("rhs_s", median(g.rhs), "s");
-  r.set("solve_s", median(g.solve), "s");
-  r.set("write_s", median(g.write), "s");
+  set_spread(r, "frame_s", g.frame);
+  set_spread(r, "frame_cpu_s", g.frame_cpu);
+  set_spread(r, "rhs_s", g.rhs);
+  set_spread(r, "solve_s", g.solve);
+  set_spread(r, "write_s", g.write);
   r.set("fps", 1.0 / r.get("frame_s"), "1/s");
   add_memory(r, *d);
   r.set("mean_displacement", (g.V - ec.mesh.V).rowwise().norm().mean() / bbox_diagonal(ec.mesh.V), "bbox_diagonal");

@@ -7,15 +7,16 @@
 //! Spec keys (DeformCell::to_spec / from_spec): model, mesh | edit, method, build, backend, ordering,
 //! constraints, frames, handle, anchors, drag, factor_dir, memory_budget_bytes, out_mesh, handle_frames.
 //! Measures: vertices, faces, handle, fixed, n, nnz, nnz_factor, factor_flops, min_pivot_ratio, build_s,
-//! analyze_s, factorize_s, init_s, frames, frame_s, rhs_s, solve_s, write_s (medians over the frames), fps,
+//! analyze_s, factorize_s, init_s, frames, frame_s, rhs_s, solve_s, write_s (medians over the frames, each with
+//! its spread over them: frame_min_s, frame_max_s, frame_reps, ...; harness/cell.h spread_name), fps,
 //! init_cpu_s and frame_cpu_s (CPU time of this process, harness/cpu_timer.h: make_deformer; median per frame),
 //! matrix_bytes, factor_bytes, held_bytes:<matrix>, held_total_bytes, peak_rss_bytes (VmHWM),
 //! baseline_rss_bytes (after reading the mesh), mean_displacement (last frame, / bbox diagonal).
 //! With handle_frames=1, after the drag the same factored systems switch to handle-mode frames
 //! (Deformer::precompute_handle_frames) and the drag runs again: precompute_s, precompute_cpu_s (its CPU
 //! time, all threads), init_precompute_s,
-//! frame_handle_s, response_s, handle_rhs_s, handle_solve_s, orthonormalize_s (medians; LRI's position part stays
-//! per frame), fps_handle, response_bytes, handle_vs_full (largest distance between the
+//! frame_handle_s, response_s, handle_rhs_s, handle_solve_s, orthonormalize_s (medians with their spread; LRI's
+//! position part stays per frame), fps_handle, response_bytes, handle_vs_full (largest distance between the
 //! two modes' last frames / bbox diagonal), peak_rss_handle_bytes (VmHWM after them; peak_rss_bytes is taken
 //! before), memory_read (GB/s, MachineRates::read_bandwidth right after) and
 //! response_pass_s (response_bytes at that rate: the least a handle frame could take).

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 
 #include <fmt/format.h>
 
@@ -52,6 +53,30 @@ void add_measure_rows(CsvTable& csv, const CsvTable::Row& key, const CellResult&
                            {"message", r.message}});
     csv.add(std::move(row));
   }
+}
+
+void add_spread_columns(CsvTable::Row& row, const CellResult& r, const std::string& name) {
+  for (const char* stat : {"min", "max", "reps"}) {
+    const std::string col = spread_name(name, stat);
+    const double v = r.get(col);
+    row.emplace_back(col, std::isnan(v) ? "" : num(v));
+  }
+}
+
+void FailedCells::note(const std::string& spec_text, const CellResult& r) {
+  if (r.status != "error") return;
+  for (const auto& f : failed_)
+    if (f.first == spec_text) return;
+  failed_.emplace_back(spec_text, r.exit.empty() ? r.message : fmt::format("{} ({})", r.message, r.exit));
+}
+
+int FailedCells::exit_code() const {
+  if (failed_.empty()) return 0;
+  std::cerr << fmt::format("[{}] {} cell(s) failed (their rows say status error; exit {}):\n", driver_, failed_.size(),
+                           kCellsFailedExit);
+  for (const auto& [spec, why] : failed_)
+    std::cerr << fmt::format("[{0}] FAILED {1}\n[{0}]   {2}\n", driver_, spec, why);
+  return kCellsFailedExit;
 }
 
 }  // namespace db::harness

@@ -28,4 +28,29 @@ void write_settings(const std::string& path, const std::vector<std::pair<std::st
 //! schema `defs` keeps (tidy_measures).
 void add_measure_rows(CsvTable& csv, const CsvTable::Row& key, const CellResult& r, const std::vector<MeasureDef>& defs);
 
+//! A wide row's spread columns of the timed measure `name` of `r` (spread_name: NAME_min_s, NAME_max_s, NAME_reps),
+//! empty where not measured.
+void add_spread_columns(CsvTable::Row& row, const CellResult& r, const std::string& name);
+
+//! Exit code of a driver run in which a cell failed (status "error": it crashed, timed out, threw, or its input could
+//! not be loaded). The driver still runs every other cell and writes every row (the failed ones with their status);
+//! budget refusals (#over, #slow: predicted over budget, never attempted) and skipped cells are no failures.
+constexpr int kCellsFailedExit = 5;
+
+//! The failed cells of a driver's run, for its exit: note() every result, return exit_code() at the end.
+class FailedCells {
+ public:
+  explicit FailedCells(std::string driver) : driver_(std::move(driver)) {}
+  //! Remembers the cell when `r` failed (once per spec: a result reused for another table is one cell).
+  void note(const std::string& spec_text, const CellResult& r);
+  std::size_t size() const { return failed_.size(); }
+  //! 0 when no cell failed; else lists every failed cell on stderr (its spec, how the child ended, the message)
+  //! and returns kCellsFailedExit.
+  int exit_code() const;
+
+ private:
+  std::string driver_;
+  std::vector<std::pair<std::string, std::string>> failed_;  // spec text, why
+};
+
 }  // namespace db::harness

@@ -13,7 +13,6 @@
 #include "core/timer.h"
 #include "harness/cpu_timer.h"
 #include "harness/positions.h"
-#include "harness/stats.h"
 #include "harness/thesis_edit.h"
 #include "mesh/mesh_io.h"
 #include "methods/deformer.h"
@@ -110,23 +109,23 @@ double rel_residual(const SpMat& upper, const DenseMat& x, const DenseMat& b) {
 
 // Repeats `f` (at least once, at most `reps` times, and no more once `budget_s` seconds have been spent).
 struct Reps {
-  double median = 0, min = 0, cpu_median = 0;  // wall seconds; the median in CPU seconds (harness/cpu_timer.h)
-  int count = 0;
+  std::vector<double> wall, cpu;  // seconds per repetition; CPU time of this process (harness/cpu_timer.h)
+  double min() const { return wall.empty() ? kNaN : *std::min_element(wall.begin(), wall.end()); }
 };
 template <class F>
 Reps repeat_timed(int reps, double budget_s, F&& f) {
-  std::vector<double> t, cpu;
+  Reps r;
   double total = 0;
   for (int i = 0; i < reps; ++i) {
     const CpuTimer tc;
     Timer tm;
     f();
-    t.push_back(tm.seconds());
-    cpu.push_back(tc.seconds());
-    total += t.back();
+    r.wall.push_back(tm.seconds());
+    r.cpu.push_back(tc.seconds());
+    total += r.wall.back();
     if (total >= budget_s) break;
   }
-  return {median(t), *std::min_element(t.begin(), t.end()), median(cpu), int(t.size())};
+  return r;
 }
 
 void add_system(CellResult& r, const Problem& p, const NormalSystem& sys, double build_s, double build_cpu_s) {
@@ -152,17 +151,13 @@ void add_phases(CellResult& r, const Phases& ph) {
   const Reps &f = ph.factorize, &s = ph.solve;
   r.set("analyze_s", ph.analyze_s, "s");
   r.set("analyze_cpu_s", ph.analyze_cpu_s, "s");
-  r.set("factorize_s", f.median, "s");
-  r.set("factorize_min_s", f.min, "s");
-  r.set("factorize_cpu_s", f.cpu_median, "s");
-  r.set("factorize_reps", f.count, "count");
-  r.set("solve_s", s.median, "s");
-  r.set("solve_min_s", s.min, "s");
-  r.set("solve_cpu_s", s.cpu_median, "s");
-  r.set("solve_reps", s.count, "count");
+  set_spread(r, "factorize_s", f.wall);  // with factorize_min_s, factorize_max_s, factorize_reps
+  set_spread(r, "factorize_cpu_s", f.cpu);
+  set_spread(r, "solve_s", s.wall);
+  set_spread(r, "solve_cpu_s", s.cpu);
   r.set("nnz_factor", double(ph.stats.nnz_factor), "count");
   r.set("factor_flops", ph.stats.flops > 0 ? ph.stats.flops : kNaN, "flop");
-  r.set("gflops", ph.stats.flops > 0 && f.min > 0 ? ph.stats.flops / f.min / 1e9 : kNaN, "GFlop/s");  // fastest rep
+  r.set("gflops", ph.stats.flops > 0 && f.min() > 0 ? ph.stats.flops / f.min() / 1e9 : kNaN, "GFlop/s");  // fastest rep
   r.set("factor_bytes", double(ph.stats.factor_bytes), "bytes");
 }
 
