@@ -166,7 +166,7 @@ expect "applications with a failing cell" 5 "FAILED kind=application name=broken
   ok "applications wrote the good and the failed row" || fail "applications rows: $(cut -c 1-80 "$T/apps_failed.csv")"
 
 expect "frames with failing cells (killed at their timeout)" 5 "2 cell\(s\) failed" -- "$BIN/exp_frames" \
-  --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" --methods lap,tf --frame-repeats 100000 \
+  --case "bar: twist mesh=bar:6:6:60:1:1:10 z0=0 z1=10 turns=1 chained=no" --methods lap,tf --frame-repeats 100000 \
   --cell-timeout-s 1 --no-meshes --out "$T/failed_results/frames.csv"
 [ "$(grep -c ',error (timed out' "$T/failed_results/frames.csv")" = 2 ] && ok "frames.csv has the failed cells' rows" ||
   fail "frames.csv rows: $(cut -c 1-80 "$T/failed_results/frames.csv")"
