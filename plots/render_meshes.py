@@ -16,13 +16,16 @@ import argparse
 import glob
 import os
 import sys
+import textwrap
 
 import numpy as np
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.cm import ScalarMappable  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
+from matplotlib.colors import Normalize  # noqa: E402
 
 PANELS = [
     ("rest", "rest (fixed / free / handle)"),
@@ -39,6 +42,7 @@ PANELS = [
 ]
 COLORS = {"lap": (0.35, 0.55, 0.85), "tf": (0.35, 0.75, 0.55), "tf-normalized": (0.55, 0.8, 0.35),
           "lri-uncoordinated": (0.8, 0.4, 0.55), "ideal": (0.75, 0.75, 0.75)}
+TITLES = dict(PANELS)
 LRI_COLOR = (0.85, 0.6, 0.35)
 ROLE_COLORS = np.array([[0.62, 0.66, 0.72], [0.86, 0.32, 0.30], [0.97, 0.85, 0.25]])  # fixed, free, handle
 
@@ -90,16 +94,19 @@ def camera(elev, azim):
     return r, np.cross(d, r), d
 
 
-def shade(V, F, base, light):
+def shade(V, F, base, light, ambient=0.25):
     T = V[F]
     n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
     n /= np.linalg.norm(n, axis=1)[:, None] + 1e-300
     lam = np.abs(n @ light)  # two-sided: open meshes show their inside too
-    k = (0.25 + 0.75 * lam)[:, None]
+    k = (ambient + (1 - ambient) * lam)[:, None]
     base = np.broadcast_to(np.asarray(base, dtype=float), (len(F), 3))
     return np.clip(base * k, 0, 1)
 
 
+DPI = 90
+# Distance maps are drawn when no method's result lies farther than this from the reference's, in pixels.
+DISTANCE_MAP_BELOW_PX = 6.0
 VIEWS = {"dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
          "bunny": (90.0, -90.0), "armadillo": (90.0, -90.0)}  # (elev, azim) by prefix
 
@@ -126,12 +133,57 @@ def draw(ax, V, F, colors, cam):
     ax.add_collection(pc)
 
 
+def layout(n, aspect):
+    """(rows, cols, panel width, panel height) in inches for n panels of height / width `aspect`: a tall shape (a bar
+    standing up) all in one row, else three a row."""
+    cols = n if aspect > 2.0 else min(3, n)
+    pw = min(4.2, 18.0 / cols)
+    ph = float(np.clip(pw * aspect, 1.2, 9.0))
+    return int(np.ceil(n / cols)), cols, pw, ph
+
+
+def title_lines(text, width_in, fontsize):
+    """The title wrapped to the panel's width (an average glyph is about 0.55 em wide)."""
+    return textwrap.fill(text, max(12, int(width_in * 72 / (0.55 * fontsize))))
+
+
+def differences(meshes, keys, rest):
+    """(reference key, key -> per-vertex distance from the reference's result in rest bounding-box diagonals) for
+    the method panels; (None, {}) when fewer than two methods."""
+    methods = [k for k in keys if k not in ("rest", "ideal")]
+    if len(methods) < 2:
+        return None, {}
+    ref = methods[0]
+    diag = np.linalg.norm(rest.max(0) - rest.min(0))
+    return ref, {k: np.linalg.norm(meshes[k][0] - meshes[ref][0], axis=1) / diag for k in methods if k != ref}
+
+
+def distance_panels(fig, axes, meshes, ref, dist, view):
+    """Each method's result coloured by its distance from the reference's (lightly shaded, one scale for all) with a
+    colour bar. view: (drawn faces, camera, light, 2D limits, panel width in inches)."""
+    Fs, cam, light, lim, pw = view
+    vmax = max(float(d.max()) for d in dist.values()) or 1.0
+    norm, cmap = Normalize(0.0, vmax), plt.get_cmap("viridis")
+    for ax, (key, d) in zip(axes, dist.items()):
+        V = meshes[key][0]
+        base = cmap(norm(d[Fs].mean(axis=1)))[:, :3]
+        draw(ax, V, Fs, shade(V, Fs, base, light, ambient=0.7), cam)
+        frame(ax, lim)
+        ax.set_title(title_lines(f"{TITLES[key]}: distance from {TITLES[ref]} (max {d.max():.2g})", pw, 8),
+                     fontsize=8)
+    cb = fig.colorbar(ScalarMappable(norm, cmap), ax=list(axes), location="bottom", shrink=0.6, aspect=40)
+    cb.set_label(f"|x - x_{TITLES[ref]}| / rest bounding-box diagonal", fontsize=9)
+
+
+def frame(ax, lim):
+    ax.set_xlim(lim[0][0], lim[1][0])
+    ax.set_ylim(lim[0][1], lim[1][1])
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+
+
 def render_case(case, files, out_dir, max_faces):
-    meshes = {}
-    for key, _ in PANELS:
-        p = files.get(key)
-        if p:
-            meshes[key] = read_ply(p)
+    meshes = {key: read_ply(files[key]) for key, _ in PANELS if files.get(key)}
     if "rest" not in meshes:
         return None
     V0, F = meshes["rest"]
@@ -149,16 +201,22 @@ def render_case(case, files, out_dir, max_faces):
     P = np.vstack([np.stack([m[0] @ r, m[0] @ u], axis=1) for m in meshes.values()])
     lo, hi = P.min(0), P.max(0)
     pad = 0.03 * (hi - lo).max()
-    lo, hi = lo - pad, hi + pad
-    aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
+    lim = (lo - pad, hi + pad)
+    aspect = (hi[1] - lo[1] + 2 * pad) / max(hi[0] - lo[0] + 2 * pad, 1e-300)
     keys = [k for k, _ in PANELS if k in meshes]
-    titles = dict(PANELS)
-    tall = aspect > 2.0
-    cols = len(keys) if tall else min(3, len(keys))
-    rows = int(np.ceil(len(keys) / cols))
-    pw = min(4.2, 18.0 / cols)
-    ph = float(np.clip(pw * aspect, 1.2, 9.0))
-    fig, axes = plt.subplots(rows, cols, figsize=(pw * cols, (ph + 0.5) * rows + 0.4), squeeze=False)
+    rows, cols, pw, ph = layout(len(keys), aspect)
+    # Where every method lands within a few pixels of the reference's result, the shapes alone cannot tell them
+    # apart: a row of distance maps below them shows where and by how much they differ.
+    ref, dist = differences(meshes, keys, V0)
+    px = min(pw / (hi[0] - lo[0] + 2 * pad), ph / (hi[1] - lo[1] + 2 * pad)) * DPI  # pixels per model unit
+    diag = np.linalg.norm(V0.max(0) - V0.min(0))
+    maps = bool(dist) and max(float(x.max()) for x in dist.values()) * diag * px < DISTANCE_MAP_BELOW_PX
+    map_rows = int(np.ceil(len(dist) / cols)) if maps else 0
+    fontsize = 8 if cols > 3 else 10
+    lines = max(title_lines(TITLES[k], pw, fontsize).count("\n") + 1 for k in keys)
+    title_h = 0.2 * lines * fontsize / 8
+    fig, axes = plt.subplots(rows + map_rows, cols, squeeze=False, layout="constrained",
+                             figsize=(pw * cols, (ph + title_h) * (rows + map_rows) + 0.6 + 0.9 * (map_rows > 0)))
     for ax in axes.flat:
         ax.set_axis_off()
     for ax, key in zip(axes.flat, keys):
@@ -168,15 +226,16 @@ def render_case(case, files, out_dir, max_faces):
         else:
             base = COLORS.get(key, LRI_COLOR)
         draw(ax, V, Fs, shade(V, Fs, base, light), cam)
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[1], hi[1])
-        ax.set_aspect("equal")
-        ax.set_title(titles[key].replace(", ", ",\n") if tall else titles[key], fontsize=8 if tall else 10)
+        frame(ax, lim)
+        ax.set_title(title_lines(TITLES[key], pw, fontsize), fontsize=fontsize)
+    if maps:
+        distance_panels(fig, axes.flat[rows * cols:rows * cols + len(dist)], meshes, ref, dist,
+                        (Fs, cam, light, lim, pw))
     thin = f", {len(Fs)} of {len(F)} faces drawn" if len(Fs) < len(F) else ""
-    fig.suptitle(f"{case}: {len(V0)} vertices{thin} (view elev {elev:g}, azim {azim:g})", fontsize=11)
-    fig.tight_layout()
+    fig.suptitle(title_lines(f"{case}: {len(V0)} vertices{thin} (view elev {elev:g}, azim {azim:g})",
+                             pw * cols, 11), fontsize=11)
     path = os.path.join(out_dir, f"render_{case}.png")
-    fig.savefig(path, dpi=90)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
