@@ -105,9 +105,11 @@ def shade(V, F, base, light, ambient=0.25):
 
 
 DPI = 90
-# Distance maps are drawn when no method's result lies farther than this from the reference's, in pixels.
-DISTANCE_MAP_BELOW_PX = 6.0
-VIEWS = {"dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
+# Distance maps are drawn when the methods' results differ, but no vertex of any lies farther from the reference's
+# than this fraction of a panel's width: at page size, where a panel is a few centimetres wide, that is too little
+# to see by comparing the shapes.
+DISTANCE_MAP_BELOW = 0.1
+VIEWS = {"cgal_cyl": (20.0, 35.0), "dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
          "bunny": (90.0, -90.0), "armadillo": (90.0, -90.0)}  # (elev, azim) by prefix
 
 
@@ -158,21 +160,26 @@ def differences(meshes, keys, rest):
     return ref, {k: np.linalg.norm(meshes[k][0] - meshes[ref][0], axis=1) / diag for k in methods if k != ref}
 
 
-def distance_panels(fig, axes, meshes, ref, dist, view):
-    """Each method's result coloured by its distance from the reference's (lightly shaded, one scale for all) with a
-    colour bar. view: (drawn faces, camera, light, 2D limits, panel width in inches)."""
-    Fs, cam, light, lim, pw = view
-    vmax = max(float(d.max()) for d in dist.values()) or 1.0
+def distance_panels(sub, meshes, ref, dist, view, grid):
+    """Each method's result coloured by its distance from the reference's (lightly shaded, one scale for all) on a
+    grid of its own, with a colour bar. grid: (rows, cols, panel width in inches)."""
+    rows, cols, pw = grid
+    axes = sub.subplots(rows, cols, squeeze=False)
+    vmax = max(float(d.max()) for d in dist.values())
     norm, cmap = Normalize(0.0, vmax), plt.get_cmap("viridis")
-    for ax, (key, d) in zip(axes, dist.items()):
+    Fs = view["faces"]
+    for ax in axes.flat:
+        ax.set_axis_off()
+    for ax, (key, d) in zip(axes.flat, dist.items()):
         V = meshes[key][0]
         base = cmap(norm(d[Fs].mean(axis=1)))[:, :3]
-        draw(ax, V, Fs, shade(V, Fs, base, light, ambient=0.7), cam)
-        frame(ax, lim)
-        ax.set_title(title_lines(f"{TITLES[key]}: distance from {TITLES[ref]} (max {d.max():.2g})", pw, 8),
-                     fontsize=8)
-    cb = fig.colorbar(ScalarMappable(norm, cmap), ax=list(axes), location="bottom", shrink=0.6, aspect=40)
-    cb.set_label(f"|x - x_{TITLES[ref]}| / rest bounding-box diagonal", fontsize=9)
+        draw(ax, V, Fs, shade(V, Fs, base, view["light"], ambient=0.7), view["cam"])
+        frame(ax, view["lim"])
+        ax.set_title(title_lines(f"{TITLES[key]} (max {d.max():.2g})", pw, 8), fontsize=8)
+    cb = sub.colorbar(ScalarMappable(norm, cmap), ax=list(axes.flat), location="bottom", shrink=0.6, aspect=40)
+    cb.set_label(f"distance from {TITLES[ref]}'s result, per vertex / rest bounding-box diagonal", fontsize=9)
+    sub.suptitle(f"where and by how much the results differ: each one's distance from {TITLES[ref]}'s",
+                 fontsize=10)
 
 
 def frame(ax, lim):
@@ -182,41 +189,24 @@ def frame(ax, lim):
     ax.set_axis_off()
 
 
-def render_case(case, files, out_dir, max_faces):
-    meshes = {key: read_ply(files[key]) for key, _ in PANELS if files.get(key)}
-    if "rest" not in meshes:
-        return None
-    V0, F = meshes["rest"]
-    roles = read_roles(files.get("roles", ""), len(V0))
-    sel = np.arange(len(F))
-    if len(F) > max_faces:  # drawing cost grows with the face count: thin out very large meshes
-        sel = np.sort(np.random.default_rng(0).choice(len(F), max_faces, replace=False))
-    Fs = F[sel]
+def case_view(case, meshes, faces):
+    """The camera, light and 2D frame all panels of a case share, so shapes compare directly."""
     elev, azim = view_for(case, [m[0] for m in meshes.values()])
     cam = camera(elev, azim)
     r, u, d = cam
     light = 0.3 * r + 0.6 * u + 0.75 * d
-    light /= np.linalg.norm(light)
-    # One 2D frame for every panel of the case, so shapes compare directly.
     P = np.vstack([np.stack([m[0] @ r, m[0] @ u], axis=1) for m in meshes.values()])
     lo, hi = P.min(0), P.max(0)
     pad = 0.03 * (hi - lo).max()
-    lim = (lo - pad, hi + pad)
-    aspect = (hi[1] - lo[1] + 2 * pad) / max(hi[0] - lo[0] + 2 * pad, 1e-300)
-    keys = [k for k, _ in PANELS if k in meshes]
-    rows, cols, pw, ph = layout(len(keys), aspect)
-    # Where every method lands within a few pixels of the reference's result, the shapes alone cannot tell them
-    # apart: a row of distance maps below them shows where and by how much they differ.
-    ref, dist = differences(meshes, keys, V0)
-    px = min(pw / (hi[0] - lo[0] + 2 * pad), ph / (hi[1] - lo[1] + 2 * pad)) * DPI  # pixels per model unit
-    diag = np.linalg.norm(V0.max(0) - V0.min(0))
-    maps = bool(dist) and max(float(x.max()) for x in dist.values()) * diag * px < DISTANCE_MAP_BELOW_PX
-    map_rows = int(np.ceil(len(dist) / cols)) if maps else 0
-    fontsize = 8 if cols > 3 else 10
-    lines = max(title_lines(TITLES[k], pw, fontsize).count("\n") + 1 for k in keys)
-    title_h = 0.2 * lines * fontsize / 8
-    fig, axes = plt.subplots(rows + map_rows, cols, squeeze=False, layout="constrained",
-                             figsize=(pw * cols, (ph + title_h) * (rows + map_rows) + 0.6 + 0.9 * (map_rows > 0)))
+    size = hi - lo + 2 * pad
+    return {"elev": elev, "azim": azim, "cam": cam, "light": light / np.linalg.norm(light), "faces": faces,
+            "lim": (lo - pad, hi + pad), "size": size, "aspect": size[1] / max(size[0], 1e-300)}
+
+
+def shape_panels(sub, keys, meshes, roles, view, grid):
+    rows, cols, pw, fontsize = grid
+    axes = sub.subplots(rows, cols, squeeze=False)
+    Fs = view["faces"]
     for ax in axes.flat:
         ax.set_axis_off()
     for ax, key in zip(axes.flat, keys):
@@ -225,17 +215,43 @@ def render_case(case, files, out_dir, max_faces):
             base = ROLE_COLORS[roles[Fs].max(axis=1)]  # a face touching the handle is handle, else free if it touches one
         else:
             base = COLORS.get(key, LRI_COLOR)
-        draw(ax, V, Fs, shade(V, Fs, base, light), cam)
-        frame(ax, lim)
+        draw(ax, V, Fs, shade(V, Fs, base, view["light"]), view["cam"])
+        frame(ax, view["lim"])
         ax.set_title(title_lines(TITLES[key], pw, fontsize), fontsize=fontsize)
+
+
+def render_case(case, files, out_dir, max_faces):
+    meshes = {key: read_ply(files[key]) for key, _ in PANELS if files.get(key)}
+    if "rest" not in meshes:
+        return None
+    V0, F = meshes["rest"]
+    sel = np.arange(len(F))
+    if len(F) > max_faces:  # drawing cost grows with the face count: thin out very large meshes
+        sel = np.sort(np.random.default_rng(0).choice(len(F), max_faces, replace=False))
+    view = case_view(case, meshes, F[sel])
+    keys = [k for k, _ in PANELS if k in meshes]
+    rows, cols, pw, ph = layout(len(keys), view["aspect"])
+    # Where the results differ by too little to see, distance maps below the shapes show where and by how much.
+    ref, dist = differences(meshes, keys, V0)
+    inches = min(pw / view["size"][0], ph / view["size"][1])  # per model unit
+    widest = max((float(x.max()) for x in dist.values()), default=0.0) * np.linalg.norm(V0.max(0) - V0.min(0))
+    maps = 0 < widest * inches < DISTANCE_MAP_BELOW * pw
+    fontsize = 8 if cols > 3 else 10
+    lines = max(title_lines(TITLES[k], pw, fontsize).count("\n") + 1 for k in keys)
+    top_h = (ph + 0.2 * lines * fontsize / 8) * rows + 0.5
+    mcols = cols if cols > 3 else 4  # the maps smaller than the shapes, four a row
+    mrows, mpw = int(np.ceil(len(dist) / mcols)), pw * cols / mcols
+    bottom_h = ((float(np.clip(mpw * view["aspect"], 1.0, 9.0)) + 0.45) * mrows + 1.3) if maps else 0.0
+    fig = plt.figure(figsize=(pw * cols, top_h + bottom_h), layout="constrained")
+    top, bottom = fig.subfigures(2, 1, height_ratios=[top_h, bottom_h]) if maps else (fig, None)
+    shape_panels(top, keys, meshes, read_roles(files.get("roles", ""), len(V0)), view, (rows, cols, pw, fontsize))
     if maps:
-        distance_panels(fig, axes.flat[rows * cols:rows * cols + len(dist)], meshes, ref, dist,
-                        (Fs, cam, light, lim, pw))
-    thin = f", {len(Fs)} of {len(F)} faces drawn" if len(Fs) < len(F) else ""
-    fig.suptitle(title_lines(f"{case}: {len(V0)} vertices{thin} (view elev {elev:g}, azim {azim:g})",
+        distance_panels(bottom, meshes, ref, dist, view, (mrows, mcols, mpw))
+    thin = f", {len(sel)} of {len(F)} faces drawn" if len(sel) < len(F) else ""
+    fig.suptitle(title_lines(f"{case}: {len(V0)} vertices{thin} (view elev {view['elev']:g}, azim {view['azim']:g})",
                              pw * cols, 11), fontsize=11)
     path = os.path.join(out_dir, f"render_{case}.png")
-    fig.savefig(path, dpi=DPI)
+    fig.savefig(path, dpi=DPI, bbox_inches="tight", pad_inches=0.15)  # nothing cropped
     plt.close(fig)
     return path
 
