@@ -109,6 +109,8 @@ DPI = 90
 # than this fraction of a panel's width: at page size, where a panel is a few centimetres wide, that is too little
 # to see by comparing the shapes.
 DISTANCE_MAP_BELOW = 0.1
+# A panel whose shape is this many times the median panel's size gets a frame of its own.
+OWN_FRAME_ABOVE = 2.0
 VIEWS = {"cgal_cyl": (20.0, 35.0), "dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
          "bunny": (90.0, -90.0), "armadillo": (90.0, -90.0)}  # (elev, azim) by prefix
 
@@ -174,7 +176,7 @@ def distance_panels(sub, meshes, ref, dist, view, grid):
         V = meshes[key][0]
         base = cmap(norm(d[Fs].mean(axis=1)))[:, :3]
         draw(ax, V, Fs, shade(V, Fs, base, view["light"], ambient=0.7), view["cam"])
-        frame(ax, view["lim"])
+        frame(ax, view["lims"][key])
         ax.set_title(title_lines(f"{TITLES[key]} (max {d.max():.2g})", pw, 8), fontsize=8)
     cb = sub.colorbar(ScalarMappable(norm, cmap), ax=list(axes.flat), location="bottom", shrink=0.6, aspect=40)
     cb.set_label(f"distance from {TITLES[ref]}'s result, per vertex / rest bounding-box diagonal", fontsize=9)
@@ -189,18 +191,30 @@ def frame(ax, lim):
     ax.set_axis_off()
 
 
+def box(points, pad=0.03):
+    """The padded 2D bounding box (lo, hi) of projected points."""
+    lo, hi = points.min(0), points.max(0)
+    p = pad * (hi - lo).max()
+    return lo - p, hi + p
+
+
 def case_view(case, meshes, faces):
-    """The camera, light and 2D frame all panels of a case share, so shapes compare directly."""
+    """The camera, light and 2D frame the panels of a case share, so shapes compare directly. A result far larger
+    than the others (TF's scale blow-up) gets a frame of its own, `own` its size against the shared one's, so that
+    the others stay readable."""
     elev, azim = view_for(case, [m[0] for m in meshes.values()])
     cam = camera(elev, azim)
     r, u, d = cam
     light = 0.3 * r + 0.6 * u + 0.75 * d
-    P = np.vstack([np.stack([m[0] @ r, m[0] @ u], axis=1) for m in meshes.values()])
-    lo, hi = P.min(0), P.max(0)
-    pad = 0.03 * (hi - lo).max()
-    size = hi - lo + 2 * pad
+    P = {k: np.stack([m[0] @ r, m[0] @ u], axis=1) for k, m in meshes.items()}
+    size = {k: float((p.max(0) - p.min(0)).max()) for k, p in P.items()}
+    typical = float(np.median(list(size.values())))
+    own = {k: s / typical for k, s in size.items() if s > OWN_FRAME_ABOVE * typical}
+    lo, hi = box(np.vstack([p for k, p in P.items() if k not in own]))
+    lims = {k: box(p) if k in own else (lo, hi) for k, p in P.items()}
+    extent = hi - lo
     return {"elev": elev, "azim": azim, "cam": cam, "light": light / np.linalg.norm(light), "faces": faces,
-            "lim": (lo - pad, hi + pad), "size": size, "aspect": size[1] / max(size[0], 1e-300)}
+            "lims": lims, "own": own, "size": extent, "aspect": extent[1] / max(extent[0], 1e-300)}
 
 
 def shape_panels(sub, keys, meshes, roles, view, grid):
@@ -216,8 +230,9 @@ def shape_panels(sub, keys, meshes, roles, view, grid):
         else:
             base = COLORS.get(key, LRI_COLOR)
         draw(ax, V, Fs, shade(V, Fs, base, view["light"]), view["cam"])
-        frame(ax, view["lim"])
-        ax.set_title(title_lines(TITLES[key], pw, fontsize), fontsize=fontsize)
+        frame(ax, view["lims"][key])
+        own = f" (own frame: {view['own'][key]:.1f}x the others' size)" if key in view["own"] else ""
+        ax.set_title(title_lines(TITLES[key] + own, pw, fontsize), fontsize=fontsize)
 
 
 def render_case(case, files, out_dir, max_faces):
@@ -237,7 +252,7 @@ def render_case(case, files, out_dir, max_faces):
     widest = max((float(x.max()) for x in dist.values()), default=0.0) * np.linalg.norm(V0.max(0) - V0.min(0))
     maps = 0 < widest * inches < DISTANCE_MAP_BELOW * pw
     fontsize = 8 if cols > 3 else 10
-    lines = max(title_lines(TITLES[k], pw, fontsize).count("\n") + 1 for k in keys)
+    lines = max(title_lines(TITLES[k], pw, fontsize).count("\n") + 1 for k in keys) + bool(view["own"])
     top_h = (ph + 0.2 * lines * fontsize / 8) * rows + 0.5
     mcols = cols if cols > 3 else 4  # the maps smaller than the shapes, four a row
     mrows, mpw = int(np.ceil(len(dist) / mcols)), pw * cols / mcols
