@@ -148,7 +148,7 @@ def fig_twist(rows, out):
     tw = [r for r in rows if r["family"] == "bar_twist" and r["protocol"] == "chained"]
     if not tw:
         return None
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    fig, axes = plt.subplots(1, 2, figsize=(14, 4.5))
     for cfg, label in MAIN:
         pts = sorted((value(r, "angle_deg") / 360, value(r, "ideal_rms"), value(r, "volume_change"))
                      for r in tw if r["config"] == cfg)
@@ -162,7 +162,7 @@ def fig_twist(rows, out):
     for ax in axes:
         ax.set_xlabel("full turns (chained edits)")
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # outside: covers no point
     steps = sorted({int(r["steps"]) for r in tw})
     fig.suptitle(f"Bar twists as chains of edits ({', '.join(map(str, steps))} steps)")
     fig.tight_layout()
