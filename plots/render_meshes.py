@@ -109,6 +109,9 @@ DPI = 90
 # than this fraction of a panel's width: at page size, where a panel is a few centimetres wide, that is too little
 # to see by comparing the shapes.
 DISTANCE_MAP_BELOW = 0.1
+# ... and when they differ by more than rounding: results closer than this, in rest bounding-box diagonals, are the
+# same solution (no map of rounding noise).
+SAME_BELOW = 1e-6
 # A panel whose shape is this many times the median panel's size gets a frame of its own.
 OWN_FRAME_ABOVE = 2.0
 VIEWS = {"cgal_cyl": (20.0, 35.0), "dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
@@ -249,8 +252,8 @@ def render_case(case, files, out_dir, max_faces):
     # Where the results differ by too little to see, distance maps below the shapes show where and by how much.
     ref, dist = differences(meshes, keys, V0)
     inches = min(pw / view["size"][0], ph / view["size"][1])  # per model unit
-    widest = max((float(x.max()) for x in dist.values()), default=0.0) * np.linalg.norm(V0.max(0) - V0.min(0))
-    maps = 0 < widest * inches < DISTANCE_MAP_BELOW * pw
+    widest = max((float(x.max()) for x in dist.values()), default=0.0)
+    maps = widest > SAME_BELOW and widest * np.linalg.norm(V0.max(0) - V0.min(0)) * inches < DISTANCE_MAP_BELOW * pw
     fontsize = 8 if cols > 3 else 10
     lines = max(title_lines(TITLES[k], pw, fontsize).count("\n") + 1 for k in keys) + bool(view["own"])
     top_h = (ph + 0.2 * lines * fontsize / 8) * rows + 0.5

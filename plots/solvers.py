@@ -28,7 +28,7 @@ sys.path.insert(1, os.path.join(HERE, "..", "experiments", "reports"))
 from kernel_sets import kernel_sets  # noqa: E402
 from styles import styles  # noqa: E402
 
-SYSTEMS = ["lap", "tf"]
+SYSTEMS = ["lap", "tf"]  # a panel per system that has cells (systems_in)
 # Minimum over a cell's repetitions (interference from other jobs only adds time), as in results/solvers.md.
 FACT = "factorize_min_s"
 SOLVE = "solve_min_s"
@@ -49,6 +49,10 @@ def load(path):
     return cells, meta
 
 
+def systems_in(cells):
+    return [s for s in SYSTEMS if any(k[1] == s for k in cells)]
+
+
 def backends_in(cells):
     seen = []
     for (_, _, b, _) in cells:
@@ -65,8 +69,10 @@ def style(meta, backend):
 def plot_factor_vs_solve(cells, meta, out):
     bks = backends_in(cells)
     st = styles("backend", bks)
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
-    for ax, system in zip(axes, SYSTEMS):
+    systems = systems_in(cells)
+    fig, axes = plt.subplots(1, len(systems), figsize=(6.5 * len(systems), 5.5), squeeze=False)
+    axes = axes[0]
+    for ax, system in zip(axes, systems):
         for b in bks:
             pts = sorted((v["n"], v[FACT], v[SOLVE], k[0]) for k, v in cells.items()
                          if k[1] == system and k[2] == b and k[3] == "default"
@@ -84,7 +90,7 @@ def plot_factor_vs_solve(cells, meta, out):
         ax.set_ylabel("solve time [s] (every frame)")
         ax.set_title(f"{system}: factorize vs solve, default ordering")
         ax.grid(True, which="both", alpha=0.3)
-    axes[1].legend(fontsize=7, loc="best")
+    axes[-1].legend(fontsize=7, loc="best")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_factorize_vs_solve.png"), dpi=120)
     plt.close(fig)
@@ -93,8 +99,9 @@ def plot_factor_vs_solve(cells, meta, out):
 def plot_scaling(cells, meta, out):
     bks = backends_in(cells)
     st = styles("backend", bks)
-    fig, axes = plt.subplots(2, 2, figsize=(13, 9), sharex="col")
-    for j, system in enumerate(SYSTEMS):
+    systems = systems_in(cells)
+    fig, axes = plt.subplots(2, len(systems), figsize=(6.5 * len(systems), 9), sharex="col", squeeze=False)
+    for j, system in enumerate(systems):
         for i, (measure, label) in enumerate([(FACT, "factorize [s]"), (SOLVE, "solve [s]")]):
             ax = axes[i][j]
             for b in bks:
@@ -110,7 +117,7 @@ def plot_scaling(cells, meta, out):
             ax.grid(True, which="both", alpha=0.3)
             if i == 1:
                 ax.set_xlabel("unknowns n")
-    axes[0][1].legend(fontsize=7, loc="best")
+    axes[0][-1].legend(fontsize=7, loc="best")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_scaling.png"), dpi=120)
     plt.close(fig)
@@ -137,8 +144,9 @@ def plot_orderings(cells, meta, out):
         return
     st = styles("ordering", orderings)
     width = 0.8 / len(orderings)
-    fig, axes = plt.subplots(2, 2, figsize=(14, 9))
-    for j, system in enumerate(SYSTEMS):
+    systems = systems_in(cells)
+    fig, axes = plt.subplots(2, len(systems), figsize=(7 * len(systems), 9), squeeze=False)
+    for j, system in enumerate(systems):
         for i, (measure, ylabel) in enumerate([("nnz_factor", "nnz(L) (L+U for LU)"), (FACT, "factorize [s]")]):
             ax = axes[i][j]
             for o, ordering in enumerate(orderings):
@@ -212,6 +220,9 @@ def main():
         return 0
     os.makedirs(a.out, exist_ok=True)
     cells, meta = load(path)
+    if not systems_in(cells):
+        print(f"solvers.py: no cell of {path} ran; nothing to plot", file=sys.stderr)
+        return 0
     plot_factor_vs_solve(cells, meta, a.out)
     plot_scaling(cells, meta, a.out)
     plot_orderings(cells, meta, a.out)
