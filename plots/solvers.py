@@ -178,14 +178,15 @@ def plot_blas(results, out):
     nothing to compare, and a stale plot from an earlier run is removed."""
     path = os.path.join(out, "solvers_blas.png")
     distinct, duplicates = kernel_sets(results)
-    for core, p in duplicates:
-        print(f"solvers.py: {os.path.basename(p)} reports core {core} like an earlier run: left out", file=sys.stderr)
+    for core, kset, p in duplicates:
+        print(f"solvers.py: {os.path.basename(p)} (core {core}) has the {kset} kernels of an earlier run: left out",
+              file=sys.stderr)
     if len(distinct) < 2:
         if os.path.exists(path):
             os.remove(path)
         print("solvers.py: one distinct BLAS kernel set: no solvers_blas.png", file=sys.stderr)
         return
-    runs = [(core, load(p)[0]) for core, p in distinct]
+    runs = [(core, load(p)[0]) for core, _, p in distinct]
     keys = sorted(k for k in runs[1][1] if k[3] == "default" and FACT in runs[1][1][k] and k in runs[0][1])
     if not keys:
         return

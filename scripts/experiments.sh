@@ -24,8 +24,9 @@ log "table 2-1 (dense / naive / structured builds of LAP and TF; scaling of the 
 # when OpenBLAS loads, so each kernel set is its own driver run: first the other kernel sets (BLAS-calling backends
 # only, plus Eigen's dense LLT as a no-BLAS control) into results/solvers_blas_CORE.csv, then the full grid under
 # this run's setting into results/solvers.csv; the report compares them. A setting runs only when the core OpenBLAS
-# reports under it (`deformbench provenance`) is one no other run has: two settings that load the same kernels would
-# show the noise between two runs as a kernel effect. The rows say which setting each run had (blas_coretype_env).
+# reports under it (`deformbench provenance`) loads a kernel set no other run has (data/experiments/
+# blas_kernel_sets.txt): two runs of one set would show the noise between them as a kernel effect. The rows say
+# which setting each run had (blas_coretype_env) and the core it loaded (blas_core).
 log "solver choice (backends x orderings; BLAS kernel sets)"
 SOLV=("$BUILD/exp_solvers" --config "$CONF/solvers.toml" --data "$ROOT/data" --results "$ROOT/results")
 [ "$FULL" = --full ] && SOLV+=(--full)
@@ -36,20 +37,23 @@ with_coretype() {
   local setting=$1; shift
   if [ -n "$setting" ]; then env OPENBLAS_CORETYPE="$setting" "$@"; else env -u OPENBLAS_CORETYPE "$@"; fi
 }
-# blas_core SETTING: the kernel set OpenBLAS loads under it, as result rows record it.
+# blas_core SETTING: the core OpenBLAS loads under it, as result rows record it (blas_core).
 blas_core() { with_coretype "$1" "$BUILD/deformbench" provenance | sed -n 's/^blas_core: //p'; }
-CORES_RUN=" $(blas_core "${OPENBLAS_CORETYPE:-}") "
+# kernel_set CORE: the kernel set the core loads (data/experiments/blas_kernel_sets.txt; else the core itself).
+kernel_set() { awk -v c="$1" '!/^#/ && $1 == c { s = $2 } END { print (s != "" ? s : c) }' "$CONF/blas_kernel_sets.txt"; }
+SETS_RUN=" $(kernel_set "$(blas_core "${OPENBLAS_CORETYPE:-}")") "
 SETTINGS=("")  # OpenBLAS' own detection, then the kernel sets this CPU can run
 grep -qw avx512f /proc/cpuinfo && SETTINGS+=(SkylakeX)
 grep -qw avx2 /proc/cpuinfo && SETTINGS+=(Haswell)
 for setting in "${SETTINGS[@]}"; do
   core=$(blas_core "$setting")
-  if [ -z "$core" ] || [[ "$CORES_RUN" == *" $core "* ]]; then
-    log "OPENBLAS_CORETYPE=${setting:-<unset>} loads core ${core:-?}, already measured: not run again"
+  kset=$(kernel_set "$core")
+  if [ -z "$core" ] || [[ "$SETS_RUN" == *" $kset "* ]]; then
+    log "OPENBLAS_CORETYPE=${setting:-<unset>} loads core ${core:-?} ($kset kernels), already measured: not run again"
     continue
   fi
-  CORES_RUN+="$core "
-  log "solver choice under OPENBLAS_CORETYPE=${setting:-<unset>} (core $core)"
+  SETS_RUN+="$kset "
+  log "solver choice under OPENBLAS_CORETYPE=${setting:-<unset>} (core $core, $kset kernels)"
   with_coretype "$setting" "${SOLV[@]}" --backends "$SOLV_BLAS_BACKENDS" --orderings default \
     --out "$ROOT/results/solvers_blas_$core.csv"
 done

@@ -387,18 +387,19 @@ def blas(run, p, results):
            f"This run: {p.get('blas')} core **{p.get('blas_core')}** (OPENBLAS_CORETYPE="
            f"{'unset, auto-detected' if core in ('', 'auto') else core}). "]
     distinct, duplicates = kernel_sets(results)
-    same = "".join(f" `{os.path.basename(path)}` reports core {c} too, the same kernels: left out." for c, path in
-                   duplicates)
+    same = "".join(f" `{os.path.basename(path)}` reports core {c}, the {k} kernel set a run above has: left out "
+                   "(data/experiments/blas_kernel_sets.txt)." for c, k, path in duplicates)
     if len(distinct) < 2:
         out[-1] += ("No other kernel set was measured, so there is no kernel comparison (scripts/experiments.sh "
-                    "runs the BLAS-calling backends again under each OPENBLAS_CORETYPE whose reported core differs "
-                    f"from this run's: SkylakeX where the CPU has avx512f, Haswell, auto-detection).{same}\n")
+                    "runs the BLAS-calling backends again under each OPENBLAS_CORETYPE whose reported core loads "
+                    "another kernel set than this run's: SkylakeX where the CPU has avx512f, Haswell, "
+                    f"auto-detection).{same}\n")
         return "\n".join(out)
     out[-1] += ("The same driver was run again with other `OPENBLAS_CORETYPE` values, restricted to the backends that "
                 "call the BLAS (CHOLMOD supernodal, UMFPACK, LAPACK dense) plus Eigen's own dense LLT as a control (it "
                 "never calls the BLAS, so its ratio shows the run-to-run noise). Ratio = variant time / this run's time "
                 f"(< 1: the variant is faster).{same}\n")
-    return "\n".join(out + [variant_section(run, path) for _, path in distinct[1:]])
+    return "\n".join(out + [variant_section(run, path) for _, _, path in distinct[1:]])
 
 
 def write(results):
