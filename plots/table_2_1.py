@@ -163,7 +163,7 @@ def draw_fit(ax, f, scale, system, style):
     k, c = float(f["exponent"]), float(f["coefficient"])
     lo, hi = float(f["vertices_min"]), float(f["vertices_max"])
     xs = [lo * (hi / lo) ** (i / 40) for i in range(41)]
-    ax.plot(xs, [c * x ** k / scale for x in xs], "-", markevery=10, markersize=4, **style,
+    ax.plot(xs, [c * x ** k / scale for x in xs], "-", color=style["color"],  # a line, no marker: not data
             label=f"{system.upper()} fit: #V^{k:.2f} (r2 {float(f['r2']):.3f}, n {f['points']})")
 
 
@@ -178,7 +178,7 @@ def plot_scaling(results, out):
     panels = (("init_s", 1.0, "init s"), ("factor_bytes", MIB, "factor MiB"), ("frame_s", 1.0, "frame s"))
     series = sorted({k[3] for k in data})
     st = styles(None, [f"{system} {x}" for system in ("lap", "tf") for x in series + ["fit"]])
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    fig, axes = plt.subplots(1, 3, figsize=(15, 7))
     for ax, (measure, scale, label) in zip(axes, panels):
         for system in ("lap", "tf"):
             for s in series:
@@ -200,7 +200,7 @@ def plot_scaling(results, out):
         ax.set_ylabel(label)
         ax.set_title(f"structured build: {label}")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6.5, loc="upper left")
+        ax.legend(fontsize=6.5, loc="upper left", bbox_to_anchor=(0.0, -0.14))  # below the axes: covers no point
     fig.tight_layout()
     path = os.path.join(out, "scaling.png")
     fig.savefig(path, dpi=130)
