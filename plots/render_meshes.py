@@ -8,7 +8,10 @@ Reads results/meshes/frames/CASE__{rest,ideal,<config>}.ply (binary little-endia
 db::write_mesh) and CASE__roles.sel; writes OUT/render_CASE.png. Flat shading by face normal, Agg backend.
 Drawn as a 2D PolyCollection of an orthographic projection, faces sorted back to front (painter's algorithm):
 mplot3d's Poly3DCollection does the same sort, but its axes are square, which leaves slender shapes (a bar
-standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio, shared by all panels of a case.
+standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio, shared by all panels of a case
+(but a result far larger than the others, drawn in a frame of its own, its size in its title). Where the results
+differ by too little to tell apart side by side, a grid of distance maps below the shapes colours each result by
+its per-vertex distance from LAP's, in rest bounding-box diagonals, with a colour bar.
 
 usage: /usr/bin/python3 plots/render_meshes.py --results results --out plots [--cases SUBSTRING] [--max-faces N]
 """
