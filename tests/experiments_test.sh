@@ -88,7 +88,7 @@ blas_step && [ ! -e "$R/plots/solvers_blas.png" ] && grep -q "solvers_blas_same.
   && ok "a kernel set run twice is not compared with itself" || fail "a kernel set compared with itself"
 as_core OtherCore other && as_core Cooperlake x1 && as_core SapphireRapids x2
 blas_step && [ -s "$R/plots/solvers_blas.png" ] && grep -q "^### .* core OtherCore" "$R/solvers.md" \
-  && grep -q "solvers_blas_x2.csv. reports core SapphireRapids, the SkylakeX kernel set a run above has" "$R/solvers.md" \
+  && grep -q "solvers_blas_x2.csv. reports core SapphireRapids, which loads the SkylakeX kernels of the" "$R/solvers.md" \
   && ok "distinct kernel sets compared, one set's two cores once" || fail "kernel sets: distinct not compared, or one twice"
 rm -f "$R"/solvers_blas_*.csv "$R/plots/solvers_blas.png"
 "$PY" -c 'import sys; sys.path.insert(0, "plots"); import styles; p = styles.check(); print(*p, sep="\n"); sys.exit(bool(p))' \

@@ -387,8 +387,9 @@ def blas(run, p, results):
            f"This run: {p.get('blas')} core **{p.get('blas_core')}** (OPENBLAS_CORETYPE="
            f"{'unset, auto-detected' if core in ('', 'auto') else core}). "]
     distinct, duplicates = kernel_sets(results)
-    same = "".join(f" `{os.path.basename(path)}` reports core {c}, the {k} kernel set a run above has: left out "
-                   "(data/experiments/blas_kernel_sets.txt)." for c, k, path in duplicates)
+    first = {k: c for c, k, _ in distinct}  # kernel set -> the core of the run that has it
+    same = "".join(f" `{os.path.basename(path)}` reports core {c}, which loads the {k} kernels of the {first[k]} run: "
+                   "left out (data/experiments/blas_kernel_sets.txt)." for c, k, path in duplicates)
     if len(distinct) < 2:
         out[-1] += ("No other kernel set was measured, so there is no kernel comparison (scripts/experiments.sh "
                     "runs the BLAS-calling backends again under each OPENBLAS_CORETYPE whose reported core loads "
