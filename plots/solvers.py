@@ -70,7 +70,7 @@ def plot_factor_vs_solve(cells, meta, out):
     bks = backends_in(cells)
     st = styles("backend", bks)
     systems = systems_in(cells)
-    fig, axes = plt.subplots(1, len(systems), figsize=(6.5 * len(systems), 5.5), squeeze=False)
+    fig, axes = plt.subplots(1, len(systems), figsize=(6.5 * len(systems) + 2, 5.5), squeeze=False)
     axes = axes[0]
     for ax, system in zip(axes, systems):
         for b in bks:
@@ -90,7 +90,7 @@ def plot_factor_vs_solve(cells, meta, out):
         ax.set_ylabel("solve time [s] (every frame)")
         ax.set_title(f"{system}: factorize vs solve, default ordering")
         ax.grid(True, which="both", alpha=0.3)
-    axes[-1].legend(fontsize=7, loc="best")
+    axes[-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # outside: covers no point
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_factorize_vs_solve.png"), dpi=120)
     plt.close(fig)
@@ -100,7 +100,7 @@ def plot_scaling(cells, meta, out):
     bks = backends_in(cells)
     st = styles("backend", bks)
     systems = systems_in(cells)
-    fig, axes = plt.subplots(2, len(systems), figsize=(6.5 * len(systems), 9), sharex="col", squeeze=False)
+    fig, axes = plt.subplots(2, len(systems), figsize=(6.5 * len(systems) + 2, 9), sharex="col", squeeze=False)
     for j, system in enumerate(systems):
         for i, (measure, label) in enumerate([(FACT, "factorize [s]"), (SOLVE, "solve [s]")]):
             ax = axes[i][j]
@@ -117,7 +117,7 @@ def plot_scaling(cells, meta, out):
             ax.grid(True, which="both", alpha=0.3)
             if i == 1:
                 ax.set_xlabel("unknowns n")
-    axes[0][-1].legend(fontsize=7, loc="best")
+    axes[0][-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # outside: covers no point
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_scaling.png"), dpi=120)
     plt.close(fig)
@@ -186,7 +186,7 @@ def plot_blas(results, out):
             os.remove(path)
         print("solvers.py: one distinct BLAS kernel set: no solvers_blas.png", file=sys.stderr)
         return
-    runs = [(core, load(p)[0]) for core, _, p in distinct]
+    runs = [(core if kset == core else f"{core} ({kset} kernels)", load(p)[0]) for core, kset, p in distinct]
     keys = sorted(k for k in runs[1][1] if k[3] == "default" and FACT in runs[1][1][k] and k in runs[0][1])
     if not keys:
         return
@@ -199,11 +199,11 @@ def plot_blas(results, out):
                 label=f"core {core}" + (" (this run)" if r == 0 else ""), **st[core])
     ax.set_xlim(-0.5, len(keys) - 0.5)
     ax.set_xticks(range(len(keys)))
-    ax.set_xticklabels([f"{k[0]}/{k[1]}\n{k[2]}" for k in keys], rotation=90, fontsize=6)
+    ax.set_xticklabels([f"{k[0]}/{k[1]}\n{k[2]}" for k in keys], rotation=90, fontsize=7)
     ax.set_yscale("log")
     ax.set_ylabel("factorize [s] (minimum over repetitions)")
     ax.set_title("factorize time per OpenBLAS kernel set (dense_llt = Eigen, no BLAS: control)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: covers no point
     ax.grid(True, axis="y", which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
