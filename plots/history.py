@@ -123,8 +123,9 @@ def figure(runs, meds, measure, ylabel, scale, path):
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
         ax.grid(alpha=0.3)
     ax = axes[-1, 0]
-    ax.plot(x, [m.get("dgemm", float("nan")) for m in meds], marker="s", color="k", label="dgemm GFlop/s")
-    ax.plot(x, [m.get("read", float("nan")) for m in meds], marker="^", color="gray", label="memory read GB/s")
+    rates = styles(None, ["dgemm GFlop/s", "memory read GB/s"])
+    for key, name in (("dgemm", "dgemm GFlop/s"), ("read", "memory read GB/s")):
+        ax.plot(x, [m.get(key, float("nan")) for m in meds], label=name, **rates[name])
     ax.set_title("machine rates around the cells (medians)", fontsize=9, loc="left")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
     ax.grid(alpha=0.3)
