@@ -398,9 +398,9 @@ std::optional<FitRow> fit_one(const std::vector<Record>& recs, const std::string
       x.push_back(r.vertices);
       y.push_back(r.res.get(m));
     }
-  if (x.size() < 2) return std::nullopt;
-  return FitRow{series, system, m, fit_power_law(x, y), *std::min_element(x.begin(), x.end()),
-                *std::max_element(x.begin(), x.end())};
+  const PowerFit f = fit_power_law(x, y);
+  if (std::isnan(f.exponent)) return std::nullopt;  // fewer than kMinFitPoints points: no fit
+  return FitRow{series, system, m, f, *std::min_element(x.begin(), x.end()), *std::max_element(x.begin(), x.end())};
 }
 
 std::vector<FitRow> fit_series(const std::vector<Record>& recs) {

@@ -5,6 +5,7 @@
   frames_strategy_diff.png  largest vertex difference between frame strategies (Gram-Schmidt vs polar), log scale
   frames_quality.png        edge-length distortion, ARAP energy, LRI detail error, local normal deviation
   frames_twist.png          chained bar twists: distance to the ideal and volume change against the number of turns
+Every series has its own colour and marker (plots/styles.py); a bar carries its series' marker on its top.
 
 usage: /usr/bin/python3 plots/frames.py --results results --out plots
 """
@@ -20,16 +21,20 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-MAIN = [  # (config, label, colour)
-    ("lap", "LAP", "#5b8cd9"),
-    ("tf", "TF", "#4fb583"),
-    ("tf-normalized", "TF normalized scale", "#9bcf4f"),
-    ("lri-first-gram_schmidt", "LRI first / GS", "#e3a35a"),
-    ("lri-random-gram_schmidt", "LRI random / GS", "#c97f3a"),
-    ("lri-height_angle-gram_schmidt", "LRI height angle / GS", "#b0562a"),
-    ("lri-curvature-gram_schmidt", "LRI curvature / GS", "#8a3a20"),
-    ("lri-first-polar", "LRI polar (any frames)", "#7a5bb5"),
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from styles import styles  # noqa: E402
+
+MAIN = [  # (config, label)
+    ("lap", "LAP"),
+    ("tf", "TF"),
+    ("tf-normalized", "TF normalized scale"),
+    ("lri-first-gram_schmidt", "LRI first / GS"),
+    ("lri-random-gram_schmidt", "LRI random / GS"),
+    ("lri-height_angle-gram_schmidt", "LRI height angle / GS"),
+    ("lri-curvature-gram_schmidt", "LRI curvature / GS"),
+    ("lri-first-polar", "LRI polar (any frames)"),
 ]
+STYLE = styles("config", [cfg for cfg, _ in MAIN])
 STRATEGIES = ["random", "height_angle", "curvature"]
 
 
@@ -55,14 +60,17 @@ def load(path):
 def grouped_bars(ax, cases, by, key, configs, log=False):
     width = 0.8 / len(configs)
     x = np.arange(len(cases))
-    for k, (cfg, label, color) in enumerate(configs):
+    for k, (cfg, label) in enumerate(configs):
+        st = STYLE[cfg]
         vals = np.array([value(by.get((c, cfg), {}), key) for c in cases])
         pos = x - 0.4 + width * (k + 0.5)
         ok = ~np.isnan(vals)
-        ax.bar(pos[ok], vals[ok], width, label=label, color=color)
+        ax.bar(pos[ok], vals[ok], width, color=st["color"], alpha=0.85)
+        ax.plot(pos[ok], vals[ok], linestyle="none", markersize=5, markeredgecolor="black", markeredgewidth=0.4,
+                label=label, **st)
         failed = [i for i, c in enumerate(cases) if by.get((c, cfg), {}).get("status", "ok") != "ok"]
         if failed:
-            ax.plot(pos[failed], np.zeros(len(failed)) + (1e-3 if log else 0), "x", color=color, ms=7, mew=2)
+            ax.plot(pos[failed], np.zeros(len(failed)) + (1e-3 if log else 0), "x", color=st["color"], ms=7, mew=2)
     ax.set_xticks(x)
     ax.set_xticklabels(cases, rotation=35, ha="right", fontsize=8)
     if log:
@@ -90,14 +98,14 @@ def fig_strategy_diff(cases, by, out):
     floor = 1e-17  # identical results plot on the floor
     fig, ax = plt.subplots(figsize=(max(8, 0.8 * len(cases)), 5))
     x = np.arange(len(cases))
-    markers = {"random": "o", "height_angle": "s", "curvature": "^"}
+    orthos = (("gram_schmidt", "Gram-Schmidt"), ("polar", "polar"))
+    st = styles(None, [f"{s}, {name}" for s in STRATEGIES for _, name in orthos])
     for s in STRATEGIES:
-        for ortho, color in (("gram_schmidt", "#c0602a"), ("polar", "#7a5bb5")):
+        for ortho, name in orthos:
             vals = np.array([value(by.get((c, f"lri-{s}-{ortho}"), {}), "diff_vs_first_max") for c in cases])
             vals = np.where(np.isnan(vals), np.nan, np.maximum(vals, floor))
-            off = {"random": -0.2, "height_angle": 0.0, "curvature": 0.2}[s]
-            ax.scatter(x + off, vals, marker=markers[s], color=color, s=30,
-                       label=f"{s}, {'Gram-Schmidt' if ortho == 'gram_schmidt' else 'polar'}")
+            off = {"random": -0.2, "height_angle": 0.0, "curvature": 0.2}[s] + (0.05 if ortho == "polar" else -0.05)
+            ax.plot(x + off, vals, linestyle="none", markersize=6, label=f"{s}, {name}", **st[f"{s}, {name}"])
     sig = np.array([value(by.get((c, "lri-first-polar"), {}), "frame_sigma_min") for c in cases])
     for i, sv in enumerate(sig):
         if sv < 1e-3:
@@ -140,21 +148,21 @@ def fig_twist(rows, out):
     tw = [r for r in rows if r["family"] == "bar_twist" and r["protocol"] == "chained"]
     if not tw:
         return None
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
-    for cfg, label, color in MAIN:
+    fig, axes = plt.subplots(1, 2, figsize=(14, 4.5))
+    for cfg, label in MAIN:
         pts = sorted((value(r, "angle_deg") / 360, value(r, "ideal_rms"), value(r, "volume_change"))
                      for r in tw if r["config"] == cfg)
         if not pts:
             continue
         t, d, v = map(np.array, zip(*pts))
-        axes[0].plot(t, d, "o-", color=color, label=label)
-        axes[1].plot(t, v, "o-", color=color, label=label)
+        axes[0].plot(t, d, "-", label=label, **STYLE[cfg])
+        axes[1].plot(t, v, "-", label=label, **STYLE[cfg])
     axes[0].set_ylabel("RMS distance to ideal_twist / bbox diagonal")
     axes[1].set_ylabel("relative volume change")
     for ax in axes:
         ax.set_xlabel("full turns (chained edits)")
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # outside: covers no point
     steps = sorted({int(r["steps"]) for r in tw})
     fig.suptitle(f"Bar twists as chains of edits ({', '.join(map(str, steps))} steps)")
     fig.tight_layout()

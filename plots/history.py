@@ -30,13 +30,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 import track_gate  # noqa: E402
+from styles import styles  # noqa: E402
 
 FIGURES = [("init_cpu_s", "init CPU (s)", 1.0, "history_init.png"),
            ("frame_cpu_s", "frame CPU (ms)", 1e3, "history_frame.png"),
            ("factor_bytes", "factor (MiB)", 1 / 1048576, "history_factor_bytes.png"),
            ("peak_rss_bytes", "peak RSS (MiB)", 1 / 1048576, "history_peak_rss.png")]
-STYLE = {"lap": "tab:blue", "tf": "tab:red", "lri": "tab:green"}
 
 
 def read_runs(results):
@@ -101,25 +102,30 @@ def deform_cells(runs):
     return {t: sorted(c) for t, c in tiers.items()}
 
 
+def series(cell):
+    """A deformation cell's line: "method build" (its tier is the panel)."""
+    return " ".join(cell.split("/")[2:4])
+
+
 def figure(runs, meds, measure, ylabel, scale, path):
     tiers = deform_cells(runs)
     x = list(range(len(runs)))
     fig, axes = plt.subplots(len(tiers) + 1, 1, figsize=(max(8.5, 1.1 * len(runs) + 5.5), 2.6 * (len(tiers) + 1)),
                              sharex=True, squeeze=False)
+    st = styles(None, sorted({series(c) for cells in tiers.values() for c in cells}))
     for ax, (tier, cells) in zip(axes[:, 0], tiers.items()):
         for cell in cells:
-            _, _, method, build, _ = cell.split("/")
             y = [m.get((cell, measure), float("nan")) * scale for m in meds]
-            structured = build == "structured"
-            ax.plot(x, y, marker="o" if structured else "x", ls="-" if structured else "--",
-                    color=STYLE.get(method, "k"), label=f"{method} {build}")
+            ax.plot(x, y, ls="-" if cell.split("/")[3] == "structured" else "--", label=series(cell),
+                    **st[series(cell)])
         ax.set_title(tier, fontsize=9, loc="left")
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
         ax.grid(alpha=0.3)
     ax = axes[-1, 0]
-    ax.plot(x, [m.get("dgemm", float("nan")) for m in meds], marker="s", color="k", label="dgemm GFlop/s")
-    ax.plot(x, [m.get("read", float("nan")) for m in meds], marker="^", color="gray", label="memory read GB/s")
+    rates = styles(None, ["dgemm GFlop/s", "memory read GB/s"])
+    for key, name in (("dgemm", "dgemm GFlop/s"), ("read", "memory read GB/s")):
+        ax.plot(x, [m.get(key, float("nan")) for m in meds], label=name, **rates[name])
     ax.set_title("machine rates around the cells (medians)", fontsize=9, loc="left")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
     ax.grid(alpha=0.3)

@@ -8,7 +8,10 @@ Reads results/meshes/frames/CASE__{rest,ideal,<config>}.ply (binary little-endia
 db::write_mesh) and CASE__roles.sel; writes OUT/render_CASE.png. Flat shading by face normal, Agg backend.
 Drawn as a 2D PolyCollection of an orthographic projection, faces sorted back to front (painter's algorithm):
 mplot3d's Poly3DCollection does the same sort, but its axes are square, which leaves slender shapes (a bar
-standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio, shared by all panels of a case.
+standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio, shared by all panels of a case
+(but a result far larger than the others, drawn in a frame of its own, its size in its title). Where the results
+differ by too little to tell apart side by side, a grid of distance maps below the shapes colours each result by
+its per-vertex distance from LAP's, in rest bounding-box diagonals, with a colour bar.
 
 usage: /usr/bin/python3 plots/render_meshes.py --results results --out plots [--cases SUBSTRING] [--max-faces N]
 """
@@ -16,13 +19,16 @@ import argparse
 import glob
 import os
 import sys
+import textwrap
 
 import numpy as np
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.cm import ScalarMappable  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
+from matplotlib.colors import Normalize  # noqa: E402
 
 PANELS = [
     ("rest", "rest (fixed / free / handle)"),
@@ -39,6 +45,7 @@ PANELS = [
 ]
 COLORS = {"lap": (0.35, 0.55, 0.85), "tf": (0.35, 0.75, 0.55), "tf-normalized": (0.55, 0.8, 0.35),
           "lri-uncoordinated": (0.8, 0.4, 0.55), "ideal": (0.75, 0.75, 0.75)}
+TITLES = dict(PANELS)
 LRI_COLOR = (0.85, 0.6, 0.35)
 ROLE_COLORS = np.array([[0.62, 0.66, 0.72], [0.86, 0.32, 0.30], [0.97, 0.85, 0.25]])  # fixed, free, handle
 
@@ -90,17 +97,27 @@ def camera(elev, azim):
     return r, np.cross(d, r), d
 
 
-def shade(V, F, base, light):
+def shade(V, F, base, light, ambient=0.25):
     T = V[F]
     n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
     n /= np.linalg.norm(n, axis=1)[:, None] + 1e-300
     lam = np.abs(n @ light)  # two-sided: open meshes show their inside too
-    k = (0.25 + 0.75 * lam)[:, None]
+    k = (ambient + (1 - ambient) * lam)[:, None]
     base = np.broadcast_to(np.asarray(base, dtype=float), (len(F), 3))
     return np.clip(base * k, 0, 1)
 
 
-VIEWS = {"dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
+DPI = 90
+# Distance maps are drawn when the methods' results differ, but no vertex of any lies farther from the reference's
+# than this fraction of a panel's width: at page size, where a panel is a few centimetres wide, that is too little
+# to see by comparing the shapes.
+DISTANCE_MAP_BELOW = 0.1
+# ... and when they differ by more than rounding: results closer than this, in rest bounding-box diagonals, are the
+# same solution (no map of rounding noise).
+SAME_BELOW = 1e-6
+# A panel whose shape is this many times the median panel's size gets a frame of its own.
+OWN_FRAME_ABOVE = 2.0
+VIEWS = {"cgal_cyl": (20.0, 35.0), "dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
          "bunny": (90.0, -90.0), "armadillo": (90.0, -90.0)}  # (elev, azim) by prefix
 
 
@@ -126,39 +143,90 @@ def draw(ax, V, F, colors, cam):
     ax.add_collection(pc)
 
 
-def render_case(case, files, out_dir, max_faces):
-    meshes = {}
-    for key, _ in PANELS:
-        p = files.get(key)
-        if p:
-            meshes[key] = read_ply(p)
-    if "rest" not in meshes:
-        return None
-    V0, F = meshes["rest"]
-    roles = read_roles(files.get("roles", ""), len(V0))
-    sel = np.arange(len(F))
-    if len(F) > max_faces:  # drawing cost grows with the face count: thin out very large meshes
-        sel = np.sort(np.random.default_rng(0).choice(len(F), max_faces, replace=False))
-    Fs = F[sel]
+def layout(n, aspect):
+    """(rows, cols, panel width, panel height) in inches for n panels of height / width `aspect`: a tall shape (a bar
+    standing up) all in one row, else three a row."""
+    cols = n if aspect > 2.0 else min(3, n)
+    pw = min(4.2, 18.0 / cols)
+    ph = float(np.clip(pw * aspect, 1.2, 9.0))
+    return int(np.ceil(n / cols)), cols, pw, ph
+
+
+def title_lines(text, width_in, fontsize):
+    """The title wrapped to the panel's width (an average glyph is about 0.55 em wide)."""
+    return textwrap.fill(text, max(12, int(width_in * 72 / (0.55 * fontsize))))
+
+
+def differences(meshes, keys, rest):
+    """(reference key, key -> per-vertex distance from the reference's result in rest bounding-box diagonals) for
+    the method panels; (None, {}) when fewer than two methods."""
+    methods = [k for k in keys if k not in ("rest", "ideal")]
+    if len(methods) < 2:
+        return None, {}
+    ref = methods[0]
+    diag = np.linalg.norm(rest.max(0) - rest.min(0))
+    return ref, {k: np.linalg.norm(meshes[k][0] - meshes[ref][0], axis=1) / diag for k in methods if k != ref}
+
+
+def distance_panels(sub, meshes, ref, dist, view, grid):
+    """Each method's result coloured by its distance from the reference's (lightly shaded, one scale for all) on a
+    grid of its own, with a colour bar. grid: (rows, cols, panel width in inches)."""
+    rows, cols, pw = grid
+    axes = sub.subplots(rows, cols, squeeze=False)
+    vmax = max(float(d.max()) for d in dist.values())
+    norm, cmap = Normalize(0.0, vmax), plt.get_cmap("viridis")
+    Fs = view["faces"]
+    for ax in axes.flat:
+        ax.set_axis_off()
+    for ax, (key, d) in zip(axes.flat, dist.items()):
+        V = meshes[key][0]
+        base = cmap(norm(d[Fs].mean(axis=1)))[:, :3]
+        draw(ax, V, Fs, shade(V, Fs, base, view["light"], ambient=0.7), view["cam"])
+        frame(ax, view["lims"][key])
+        ax.set_title(title_lines(f"{TITLES[key]} (max {d.max():.2g})", pw, 8), fontsize=8)
+    cb = sub.colorbar(ScalarMappable(norm, cmap), ax=list(axes.flat), location="bottom", shrink=0.6, aspect=40)
+    cb.set_label(f"distance from {TITLES[ref]}'s result, per vertex / rest bounding-box diagonal", fontsize=9)
+    sub.suptitle(f"where and by how much the results differ: each one's distance from {TITLES[ref]}'s",
+                 fontsize=10)
+
+
+def frame(ax, lim):
+    ax.set_xlim(lim[0][0], lim[1][0])
+    ax.set_ylim(lim[0][1], lim[1][1])
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+
+
+def box(points, pad=0.03):
+    """The padded 2D bounding box (lo, hi) of projected points."""
+    lo, hi = points.min(0), points.max(0)
+    p = pad * (hi - lo).max()
+    return lo - p, hi + p
+
+
+def case_view(case, meshes, faces):
+    """The camera, light and 2D frame the panels of a case share, so shapes compare directly. A result far larger
+    than the others (TF's scale blow-up) gets a frame of its own, `own` its size against the shared one's, so that
+    the others stay readable."""
     elev, azim = view_for(case, [m[0] for m in meshes.values()])
     cam = camera(elev, azim)
     r, u, d = cam
     light = 0.3 * r + 0.6 * u + 0.75 * d
-    light /= np.linalg.norm(light)
-    # One 2D frame for every panel of the case, so shapes compare directly.
-    P = np.vstack([np.stack([m[0] @ r, m[0] @ u], axis=1) for m in meshes.values()])
-    lo, hi = P.min(0), P.max(0)
-    pad = 0.03 * (hi - lo).max()
-    lo, hi = lo - pad, hi + pad
-    aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
-    keys = [k for k, _ in PANELS if k in meshes]
-    titles = dict(PANELS)
-    tall = aspect > 2.0
-    cols = len(keys) if tall else min(3, len(keys))
-    rows = int(np.ceil(len(keys) / cols))
-    pw = min(4.2, 18.0 / cols)
-    ph = float(np.clip(pw * aspect, 1.2, 9.0))
-    fig, axes = plt.subplots(rows, cols, figsize=(pw * cols, (ph + 0.5) * rows + 0.4), squeeze=False)
+    P = {k: np.stack([m[0] @ r, m[0] @ u], axis=1) for k, m in meshes.items()}
+    size = {k: float((p.max(0) - p.min(0)).max()) for k, p in P.items()}
+    typical = float(np.median(list(size.values())))
+    own = {k: s / typical for k, s in size.items() if s > OWN_FRAME_ABOVE * typical}
+    lo, hi = box(np.vstack([p for k, p in P.items() if k not in own]))
+    lims = {k: box(p) if k in own else (lo, hi) for k, p in P.items()}
+    extent = hi - lo
+    return {"elev": elev, "azim": azim, "cam": cam, "light": light / np.linalg.norm(light), "faces": faces,
+            "lims": lims, "own": own, "size": extent, "aspect": extent[1] / max(extent[0], 1e-300)}
+
+
+def shape_panels(sub, keys, meshes, roles, view, grid):
+    rows, cols, pw, fontsize = grid
+    axes = sub.subplots(rows, cols, squeeze=False)
+    Fs = view["faces"]
     for ax in axes.flat:
         ax.set_axis_off()
     for ax, key in zip(axes.flat, keys):
@@ -167,16 +235,44 @@ def render_case(case, files, out_dir, max_faces):
             base = ROLE_COLORS[roles[Fs].max(axis=1)]  # a face touching the handle is handle, else free if it touches one
         else:
             base = COLORS.get(key, LRI_COLOR)
-        draw(ax, V, Fs, shade(V, Fs, base, light), cam)
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[1], hi[1])
-        ax.set_aspect("equal")
-        ax.set_title(titles[key].replace(", ", ",\n") if tall else titles[key], fontsize=8 if tall else 10)
-    thin = f", {len(Fs)} of {len(F)} faces drawn" if len(Fs) < len(F) else ""
-    fig.suptitle(f"{case}: {len(V0)} vertices{thin} (view elev {elev:g}, azim {azim:g})", fontsize=11)
-    fig.tight_layout()
+        draw(ax, V, Fs, shade(V, Fs, base, view["light"]), view["cam"])
+        frame(ax, view["lims"][key])
+        own = f" (own frame: {view['own'][key]:.1f}x the others' size)" if key in view["own"] else ""
+        ax.set_title(title_lines(TITLES[key] + own, pw, fontsize), fontsize=fontsize)
+
+
+def render_case(case, files, out_dir, max_faces):
+    meshes = {key: read_ply(files[key]) for key, _ in PANELS if files.get(key)}
+    if "rest" not in meshes:
+        return None
+    V0, F = meshes["rest"]
+    sel = np.arange(len(F))
+    if len(F) > max_faces:  # drawing cost grows with the face count: thin out very large meshes
+        sel = np.sort(np.random.default_rng(0).choice(len(F), max_faces, replace=False))
+    view = case_view(case, meshes, F[sel])
+    keys = [k for k, _ in PANELS if k in meshes]
+    rows, cols, pw, ph = layout(len(keys), view["aspect"])
+    # Where the results differ by too little to see, distance maps below the shapes show where and by how much.
+    ref, dist = differences(meshes, keys, V0)
+    inches = min(pw / view["size"][0], ph / view["size"][1])  # per model unit
+    widest = max((float(x.max()) for x in dist.values()), default=0.0)
+    maps = widest > SAME_BELOW and widest * np.linalg.norm(V0.max(0) - V0.min(0)) * inches < DISTANCE_MAP_BELOW * pw
+    fontsize = 8 if cols > 3 else 10
+    lines = max(title_lines(TITLES[k], pw, fontsize).count("\n") + 1 for k in keys) + bool(view["own"])
+    top_h = (ph + 0.2 * lines * fontsize / 8) * rows + 0.5
+    mcols = cols if cols > 3 else 4  # the maps smaller than the shapes, four a row
+    mrows, mpw = int(np.ceil(len(dist) / mcols)), pw * cols / mcols
+    bottom_h = ((float(np.clip(mpw * view["aspect"], 1.0, 9.0)) + 0.45) * mrows + 1.3) if maps else 0.0
+    fig = plt.figure(figsize=(pw * cols, top_h + bottom_h), layout="constrained")
+    top, bottom = fig.subfigures(2, 1, height_ratios=[top_h, bottom_h]) if maps else (fig, None)
+    shape_panels(top, keys, meshes, read_roles(files.get("roles", ""), len(V0)), view, (rows, cols, pw, fontsize))
+    if maps:
+        distance_panels(bottom, meshes, ref, dist, view, (mrows, mcols, mpw))
+    thin = f", {len(sel)} of {len(F)} faces drawn" if len(sel) < len(F) else ""
+    fig.suptitle(title_lines(f"{case}: {len(V0)} vertices{thin} (view elev {view['elev']:g}, azim {view['azim']:g})",
+                             pw * cols, 11), fontsize=11)
     path = os.path.join(out_dir, f"render_{case}.png")
-    fig.savefig(path, dpi=90)
+    fig.savefig(path, dpi=DPI, bbox_inches="tight", pad_inches=0.15)  # nothing cropped
     plt.close(fig)
     return path
 

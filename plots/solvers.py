@@ -7,11 +7,12 @@ Reads RESULTS/solvers.csv (and RESULTS/solvers_blas_*.csv when present) and writ
   OUT/solvers_factorize_vs_solve.png  factorize against per-solve time, per backend (default ordering)
   OUT/solvers_scaling.png             factorize and solve time against the number of unknowns n
   OUT/solvers_orderings.png           nnz(L) and factorize time per ordering, sparse direct backends, largest tier
-  OUT/solvers_blas.png                factorize time per OpenBLAS kernel set (only with solvers_blas_*.csv)
+  OUT/solvers_blas.png                factorize time per OpenBLAS kernel set: only when the runs report more than
+                                      one distinct core (experiments/reports/kernel_sets.py); else it is removed
+Every series has its own colour and marker (plots/styles.py).
 """
 import argparse
 import csv
-import glob
 import os
 import sys
 from collections import defaultdict
@@ -21,7 +22,13 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-SYSTEMS = ["lap", "tf"]
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+sys.path.insert(1, os.path.join(HERE, "..", "experiments", "reports"))
+from kernel_sets import kernel_sets  # noqa: E402
+from styles import styles  # noqa: E402
+
+SYSTEMS = ["lap", "tf"]  # a panel per system that has cells (systems_in)
 # Minimum over a cell's repetitions (interference from other jobs only adds time), as in results/solvers.md.
 FACT = "factorize_min_s"
 SOLVE = "solve_min_s"
@@ -42,6 +49,10 @@ def load(path):
     return cells, meta
 
 
+def systems_in(cells):
+    return [s for s in SYSTEMS if any(k[1] == s for k in cells)]
+
+
 def backends_in(cells):
     seen = []
     for (_, _, b, _) in cells:
@@ -55,16 +66,13 @@ def style(meta, backend):
     return FAMILY_STYLE.get(fam, "-")
 
 
-def colors(backends):
-    cmap = plt.get_cmap("tab20")
-    return {b: cmap(i % 20) for i, b in enumerate(backends)}
-
-
 def plot_factor_vs_solve(cells, meta, out):
     bks = backends_in(cells)
-    col = colors(bks)
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
-    for ax, system in zip(axes, SYSTEMS):
+    st = styles("backend", bks)
+    systems = systems_in(cells)
+    fig, axes = plt.subplots(1, len(systems), figsize=(6.5 * len(systems) + 2, 5.5), squeeze=False)
+    axes = axes[0]
+    for ax, system in zip(axes, systems):
         for b in bks:
             pts = sorted((v["n"], v[FACT], v[SOLVE], k[0]) for k, v in cells.items()
                          if k[1] == system and k[2] == b and k[3] == "default"
@@ -73,7 +81,7 @@ def plot_factor_vs_solve(cells, meta, out):
                 continue
             xs = [max(p[1], 1e-7) for p in pts]
             ys = [max(p[2], 1e-7) for p in pts]
-            ax.plot(xs, ys, style(meta, b), marker="o", color=col[b], label=b)
+            ax.plot(xs, ys, style(meta, b), label=b, **st[b])
             for p, x, y in zip(pts, xs, ys):
                 ax.annotate(p[3][:4], (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
         ax.set_xscale("log")
@@ -82,7 +90,7 @@ def plot_factor_vs_solve(cells, meta, out):
         ax.set_ylabel("solve time [s] (every frame)")
         ax.set_title(f"{system}: factorize vs solve, default ordering")
         ax.grid(True, which="both", alpha=0.3)
-    axes[1].legend(fontsize=7, loc="best")
+    axes[-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # outside: covers no point
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_factorize_vs_solve.png"), dpi=120)
     plt.close(fig)
@@ -90,9 +98,10 @@ def plot_factor_vs_solve(cells, meta, out):
 
 def plot_scaling(cells, meta, out):
     bks = backends_in(cells)
-    col = colors(bks)
-    fig, axes = plt.subplots(2, 2, figsize=(13, 9), sharex="col")
-    for j, system in enumerate(SYSTEMS):
+    st = styles("backend", bks)
+    systems = systems_in(cells)
+    fig, axes = plt.subplots(2, len(systems), figsize=(6.5 * len(systems) + 2, 9), sharex="col", squeeze=False)
+    for j, system in enumerate(systems):
         for i, (measure, label) in enumerate([(FACT, "factorize [s]"), (SOLVE, "solve [s]")]):
             ax = axes[i][j]
             for b in bks:
@@ -100,8 +109,7 @@ def plot_scaling(cells, meta, out):
                              if k[1] == system and k[2] == b and k[3] == "default" and measure in v and "n" in v)
                 if not pts:
                     continue
-                ax.plot([p[0] for p in pts], [max(p[1], 1e-7) for p in pts], style(meta, b), marker="o",
-                        color=col[b], label=b)
+                ax.plot([p[0] for p in pts], [max(p[1], 1e-7) for p in pts], style(meta, b), label=b, **st[b])
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_ylabel(label)
@@ -109,13 +117,14 @@ def plot_scaling(cells, meta, out):
             ax.grid(True, which="both", alpha=0.3)
             if i == 1:
                 ax.set_xlabel("unknowns n")
-    axes[0][1].legend(fontsize=7, loc="best")
+    axes[0][-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # outside: covers no point
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_scaling.png"), dpi=120)
     plt.close(fig)
 
 
 def plot_orderings(cells, meta, out):
+    """A dot per (backend, ordering) on a log axis, backends side by side, one style per ordering."""
     models = []
     for k in meta:
         if k[0] not in models:
@@ -133,12 +142,11 @@ def plot_orderings(cells, meta, out):
             orderings.append(k[3])
     if not backends:
         return
-    fixed = {"default": "tab:gray", "amd": "tab:orange", "metis": "tab:green", "nesdis": "tab:red",
-             "natural": "tab:purple", "vertex-metis": "tab:brown", "colamd": "tab:pink"}
-    cmap = plt.get_cmap("tab10")
+    st = styles("ordering", orderings)
     width = 0.8 / len(orderings)
-    fig, axes = plt.subplots(2, 2, figsize=(14, 9))
-    for j, system in enumerate(SYSTEMS):
+    systems = systems_in(cells)
+    fig, axes = plt.subplots(2, len(systems), figsize=(7 * len(systems), 9), squeeze=False)
+    for j, system in enumerate(systems):
         for i, (measure, ylabel) in enumerate([("nnz_factor", "nnz(L) (L+U for LU)"), (FACT, "factorize [s]")]):
             ax = axes[i][j]
             for o, ordering in enumerate(orderings):
@@ -146,52 +154,59 @@ def plot_orderings(cells, meta, out):
                 for g, b in enumerate(backends):
                     v = cells.get((big, system, b, ordering), {}).get(measure)
                     if v is not None and v > 0:
-                        xs.append(g + o * width)
+                        xs.append(g + (o + 0.5) * width - 0.4)
                         ys.append(v)
-                ax.bar(xs, ys, width, color=fixed.get(ordering, cmap(o % 10)), label=ordering)
+                ax.plot(xs, ys, linestyle="none", markersize=7, markeredgecolor="black", markeredgewidth=0.4,
+                        label=ordering, **st[ordering])
+            for g in range(1, len(backends)):
+                ax.axvline(g - 0.5, color="0.85", linewidth=0.8, zorder=0)
             ax.set_yscale("log")
-            ax.set_xticks([g + 0.4 - width / 2 for g in range(len(backends))])
+            ax.set_xlim(-0.5, len(backends) - 0.5)
+            ax.set_xticks(range(len(backends)))
             ax.set_xticklabels(backends, rotation=20, fontsize=8, ha="right")
             ax.set_ylabel(ylabel)
             ax.set_title(f"{big} {system}: {ylabel} per ordering", fontsize=10)
             ax.grid(True, axis="y", which="both", alpha=0.3)
-    axes[0][0].legend(fontsize=7, title="ordering (missing bar: skipped / same as default)", title_fontsize=7)
+    axes[0][0].legend(fontsize=7, ncol=2, title="ordering (missing: skipped / same as default)", title_fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "solvers_orderings.png"), dpi=120)
     plt.close(fig)
 
 
-def core_of(path):
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            return f"{row.get('blas_core', '?')} (OPENBLAS_CORETYPE={row.get('blas_coretype_env', '?')})"
-    return "?"
-
-
-def plot_blas(results, cells, out):
-    variants = sorted(glob.glob(os.path.join(results, "solvers_blas_*.csv")))
-    if not variants:
+def plot_blas(results, out):
+    """Factorize time per kernel set, one series per distinct core OpenBLAS reported; with one core there is
+    nothing to compare, and a stale plot from an earlier run is removed."""
+    path = os.path.join(out, "solvers_blas.png")
+    distinct, duplicates = kernel_sets(results)
+    for core, kset, p in duplicates:
+        print(f"solvers.py: {os.path.basename(p)} (core {core}) has the {kset} kernels of an earlier run: left out",
+              file=sys.stderr)
+    if len(distinct) < 2:
+        if os.path.exists(path):
+            os.remove(path)
+        print("solvers.py: one distinct BLAS kernel set: no solvers_blas.png", file=sys.stderr)
         return
-    runs = [(core_of(os.path.join(results, "solvers.csv")), cells)]
-    for v in variants:
-        runs.append((core_of(v), load(v)[0]))
-    keys = sorted(k for k in runs[1][1] if k[3] == "default" and FACT in runs[1][1][k] and k in cells)
+    runs = [(core if kset == core else f"{core} ({kset} kernels)", load(p)[0]) for core, kset, p in distinct]
+    keys = sorted(k for k in runs[1][1] if k[3] == "default" and FACT in runs[1][1][k] and k in runs[0][1])
     if not keys:
         return
+    st = styles(None, [core for core, _ in runs])
     fig, ax = plt.subplots(figsize=(max(8, 0.5 * len(keys) + 3), 5.5))
-    width = 0.8 / len(runs)
-    for r, (label, c) in enumerate(runs):
+    for r, (core, c) in enumerate(runs):
         ys = [c.get(k, {}).get(FACT, float("nan")) for k in keys]
-        ax.bar([i + r * width for i in range(len(keys))], ys, width, label=label)
-    ax.set_xticks([i + 0.4 - width / 2 for i in range(len(keys))])
-    ax.set_xticklabels([f"{k[0]}/{k[1]}\n{k[2]}" for k in keys], rotation=90, fontsize=6)
+        xs = [i + (r + 0.5) * 0.8 / len(runs) - 0.4 for i in range(len(keys))]
+        ax.plot(xs, ys, linestyle="none", markersize=7, markeredgecolor="black", markeredgewidth=0.4,
+                label=f"core {core}" + (" (this run)" if r == 0 else ""), **st[core])
+    ax.set_xlim(-0.5, len(keys) - 0.5)
+    ax.set_xticks(range(len(keys)))
+    ax.set_xticklabels([f"{k[0]}/{k[1]}\n{k[2]}" for k in keys], rotation=90, fontsize=7)
     ax.set_yscale("log")
-    ax.set_ylabel("factorize [s]")
+    ax.set_ylabel("factorize [s] (minimum over repetitions)")
     ax.set_title("factorize time per OpenBLAS kernel set (dense_llt = Eigen, no BLAS: control)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: covers no point
     ax.grid(True, axis="y", which="both", alpha=0.3)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "solvers_blas.png"), dpi=120)
+    fig.savefig(path, dpi=120)
     plt.close(fig)
 
 
@@ -206,10 +221,13 @@ def main():
         return 0
     os.makedirs(a.out, exist_ok=True)
     cells, meta = load(path)
+    if not systems_in(cells):
+        print(f"solvers.py: no cell of {path} ran; nothing to plot", file=sys.stderr)
+        return 0
     plot_factor_vs_solve(cells, meta, a.out)
     plot_scaling(cells, meta, a.out)
     plot_orderings(cells, meta, a.out)
-    plot_blas(a.results, cells, a.out)
+    plot_blas(a.results, a.out)
     return 0
 
 

@@ -4,12 +4,16 @@
   table_2_1.py --results DIR --out DIR
 
 Reads RESULTS/table_2_1.csv, table_2_1_thesis.csv, scaling.csv and scaling_fits.csv and writes
-  OUT/table_2_1_memory.png  peak RSS per cell against #V, log-log; dense cells over budget at their predicted bytes
-                            (hollow); the thesis' TF memory before / after overlaid
-  OUT/table_2_1_init.png    init time (build + analyze + factorize) against #V, thesis points overlaid
+  OUT/table_2_1_memory.png  peak RSS per cell against #V, log-log, the thesis' TF memory before / after overlaid;
+                            cells not run (over the memory or time budget) at their predicted bytes, hollow, in a
+                            panel of their own above, so that only measured values set the main panel's axes
+  OUT/table_2_1_init.png    init time (build + analyze + factorize) against #V, thesis points overlaid; predicted
+                            init times of cells not run likewise apart
   OUT/scaling.png           structured build: init, factor bytes and frame time against #V with the fitted
-                            power laws (exponents from scaling_fits.csv)
-Run with Debian's /usr/bin/python3 (numpy + matplotlib).
+                            power laws (exponents from scaling_fits.csv; a fit on fewer than MIN_FIT_POINTS
+                            points is not drawn), each fit's n beside its r^2
+Every series has its own colour and marker (plots/styles.py). Run with Debian's /usr/bin/python3 (numpy +
+matplotlib).
 """
 import argparse
 import csv
@@ -22,9 +26,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from styles import styles  # noqa: E402
+
 MIB = 1024.0 * 1024.0
-BUILD_STYLE = {"dense": ("tab:red", "s"), "naive": ("tab:orange", "^"), "structured": ("tab:blue", "o")}
+BUILDS = ("structured", "naive", "dense")
 SYSTEM_LINE = {"tf": "-", "lap": "--"}
+# The fewest points a power law is fitted to (experiments/table_2_1.cpp writes no fit on fewer; a fit of an older
+# CSV on fewer is not drawn).
+MIN_FIT_POINTS = 4
 
 
 def read_rows(path):
@@ -58,47 +68,79 @@ def thesis_points(rows, measure):
     return pts
 
 
-def plot_builds(ax, table, measure, scale, predicted_measure=None):
-    for system in ("tf", "lap"):
-        for build, (color, marker) in BUILD_STYLE.items():
-            ok = sorted((c["vertices"], c[measure] / scale) for k, c in table.items()
-                        if k[1] == system and k[2] == build and c["status"] == "ok" and measure in c
-                        and "vertices" in c)
+def series_points(table, system, build, measure, scale, statuses):
+    return sorted((c["vertices"], c[measure] / scale) for k, c in table.items()
+                  if k[1] == system and k[2] == build and c["status"] in statuses and measure in c
+                  and "vertices" in c)
+
+
+def plot_builds(ax, pred_ax, table, measure, scale, predicted_measure):
+    """Measured cells on ax; cells not run, at their prediction, hollow on pred_ax. Returns (whether anything was
+    predicted, the styles)."""
+    st = styles("table_2_1", [f"{s} {b}" for s in SYSTEM_LINE for b in BUILDS] +
+                ["thesis tf before", "thesis tf after"])
+    predicted = False
+    for system in SYSTEM_LINE:
+        for build in BUILDS:
+            name = f"{system} {build}"
+            ok = series_points(table, system, build, measure, scale, ("ok",))
             if ok:
                 xs, ys = zip(*ok)
-                ax.plot(xs, ys, SYSTEM_LINE[system], color=color, marker=marker,
-                        label=f"ours {system.upper()} {build}")
-            if predicted_measure:
-                pred = sorted((c["vertices"], c[predicted_measure] / scale) for k, c in table.items()
-                              if k[1] == system and k[2] == build and c["status"] in ("#over", "#slow")
-                              and predicted_measure in c and "vertices" in c)
-                if pred:
-                    xs, ys = zip(*pred)
-                    ax.plot(xs, ys, linestyle="none", marker=marker, markerfacecolor="none", color=color,
-                            label=f"ours {system.upper()} {build}, predicted (not run)")
+                ax.plot(xs, ys, SYSTEM_LINE[system], label=f"ours {system.upper()} {build}", **st[name])
+            pred = series_points(table, system, build, predicted_measure, scale, ("#over", "#slow"))
+            if pred:
+                predicted = True
+                xs, ys = zip(*pred)
+                pred_ax.plot(xs, ys, linestyle="none", markerfacecolor="none", markersize=8, markeredgewidth=1.5,
+                             label=f"{system.upper()} {build}, predicted (not run)", **st[name])
+    return predicted, st
 
 
-def overlay_thesis(ax, thesis, measure):
+def overlay_thesis(ax, thesis, measure, st):
     pts = thesis_points(thesis, measure)
-    for stage, marker in (("before", "x"), ("after", "+")):
+    for stage in ("before", "after"):
         if pts.get(stage):
             xs, ys = zip(*sorted(pts[stage]))
-            ax.plot(xs, ys, ":", color="black", marker=marker, markersize=9,
-                    label=f"thesis TF {stage} (AMD64 3000+, 1 GB)")
+            ax.plot(xs, ys, ":", markersize=8, label=f"thesis TF {stage} (AMD64 3000+, 1 GB)",
+                    **st[f"thesis tf {stage}"])
 
 
-def finish(ax, fig, title, ylabel, path):
+def log_axes(ax, ylabel):
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("vertices")
     ax.set_ylabel(ylabel)
-    ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
+
+
+def save(fig, path):
     fig.savefig(path, dpi=130)
     plt.close(fig)
     print(f"[plots] wrote {path}", file=sys.stderr)
+
+
+def table_figure(table, thesis, measures, scale, title, ylabel, path):
+    """measures: (ours, the thesis', the prediction's). Measured cells and the thesis' points in the main panel,
+    whose axes they alone set; the predictions of the cells not run in a panel above, with its own y axis."""
+    measure, thesis_measure, predicted_measure = measures
+    fig, (pred_ax, ax) = plt.subplots(2, 1, figsize=(8, 8), sharex=True, gridspec_kw={"height_ratios": [1, 2.4]})
+    predicted, st = plot_builds(ax, pred_ax, table, measure, scale, predicted_measure)
+    overlay_thesis(ax, thesis, thesis_measure, st)
+    log_axes(ax, ylabel)
+    ax.set_xlabel("vertices")
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title("measured: our cells that ran, and the thesis' numbers", fontsize=9)
+    if predicted:
+        log_axes(pred_ax, f"predicted {ylabel}")
+        pred_ax.legend(fontsize=6.5, loc="upper left", ncol=2)
+        pred_ax.set_title("not run (over the memory or time budget): predicted values, hollow, own y axis",
+                          fontsize=9)
+    else:
+        pred_ax.set_axis_off()
+        pred_ax.text(0.5, 0.5, "every cell ran: no predicted-only values", ha="center", va="center",
+                     transform=pred_ax.transAxes, fontsize=9)
+    fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    save(fig, path)
 
 
 def plot_table(results, out):
@@ -107,16 +149,22 @@ def plot_table(results, out):
     if not table:
         print("[plots] no table_2_1.csv: skipping the Table 2-1 plots", file=sys.stderr)
         return
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    plot_builds(ax, table, "peak_rss_bytes", MIB, "predicted_bytes")
-    overlay_thesis(ax, thesis, "memory_mb")
-    finish(ax, fig, "Table 2-1: memory (peak RSS of the cell; thesis MB)", "MiB",
-           os.path.join(out, "table_2_1_memory.png"))
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    plot_builds(ax, table, "init_s", 1.0, "predicted_s")
-    overlay_thesis(ax, thesis, "init_s")
-    finish(ax, fig, "Table 2-1: init = build + analyze + factorize", "seconds",
-           os.path.join(out, "table_2_1_init.png"))
+    table_figure(table, thesis, ("peak_rss_bytes", "memory_mb", "predicted_bytes"), MIB,
+                 "Table 2-1: memory (peak RSS of the cell; thesis MB)", "MiB", os.path.join(out, "table_2_1_memory.png"))
+    table_figure(table, thesis, ("init_s", "init_s", "predicted_s"), 1.0,
+                 "Table 2-1: init = build + analyze + factorize", "seconds", os.path.join(out, "table_2_1_init.png"))
+
+
+def draw_fit(ax, f, scale, system, style):
+    """The fitted power law over its #V range, labelled with its exponent, r^2 and n; none on fewer than
+    MIN_FIT_POINTS points."""
+    if not f or f["exponent"] in ("", "nan") or int(f["points"]) < MIN_FIT_POINTS:
+        return
+    k, c = float(f["exponent"]), float(f["coefficient"])
+    lo, hi = float(f["vertices_min"]), float(f["vertices_max"])
+    xs = [lo * (hi / lo) ** (i / 40) for i in range(41)]
+    ax.plot(xs, [c * x ** k / scale for x in xs], "-", color=style["color"],  # a line, no marker: not data
+            label=f"{system.upper()} fit: #V^{k:.2f} (r2 {float(f['r2']):.3f}, n {f['points']})")
 
 
 def plot_scaling(results, out):
@@ -129,36 +177,30 @@ def plot_scaling(results, out):
     fit = {(f["series"], f["system"], f["measure"]): f for f in fits}
     panels = (("init_s", 1.0, "init s"), ("factor_bytes", MIB, "factor MiB"), ("frame_s", 1.0, "frame s"))
     series = sorted({k[3] for k in data})
-    markers = dict(zip(series, "osD^v<>"))
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    st = styles(None, [f"{system} {x}" for system in ("lap", "tf") for x in series + ["fit"]])
+    fig, axes = plt.subplots(1, 3, figsize=(15, 7))
     for ax, (measure, scale, label) in zip(axes, panels):
-        for system, color in (("lap", "tab:green"), ("tf", "tab:purple")):
+        for system in ("lap", "tf"):
             for s in series:
                 # Out-of-core cells (factor on disk) drawn hollow: their frames read the factor back from the
                 # page cache, and the fits leave their frame time and peak RSS out.
-                for storage, face in (("memory", color), ("disk", "none")):
+                for storage in ("memory", "disk"):
                     pts = sorted((c["vertices"], c[measure] / scale) for k, c in data.items()
                                  if k[1] == system and k[3] == s and c["status"] == "ok" and measure in c
                                  and c["storage"] == storage)
                     if pts:
                         xs, ys = zip(*pts)
-                        ax.plot(xs, ys, linestyle="none", marker=markers[s], color=color, markerfacecolor=face,
-                                alpha=0.75,
+                        face = {} if storage == "memory" else {"markerfacecolor": "none"}
+                        ax.plot(xs, ys, linestyle="none", alpha=0.75, **face, **st[f"{system} {s}"],
                                 label=f"{system.upper()} {s}" + (" (factor on disk)" if storage == "disk" else ""))
-            f = fit.get(("all", system, measure))
-            if f and f["exponent"] not in ("", "nan"):
-                k, c = float(f["exponent"]), float(f["coefficient"])
-                lo, hi = float(f["vertices_min"]), float(f["vertices_max"])
-                xs = [lo * (hi / lo) ** (i / 40) for i in range(41)]
-                ax.plot(xs, [c * x ** k / scale for x in xs], "-", color=color,
-                        label=f"{system.upper()} fit: #V^{k:.2f} (r2 {float(f['r2']):.3f})")
+            draw_fit(ax, fit.get(("all", system, measure)), scale, system, st[f"{system} fit"])
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("vertices")
         ax.set_ylabel(label)
         ax.set_title(f"structured build: {label}")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6.5, loc="upper left")
+        ax.legend(fontsize=6.5, loc="upper left", bbox_to_anchor=(0.0, -0.14))  # below the axes: covers no point
     fig.tight_layout()
     path = os.path.join(out, "scaling.png")
     fig.savefig(path, dpi=130)

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The measurements ./run reproduce runs, in order. Each driver reads its config (data/experiments/NAME.toml) and
-# writes CSVs only (atomically); ./run then writes the Markdown reports from them (experiments/reports/report.py)
-# and the plots. A driver that fails (exit 5: a cell failed, its other cells written; or any other error) does not stop
-# the others: every driver runs, then the script exits with the first failure's code, naming every failed driver on
-# stderr and, when EXPERIMENTS_FAILED names a file, in that file (one line each).
+# writes CSVs only (atomically); ./run then draws the plots and, after them, writes the Markdown reports from the
+# CSVs (scripts/reports.sh). A driver that fails (exit 5: a cell failed, its other cells written; or any other error)
+# does not stop the others: every driver runs, then the script exits with the first failure's code, naming every
+# failed driver on stderr and, when EXPERIMENTS_FAILED names a file, in that file (one line each).
 # usage: scripts/experiments.sh BUILD_DIR [--full]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -36,23 +36,41 @@ step table_2_1 "$BUILD/exp_table_2_1" --config "$CONF/table_2_1.toml" --data "$R
 
 # Solver choice: backends x orderings on the LAP and TF systems, and the BLAS kernel set. OPENBLAS_CORETYPE is read
 # when OpenBLAS loads, so each kernel set is its own driver run: first the other kernel sets (BLAS-calling backends
-# only, plus Eigen's dense LLT as a no-BLAS control) into results/solvers_blas_*.csv, then the full grid under this
-# run's setting into results/solvers.csv; the report compares them.
+# only, plus Eigen's dense LLT as a no-BLAS control) into results/solvers_blas_CORE.csv, then the full grid under
+# this run's setting into results/solvers.csv; the report compares them. A setting runs only when the core OpenBLAS
+# reports under it (`deformbench provenance`) loads a kernel set no other run has (data/experiments/
+# blas_kernel_sets.txt): two runs of one set would show the noise between them as a kernel effect. The rows say
+# which setting each run had (blas_coretype_env) and the core it loaded (blas_core).
 log "solver choice (backends x orderings; BLAS kernel sets)"
 SOLV=("$BUILD/exp_solvers" --config "$CONF/solvers.toml" --data "$ROOT/data" --results "$ROOT/results")
 [ "$FULL" = --full ] && SOLV+=(--full)
 SOLV_BLAS_BACKENDS=cholmod_supernodal,multifrontal,umfpack,dense_llt,lapack_potrf,dense_ldlt_bk,dense_lu
 rm -f "$ROOT"/results/solvers_blas_*.csv
-if grep -qw avx512f /proc/cpuinfo && [ "${OPENBLAS_CORETYPE:-}" != SkylakeX ]; then
-  log "solver choice under OPENBLAS_CORETYPE=SkylakeX (the CPU has avx512f)"
-  OPENBLAS_CORETYPE=SkylakeX step "solvers (OPENBLAS_CORETYPE=SkylakeX)" "${SOLV[@]}" \
-    --backends "$SOLV_BLAS_BACKENDS" --orderings default --out "$ROOT/results/solvers_blas_SkylakeX.csv"
-fi
-if [ -n "${OPENBLAS_CORETYPE:-}" ]; then
-  log "solver choice with OPENBLAS_CORETYPE unset (OpenBLAS' own CPU detection)"
-  step "solvers (OPENBLAS_CORETYPE unset)" env -u OPENBLAS_CORETYPE "${SOLV[@]}" \
-    --backends "$SOLV_BLAS_BACKENDS" --orderings default --out "$ROOT/results/solvers_blas_auto.csv"
-fi
+# with_coretype SETTING CMD...: CMD under OPENBLAS_CORETYPE=SETTING (empty SETTING: unset, OpenBLAS' own detection).
+with_coretype() {
+  local setting=$1; shift
+  if [ -n "$setting" ]; then env OPENBLAS_CORETYPE="$setting" "$@"; else env -u OPENBLAS_CORETYPE "$@"; fi
+}
+# blas_core SETTING: the core OpenBLAS loads under it, as result rows record it (blas_core).
+blas_core() { with_coretype "$1" "$BUILD/deformbench" provenance | sed -n 's/^blas_core: //p'; }
+# kernel_set CORE: the kernel set the core loads (data/experiments/blas_kernel_sets.txt; else the core itself).
+kernel_set() { awk -v c="$1" '!/^#/ && $1 == c { s = $2 } END { print (s != "" ? s : c) }' "$CONF/blas_kernel_sets.txt"; }
+SETS_RUN=" $(kernel_set "$(blas_core "${OPENBLAS_CORETYPE:-}")") "
+SETTINGS=("")  # OpenBLAS' own detection, then the kernel sets this CPU can run
+grep -qw avx512f /proc/cpuinfo && SETTINGS+=(SkylakeX)
+grep -qw avx2 /proc/cpuinfo && SETTINGS+=(Haswell)
+for setting in "${SETTINGS[@]}"; do
+  core=$(blas_core "$setting")
+  kset=$(kernel_set "$core")
+  if [ -z "$core" ] || [[ "$SETS_RUN" == *" $kset "* ]]; then
+    log "OPENBLAS_CORETYPE=${setting:-<unset>} loads core ${core:-?} ($kset kernels), already measured: not run again"
+    continue
+  fi
+  SETS_RUN+="$kset "
+  log "solver choice under OPENBLAS_CORETYPE=${setting:-<unset>} (core $core, $kset kernels)"
+  step "solvers (OPENBLAS_CORETYPE=${setting:-<unset>})" with_coretype "$setting" "${SOLV[@]}" \
+    --backends "$SOLV_BLAS_BACKENDS" --orderings default --out "$ROOT/results/solvers_blas_$core.csv"
+done
 log "solver choice, full grid (OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-<unset>})"
 step solvers "${SOLV[@]}"
 

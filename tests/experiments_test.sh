@@ -60,14 +60,39 @@ expect "solvers tiny run" 0 "wrote" -- "$BIN/exp_solvers" --tier cactus=bs08/cac
   --backends cholmod_supernodal,multifrontal,multifrontal_refined,multifrontal_mixed,spqr --orderings default \
   --factor-reps 1 --solve-reps 1 --factor-dir "$T/ooc" --results "$R"
 expect "frames tiny run" 0 "wrote" -- "$BIN/exp_frames" --case "bar: twist mesh=bar:2:2:8:1:1:4 z0=0 z1=4 turns=1 chained=no" \
-  --methods lap,tf,tf-normalized,lri,lri-uncoordinated --lri-frames first,random --lri-orthonormalize polar --no-meshes \
-  --out "$R/frames.csv"
+  --methods lap,tf,tf-normalized,lri,lri-uncoordinated --lri-frames first,random --lri-orthonormalize polar \
+  --meshes "$R/meshes/frames" --out "$R/frames.csv"
 expect "deform_cases tiny run" 0 "wrote" -- "$BIN/exp_deform_cases" --case bar=bs08/bar --methods lap --frames 2 \
   --out "$R/deform_cases.csv"
 expect "applications tiny run" 0 "wrote" -- "$BIN/exp_applications" --meshes "$R/meshes/applications" \
   --case "flat: coat source=bs08/plane.off target=plane:20:20:1:0:1 target_region=sphere:0,0,0,0.4" --out "$R/applications.csv"
-expect "applications render" 0 "render_app_flat.png" -- "$PY" plots/render_app.py --results "$R" --out "$R/plots"
-expect "report step" 0 "frames.md: written" -- "$PY" experiments/reports/report.py --results "$R"
+# The step after the drivers, as ./run reproduce runs it: every plot, then every report, which cite them.
+expect "plots, then reports" 0 "frames.md: written" -- bash scripts/reports.sh "$R" "$R/plots" "$PY"
+for png in render_app_flat render_bar table_2_1_memory table_2_1_init scaling solvers_orderings frames_quality; do
+  [ -s "$R/plots/$png.png" ] && ok "plot $png.png" || fail "no plot $png.png"
+done
+grep -Eq 'png` *\(?missing' "$R"/*.md && fail "a report cites a missing figure: $(grep -Eho '[a-z_0-9]*\.png` *\(?missing' "$R"/*.md)" \
+  || ok "no report cites a missing figure"
+[ ! -e "$R/plots/solvers_blas.png" ] && grep -q "no kernel comparison" "$R/solvers.md" \
+  && ok "one BLAS kernel set: no comparison, and the report says so" || fail "a BLAS comparison of one kernel set"
+# Kernel sets are told apart by the core OpenBLAS reported: a second run on this run's core is left out, a run on
+# another core is compared, and two cores that load the same kernels (data/experiments/blas_kernel_sets.txt) count
+# once. The copies below stand for such runs.
+blas_step() { "$PY" plots/solvers.py --results "$R" --out "$R/plots" 2>/dev/null &&
+  "$PY" experiments/reports/report.py --results "$R" --only solvers 2>/dev/null; }
+as_core() {  # as_core CORE NAME: solvers.csv with another blas_core, as results/solvers_blas_NAME.csv
+  "$PY" -c 'import csv, sys; r = list(csv.DictReader(open(sys.argv[1]))); w = csv.DictWriter(open(sys.argv[2], "w"), r[0].keys())
+w.writeheader(); w.writerows(dict(x, blas_core=sys.argv[3]) for x in r)' "$R/solvers.csv" "$R/solvers_blas_$2.csv" "$1"; }
+cp "$R/solvers.csv" "$R/solvers_blas_same.csv"
+blas_step && [ ! -e "$R/plots/solvers_blas.png" ] && grep -q "solvers_blas_same.csv. reports core .*: left out" "$R/solvers.md" \
+  && ok "a kernel set run twice is not compared with itself" || fail "a kernel set compared with itself"
+as_core OtherCore other && as_core Cooperlake x1 && as_core SapphireRapids x2
+blas_step && [ -s "$R/plots/solvers_blas.png" ] && grep -q "^### .* core OtherCore" "$R/solvers.md" \
+  && grep -q "solvers_blas_x2.csv. reports core SapphireRapids, which loads the SkylakeX kernels of the" "$R/solvers.md" \
+  && ok "distinct kernel sets compared, one set's two cores once" || fail "kernel sets: distinct not compared, or one twice"
+rm -f "$R"/solvers_blas_*.csv "$R/plots/solvers_blas.png"
+"$PY" -c 'import sys; sys.path.insert(0, "plots"); import styles; p = styles.check(); print(*p, sep="\n"); sys.exit(bool(p))' \
+  && ok "style table: distinct colours and markers" || fail "style table"
 grep -q "^| cactus | lap | naive |" "$R/table_2_1.md" && ok "table_2_1.md has the cells" || fail "table_2_1.md lacks the cells"
 grep -q "^| cactus | lap | .* | spqr |" "$R/solvers.md" && ok "solvers.md has the spqr row" || fail "solvers.md lacks spqr"
 grep -q "^| bar | single |" "$R/frames.md" && ok "frames.md has the case" || fail "frames.md lacks the case"

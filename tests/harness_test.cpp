@@ -685,6 +685,11 @@ TEST(Stats, MedianAndPowerLaw) {
   EXPECT_NEAR(f.r2, 1.0, 1e-12);
   EXPECT_EQ(f.points, 4);
   EXPECT_TRUE(std::isnan(fit_power_law({1}, {2}).exponent));
+  // Three points fit a line closely whatever the law: no fit below kMinFitPoints, the count still reported.
+  const PowerFit three = fit_power_law({1e3, 1e4, 1e5}, {1, 30, 50});
+  EXPECT_TRUE(std::isnan(three.exponent));
+  EXPECT_TRUE(std::isnan(three.r2));
+  EXPECT_EQ(three.points, 3);
 }
 
 }  // namespace

@@ -30,7 +30,8 @@ FIGURES = [
      "seen": "Seen from the side (+z; the bunny faces -x), the ear is dragged backwards in the image plane. LAP "
              "stretches the ear along the drag and keeps it narrow; TF turns it and widens it towards the tip (its "
              "fitted similarities scale up); TF with normalized scale turns it with less widening; LRI turns it and "
-             "keeps it thin.",
+             "keeps it thin. The distance maps below the shapes (each result's distance from LAP's) put every "
+             "difference in the ear, largest for TF at its tip.",
      "ours": "CGAL's `bunny00` (data/meshes, the Stanford bunny rescaled into [-0.5, 0.5], +y up); "
              "`data/edits/figures/bunny_ear.edit`: the 60 vertices nearest the tip of the ear that reaches highest "
              "moved 0.15 along +x, a sphere of radius 0.24 around the ear free, the rest fixed.",
@@ -54,7 +55,8 @@ FIGURES = [
      "cases": ["armadillo_arm"], "configs": METHODS,
      "seen": "Seen from behind (+z), the right arm (on the image's right) comes down in every method; at this scale "
              "the methods look alike (the table's edge-length distortion tells them apart), and the shell's detail "
-             "outside the region is untouched.",
+             "outside the region is untouched. The distance maps below the shapes (each result's distance from "
+             "LAP's) show where they differ: along the arm only, uncoordinated LRI most at the hand.",
      "ours": "CGAL's armadillo (26002 vertices): `data/edits/figures/armadillo_arm.edit` lowers the right hand by a "
              "40-degree turn about the shoulder, the arm free, the body fixed.",
      "differs": "Our bundled armadillo has about half the thesis' points (its Loop-subdivided 104k version is in "
@@ -121,8 +123,10 @@ FIGURES = [
      "thesis": "Further LRI edits on scanned models (the dinosaur's head turned among them).",
      "cases": ["dino_head90", "bs08_cactus", "bs08_bar", "bs08_cylinder", "bs08_plane", "armadillo_arm"],
      "configs": METHODS,
-     "seen": "The BS08 cactus shows plain TF's blow-up (the trunk swells to several times its size) and normalized "
-             "TF close to LRI.",
+     "seen": "The BS08 cactus shows plain TF's blow-up (the trunk swells to several times its size; that panel has "
+             "a frame of its own, its size against the others' in its title) and normalized TF close to LRI. The "
+             "dino's results differ by too little to tell apart side by side; the distance maps below its shapes "
+             "put the differences in the neck and the head.",
      "ours": "CGAL's dino with its head turned 90 degrees (`data/edits/dino_head.edit`), the four Botsch-Sorkine "
              "2008 edits (data/bs08) and the armadillo arm.",
      "differs": "The thesis' other models are not bundled; the BS08 edits are the standard benchmark set of that "
@@ -210,7 +214,9 @@ def write(results, plots_dir=None):
             "measured again. Distances are in rest bounding-box diagonals; `volume change` is relative (closed meshes "
             "only); `max displacement` is the largest vertex move; times are one run each on the shared machine. "
             "Render panels: rest (fixed grey, free red, handle yellow, as in thesis fig. 4-4), the analytic ideal "
-            "where there is one, LAP, TF, TF with normalized scale and the LRI variants. Each figure's "
+            "where there is one, LAP, TF, TF with normalized scale and the LRI variants; where the results differ by "
+            "too little to tell apart side by side, a grid of distance maps below them colours each result by its "
+            "distance from LAP's (rest bounding-box diagonals, one colour bar). Each figure's "
             "setup is a case of data/experiments/frames.toml; `build/exp_frames --only CASE` reruns one.\n")
     write_atomically(os.path.join(results, "figures.md"), "\n".join([head] + [section(f, cases, plots_dir)
                                                                               for f in FIGURES]))

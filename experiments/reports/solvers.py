@@ -2,11 +2,11 @@
 other OPENBLAS_CORETYPE values): the verdict on the thesis' claim that Cholesky is slightly faster than LU and
 Bunch-Kaufman, least squares on A against the normal equations, every backend, the orderings, the fastest choice
 per tier and the BLAS kernel sets. Reads CSVs only, never measures."""
-import glob
 import os
 
 from common import (MIB, NAN, SPREAD_NOTE, cells, count_flagged, fmt, geomean, isnan, mark, median, minmax, number,
                     provenance, read_rows, spread_text, write_atomically)
+from kernel_sets import kernel_sets
 
 KEY = ("model", "system", "backend", "family", "ordering", "ordering_used")
 # The summary reads the minimum over a cell's repetitions: on a shared machine interference only adds time.
@@ -394,16 +394,21 @@ def blas(run, p, results):
     out = ["## BLAS kernel set\n",
            f"This run: {p.get('blas')} core **{p.get('blas_core')}** (OPENBLAS_CORETYPE="
            f"{'unset, auto-detected' if core in ('', 'auto') else core}). "]
-    variants = sorted(glob.glob(os.path.join(results, "solvers_blas_*.csv")))
-    if not variants:
-        out[-1] += ("No other kernel set was measured (scripts/experiments.sh runs one when the CPU has AVX-512: "
-                    "`grep avx512f /proc/cpuinfo`).\n")
+    distinct, duplicates = kernel_sets(results)
+    first = {k: c for c, k, _ in distinct}  # kernel set -> the core of the run that has it
+    same = "".join(f" `{os.path.basename(path)}` reports core {c}, which loads the {k} kernels of the {first[k]} run: "
+                   "left out (data/experiments/blas_kernel_sets.txt)." for c, k, path in duplicates)
+    if len(distinct) < 2:
+        out[-1] += ("No other kernel set was measured, so there is no kernel comparison (scripts/experiments.sh "
+                    "runs the BLAS-calling backends again under each OPENBLAS_CORETYPE whose reported core loads "
+                    "another kernel set than this run's: SkylakeX where the CPU has avx512f, Haswell, "
+                    f"auto-detection).{same}\n")
         return "\n".join(out)
     out[-1] += ("The same driver was run again with other `OPENBLAS_CORETYPE` values, restricted to the backends that "
                 "call the BLAS (CHOLMOD supernodal, UMFPACK, LAPACK dense) plus Eigen's own dense LLT as a control (it "
                 "never calls the BLAS, so its ratio shows the run-to-run noise). Ratio = variant time / this run's time "
-                "(< 1: the variant is faster).\n")
-    return "\n".join(out + [variant_section(run, v) for v in variants])
+                f"(< 1: the variant is faster).{same}\n")
+    return "\n".join(out + [variant_section(run, path) for _, _, path in distinct[1:]])
 
 
 def write(results):

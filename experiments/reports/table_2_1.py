@@ -319,10 +319,11 @@ def big_target(run, out, ok):
 
 
 def scaling(run):
-    if not run.fits:
+    if not run.fits and not run.scaling:
         return ""
     out = ["## Scaling of the structured build (results/scaling.csv, scaling_fits.csv)\n\nCost ~ c * #V^k fitted by "
-           "least squares in log-log space.\n\n| series | system | measure | exponent k | r^2 | points | #V range |\n"
+           "least squares in log-log space, on n >= 4 points (a series or measure with fewer has no fit).\n\n"
+           "| series | system | measure | exponent k | r^2 | n | #V range |\n"
            "|---|---|---|---|---|---|---|"]
     for f in run.fits:
         out.append(f"| {f['series']} | {f['system']} | {f['measure']} | {number(f['exponent']):.2f} | "

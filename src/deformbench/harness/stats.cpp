@@ -32,7 +32,7 @@ PowerFit fit_power_law(const std::vector<double>& x, const std::vector<double>& 
   f.points = static_cast<int>(lx.size());
   const double nan = std::numeric_limits<double>::quiet_NaN();
   f.exponent = f.coefficient = f.r2 = nan;
-  if (lx.size() < 2) return f;
+  if (f.points < kMinFitPoints) return f;
   double mx = 0, my = 0;
   for (std::size_t i = 0; i < lx.size(); ++i) mx += lx[i], my += ly[i];
   mx /= lx.size();

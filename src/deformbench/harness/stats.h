@@ -24,12 +24,15 @@ Spread spread(std::vector<double> v);
 //! thread waited on a descheduled worker or the machine was busy, and the median may be unreliable.
 constexpr double kSpreadFlagRatio = 2.0;
 inline bool spread_flagged(const Spread& s) { return s.count > 1 && s.max > kSpreadFlagRatio * s.min; }
+//! The fewest points a power law is fitted to: through two or three points a line fits (nearly) exactly, and its
+//! r^2 of about 1 says nothing about the law.
+inline constexpr int kMinFitPoints = 4;
 
 //! y = c * x^exponent fitted by least squares on (log x, log y). Points with x <= 0 or y <= 0 are skipped.
 struct PowerFit {
   double exponent = 0, coefficient = 0;
   double r2 = 0;  //!< coefficient of determination in log space
-  int points = 0;  //!< points used; a fit needs >= 2 distinct x (exponent NaN otherwise)
+  int points = 0;  //!< points used; a fit needs >= kMinFitPoints of them, >= 2 distinct x (exponent NaN otherwise)
 };
 PowerFit fit_power_law(const std::vector<double>& x, const std::vector<double>& y);
 
