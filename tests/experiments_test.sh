@@ -198,8 +198,13 @@ expect "frames with failing cells (killed at their timeout)" 5 "2 cell\(s\) fail
 
 # scripts/experiments.sh runs every driver even after one failed, then exits with the first failure's code and
 # names the failed drivers (stub drivers in a copy of the tree: nothing measured, nothing of this tree touched).
-mkdir -p "$T/tree/scripts" "$T/stubs"
+mkdir -p "$T/tree/scripts" "$T/tree/data/experiments" "$T/stubs"
 cp scripts/experiments.sh "$T/tree/scripts/"
+cp data/experiments/blas_kernel_sets.txt "$T/tree/data/experiments/"
+printf '#!/bin/sh
+echo "blas_core: Haswell"
+' >"$T/stubs/deformbench"  # one kernel set: no BLAS study runs
+chmod +x "$T/stubs/deformbench"
 for d in deform_cases table_2_1 solvers frames applications; do
   code=0; [ $d = table_2_1 ] && code=5; [ $d = frames ] && code=2
   printf '#!/bin/sh\necho %s >>"%s/ran"\nexit %s\n' "$d" "$T" "$code" >"$T/stubs/exp_$d"
