@@ -89,7 +89,8 @@ inline double exact_residual(const SpMat& upper, const DenseMat& X, const DenseM
 inline double condition_number(const SpMat& upper) {
   const SpMat A = full_of(upper);
   if (A.rows() <= kDenseLimit) {
-    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<DenseMat>(DenseMat(A), Eigen::EigenvaluesOnly).eigenvalues();
+    const Eigen::SelfAdjointEigenSolver<DenseMat> eig(DenseMat(A), Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd& ev = eig.eigenvalues();
     return ev(ev.size() - 1) / ev(0);
   }
   std::mt19937 rng(1);
