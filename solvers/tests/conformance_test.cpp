@@ -104,6 +104,7 @@ std::vector<Problem> problems() {
   return p;
 }
 
+using db::exact::pivot_ratio_error;
 using db::exact::rel;
 
 class Conformance : public ::testing::TestWithParam<std::string> {
@@ -305,11 +306,6 @@ TEST_P(Conformance, FactorizeConsumingMatchesFactorize) {
     EXPECT_EQ(bad.nonZeros(), 0);
   }
 }
-
-//! How far a computed pivot ratio d_k / A_kk may lie from the exact one: d_k = A_kk - sum_j L_kj^2 (the sum of
-//! k terms whose total is at most A_kk) rounds by at most about k eps A_kk (Higham, Accuracy and Stability,
-//! thm. 10.3), with a factor 4 of room for the rounding of L_kj itself.
-double pivot_ratio_error(std::size_t n) { return 4 * double(n) * db::exact::kEps; }
 
 // factorize_dense (the dense build's input): dense backends solve as from the sparse upper triangle and report
 // the same factor; the others refuse it with an Error naming the dense backends and leave the matrix empty.

@@ -10,6 +10,7 @@
 //!    eigenvalues when small, else power iteration for the largest and inverse iteration for the smallest).
 //!  - exact_residual(): ||B - A X||_F / ||B||_F of a computed X, summed in quadruple precision: in double (and
 //!    even in long double) the product's own rounding is of the size of an accurate solution's residual.
+//!  - pivot_ratio_error(): how far a computed pivot ratio may lie from the exact one.
 //!  - solve_bound(): the relative forward error a backward-stable double solve may have, kSolveFactor eps cond.
 //!  - refined_bound(): how far a refined solve (multifrontal_mixed, _refined, mumps_refined) may lie from the exact
 //!    solution, in max_rel(): its refinement stops once the last correction is at most its tolerance relative to x
@@ -116,6 +117,11 @@ inline double condition_number(const SpMat& upper) {
 
 //! The relative forward error a backward-stable double solve of a system of condition `cond` may have.
 inline double solve_bound(double cond) { return kSolveFactor * kEps * cond; }
+
+//! How far a computed pivot ratio d_k / A_kk (FactorStats::min_pivot_ratio) of an n x n matrix may lie from the
+//! exact one: d_k = A_kk - sum_j L_kj^2 (the sum of k terms whose total is at most A_kk) rounds by at most about
+//! k eps A_kk (Higham, Accuracy and Stability, thm. 10.3), with a factor 4 of room for the rounding of L_kj.
+inline double pivot_ratio_error(std::size_t n) { return 4 * double(n) * kEps; }
 
 //! How far a refined solve at `tolerance` may lie from exact_solution(), in max_rel().
 inline double refined_bound(double tolerance) { return 2 * (tolerance + kExactTolerance); }
