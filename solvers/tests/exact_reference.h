@@ -8,8 +8,8 @@
 //!    is exact to far below a double solve's error.
 //!  - condition_number(): cond_2(A) of a symmetric positive definite A, from its extreme eigenvalues (dense
 //!    eigenvalues when small, else power iteration for the largest and inverse iteration for the smallest).
-//!  - exact_residual(): ||B - A X||_F / ||B||_F of a computed X, summed in quadruple precision: in double (and
-//!    even in long double) the product's own rounding is of the size of an accurate solution's residual.
+//!  - exact_residual(): ||B - A X||_F / ||B||_F of a computed X, summed in quadruple precision: in double the
+//!    product's own rounding is of the size of an accurate solution's residual.
 //!  - pivot_ratio_error(): how far a computed pivot ratio may lie from the exact one.
 //!  - solve_bound(): the relative forward error a backward-stable double solve may have, kSolveFactor eps cond.
 //!  - refined_bound(): how far a refined solve (multifrontal_mixed, _refined, mumps_refined) may lie from the exact
