@@ -1,7 +1,7 @@
 // The mixed backend's solve with its float factor (float_factor.h): the double solve's supernodes, threads and
 // kernels reading float entries. Checked on a synthetic factor (well conditioned, so the comparison resolves
-// rounding) laid out on a real supernodal structure split among threads: against a dense solve with the rounded
-// entries, and against the double solve on the same rounded entries, which it reproduces.
+// rounding) laid out on a real supernodal structure split among threads: against the exact solve with the rounded
+// entries (dense, in long double), and against the double solve on the same rounded entries, which it reproduces.
 #include <cstdio>
 #include <random>
 #include <vector>
@@ -97,8 +97,10 @@ TEST(FloatFactorSolve, ThreadedSolveMatchesTheDenseSolveAndTheDoubleKernels) {
     }
     for (int cols : {1, 3, 5}) {  // the general kernels, the row kernel (2-4), three + two at a time
       const DenseMat B = rhs(S.n, cols);
-      const DenseMat want = c.dense.transpose().triangularView<Eigen::Upper>().solve(
-          c.dense.triangularView<Eigen::Lower>().solve(B));
+      using LongMat = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;  // exact: no double rounding
+      const LongMat L = c.dense.cast<long double>();
+      const LongMat Y = L.triangularView<Eigen::Lower>().solve(B.cast<long double>());
+      const DenseMat want = L.transpose().triangularView<Eigen::Upper>().solve(Y).cast<double>();
       RowMajorMat y32 = B, y64 = B;
       std::vector<RowMajorMat> acc;
       F32.solve(S, plan, y32, acc);

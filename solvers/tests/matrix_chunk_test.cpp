@@ -1,16 +1,16 @@
 // The multifrontal backend's matrix chunks (multifrontal/matrix_chunk.h) against the lower triangle computed
-// whole, and the backend on systems large enough for several chunks per subtree against a simplicial LL^T.
+// whole, and the backend on systems large enough for several chunks per subtree against the exact solution.
 #include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
 
-#include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
 #include "solvers/linear_solver.h"
 #include "solvers/multifrontal/matrix_chunk.h"
 #include "solvers/multifrontal/symbolic.h"
+#include "solvers/tests/exact_reference.h"
 
 namespace {
 
@@ -91,14 +91,14 @@ TEST(MatrixChunk, RunsHoldTheLowerTriangle) {
   }
 }
 
-TEST(MatrixChunk, MultifrontalMatchesSimplicialOnSeveralRuns) {
+TEST(MatrixChunk, MultifrontalIsExactOnSeveralRuns) {
   std::mt19937 rng(11);
   const SpMat full = tf_like(36, 30, rng, 0.1);  // 3240 unknowns; shifted: well conditioned
   const SpMat upper = full.triangularView<Eigen::Upper>();
   DenseMat B = DenseMat::Random(full.rows(), 3);
-  Eigen::SimplicialLLT<SpMat, Eigen::Upper> ref(upper);
-  ASSERT_EQ(ref.info(), Eigen::Success);
-  const DenseMat Xref = ref.solve(B);
+  // Against the exact solution under the system's bound (exact_reference.h), not another double solve.
+  const DenseMat Xref = db::exact::exact_solution(upper, B, 3);
+  const double tol = db::exact::solve_bound(db::exact::condition_number(upper));
   for (const char* ordering : {"natural", "metis"})
     for (int threads : {1, 2}) {
       SCOPED_TRACE(std::string(ordering) + " threads " + std::to_string(threads));
@@ -110,7 +110,7 @@ TEST(MatrixChunk, MultifrontalMatchesSimplicialOnSeveralRuns) {
       solver->factorize(upper);
       DenseMat X;
       solver->solve(B, X);
-      EXPECT_LE((X - Xref).norm(), 1e-12 * Xref.norm());
+      EXPECT_WITHIN(db::exact::rel(X, Xref), tol);
     }
   unsetenv("DEFORMBENCH_THREADS");
 }

@@ -17,6 +17,7 @@
 #include "solvers/mumps_distributed.h"
 #include "solvers/mumps_instance.h"
 #include "solvers/mumps_mpi.h"
+#include "solvers/tests/exact_reference.h"
 
 namespace {
 
@@ -71,7 +72,8 @@ DenseMat solve_with(const std::string& backend, db::SolverOptions o, const SpMat
   return X;
 }
 
-double rel(const DenseMat& a, const DenseMat& b) { return (a - b).norm() / b.norm(); }
+using db::exact::pivot_ratio_error;
+using db::exact::rel;
 
 // The smallest pivot ratio is MUMPS's record of the smallest |pivot| of the diagonally scaled matrix (an
 // undocumented DKEEP entry): it must be the smallest L_kk^2 / A_kk of a dense Cholesky in the order MUMPS
@@ -110,12 +112,13 @@ TEST(Mumps, MinPivotRatioIsTheDenseOneInMumpsOrder) {
     const DenseMat L = P.llt().matrixL();
     double ref = 1e300;
     for (int k = 0; k < n; ++k) ref = std::min(ref, L(k, k) * L(k, k) / P(k, k));
-    EXPECT_NEAR(m.report().min_pivot_ratio, ref, 1e-10 * ref);
+    EXPECT_NEAR(m.report().min_pivot_ratio, ref, 2 * pivot_ratio_error(std::size_t(n)));  // both computed
     EXPECT_EQ(m.ordering_used(), ordering);
   }
 }
 
-// Every ordering the backend lists solves the scalar and the 3x3-block system as CHOLMOD does, and names itself:
+// Every ordering the backend lists solves the scalar and the 3x3-block system exactly up to the rounding the
+// system's conditioning allows (solvers/tests/exact_reference.h; so does CHOLMOD), and names itself:
 // MUMPS's own orderings on the compressed block graph ("-block3"), this project's METIS given to MUMPS.
 TEST(Mumps, EveryOrderingAgreesWithCholmod) {
   for (int block : {1, 3}) {
@@ -123,12 +126,14 @@ TEST(Mumps, EveryOrderingAgreesWithCholmod) {
     const DenseMat B = DenseMat::Random(U.rows(), 3);
     db::SolverOptions o;
     o.block_size = block;
-    const DenseMat Xref = solve_with("cholmod_supernodal", o, U, B);
+    const DenseMat Xref = db::exact::exact_solution(U, B, block);
+    const double tol = db::exact::solve_bound(db::exact::condition_number(U));
+    EXPECT_WITHIN(rel(solve_with("cholmod_supernodal", o, U, B), Xref), tol);
     for (const std::string& ordering : db::solver_info("mumps").orderings) {
       SCOPED_TRACE(fmt::format("{} block {}", ordering, block));
       o.ordering = ordering;
       db::FactorStats st;
-      EXPECT_LT(rel(solve_with("mumps", o, U, B, &st), Xref), 1e-10);
+      EXPECT_WITHIN(rel(solve_with("mumps", o, U, B, &st), Xref), tol);
       const std::string suffix = block == 3 && ordering != "natural" ? "-block3" : "";
       if (ordering == "default") {
         EXPECT_NE(st.ordering_used.find(suffix), std::string::npos) << st.ordering_used;
@@ -150,8 +155,9 @@ std::vector<fs::path> mumps_files(const fs::path& dir) {
   return out;
 }
 
-// Out of core: the same solution, the factor in MUMPS's files in the directory while the solver lives (about the
-// factor's size), none left after; a directory that does not exist is named at once.
+// Out of core: the exact solution up to the rounding the system's conditioning allows, as in memory (each is held
+// to it: the two solves round differently), the factor in MUMPS's files in the directory while the solver lives
+// (about the factor's size), none left after; a directory that does not exist is named at once.
 TEST(Mumps, OutOfCoreFactorLivesInItsDirectory) {
   const SpMat U = grid_system(40, 36, 3, 0.5);
   const DenseMat B = DenseMat::Random(U.rows(), 2);
@@ -160,14 +166,16 @@ TEST(Mumps, OutOfCoreFactorLivesInItsDirectory) {
   db::SolverOptions o;
   o.block_size = 3;
   db::FactorStats in_core;
-  const DenseMat Xref = solve_with("mumps", o, U, B, &in_core);
+  const DenseMat Xref = db::exact::exact_solution(U, B, 3);
+  const double tol = db::exact::solve_bound(db::exact::condition_number(U));
+  EXPECT_WITHIN(rel(solve_with("mumps", o, U, B, &in_core), Xref), tol) << "in memory";
   o.factor_dir = dir.string();
   {
     auto s = db::make_solver("mumps", o);
     s->factorize(U);
     DenseMat X;
     s->solve(B, X);
-    EXPECT_LT(rel(X, Xref), 1e-12);
+    EXPECT_WITHIN(rel(X, Xref), tol) << "out of core";
     const db::FactorStats st = s->stats();
     EXPECT_TRUE(st.factor_on_disk);
     EXPECT_EQ(st.nnz_factor, in_core.nnz_factor);
@@ -233,7 +241,8 @@ Share share_of(const SpMat& U) {
   return s;
 }
 
-// Distributed input on every rank gives CHOLMOD's solution on rank 0, for MUMPS's own orderings and a given one,
+// Distributed input on every rank gives the exact solution on rank 0 (up to the rounding the system's conditioning
+// allows, as CHOLMOD's), for MUMPS's own orderings and a given one,
 // scalar and 3x3-block systems; the statistics are global.
 TEST(DistributedMumps, MatchesOneProcess) {
   for (int block : {1, 3}) {
@@ -241,11 +250,14 @@ TEST(DistributedMumps, MatchesOneProcess) {
     const DenseMat B = DenseMat::Random(U.rows(), 3);  // the same on every rank (Eigen's fixed seed)
     db::SolverOptions o;
     o.block_size = block;
-    const DenseMat Xref = solve_with("cholmod_supernodal", o, U, B);
+    const DenseMat Xref = db::exact::exact_solution(U, B, block);
+    const double tol = db::exact::solve_bound(db::exact::condition_number(U));
+    EXPECT_WITHIN(rel(solve_with("cholmod_supernodal", o, U, B), Xref), tol);
     const DenseMat A = DenseMat(SpMat(U.selfadjointView<Eigen::Upper>()));
     const db::DenseVec d = A.diagonal().cwiseSqrt().cwiseInverse();
-    const double lambda_min =
-        Eigen::SelfAdjointEigenSolver<DenseMat>(d.asDiagonal() * A * d.asDiagonal()).eigenvalues()(0);
+    const Eigen::SelfAdjointEigenSolver<DenseMat> eig(d.asDiagonal() * A * d.asDiagonal(), Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd& ev = eig.eigenvalues();
+    const std::size_t n = std::size_t(U.rows());
     for (const std::string& ordering : db::solver_info("mumps").orderings) {
       if (ordering == "metis") continue;
       SCOPED_TRACE(fmt::format("{} block {} on {} ranks", ordering, block, db::mpi::size()));
@@ -257,7 +269,7 @@ TEST(DistributedMumps, MatchesOneProcess) {
       DenseMat X = db::mpi::rank() == 0 ? B : DenseMat();
       m.solve(X);
       if (db::mpi::rank() == 0) {
-        EXPECT_LT(rel(X, Xref), 1e-10);
+        EXPECT_WITHIN(rel(X, Xref), tol);
       }
       const db::FactorStats st = m.stats();
       EXPECT_EQ(st.n, std::size_t(U.rows()));
@@ -265,10 +277,12 @@ TEST(DistributedMumps, MatchesOneProcess) {
       db::FactorStats one;  // given the order, the same pivots as on one process (an ordering MUMPS computes
       solve_with("mumps", o, U, B, &one);  // may break ties by the order the entries arrive in)
       if (ordering == "natural") {
-        EXPECT_NEAR(st.min_pivot_ratio, one.min_pivot_ratio, 1e-10 * one.min_pivot_ratio);
+        EXPECT_NEAR(st.min_pivot_ratio, one.min_pivot_ratio, 2 * pivot_ratio_error(n));  // both computed
       }
-      EXPECT_GE(st.min_pivot_ratio, lambda_min * (1 - 1e-10));  // every pivot of the scaled matrix lies in
-      EXPECT_LE(st.min_pivot_ratio, 1.0);                        // [its smallest eigenvalue, 1]
+      // Every pivot of the scaled matrix lies in [its smallest eigenvalue, 1], less the pivot's rounding and the
+      // eigenvalue's (backward stable: within n eps ||S|| of S's).
+      EXPECT_GE(st.min_pivot_ratio, ev(0) - pivot_ratio_error(n) * (1 + ev(ev.size() - 1)));
+      EXPECT_LE(st.min_pivot_ratio, 1.0);
       if (ordering != "ptscotch") {  // parallel analysis on two ranks or more, SCOTCH's on one
         EXPECT_EQ(st.ordering_used, one.ordering_used);
       }
@@ -330,7 +344,8 @@ TEST(DistributedMumps, EveryRankFailsTogether) {
   EXPECT_THROW(db::DistributedMumps{metis}, db::Error);
 }
 
-// Out of core on every rank: the same solution as in memory.
+// Out of core on every rank: as in memory, the exact solution up to the rounding the system's conditioning allows
+// (each is held to it: the two round differently).
 TEST(DistributedMumps, OutOfCore) {
   const SpMat U = grid_system(30, 27, 3, 0.5);
   const DenseMat B = DenseMat::Random(U.rows(), 2);
@@ -347,20 +362,26 @@ TEST(DistributedMumps, OutOfCore) {
     X[k] = db::mpi::rank() == 0 ? B : DenseMat();
     m.solve(X[k]);
   }
+  const DenseMat Xref = db::exact::exact_solution(U, B, 3);
+  const double tol = db::exact::solve_bound(db::exact::condition_number(U));
   if (db::mpi::rank() == 0) {
-    EXPECT_LT(rel(X[1], X[0]), 1e-12);
+    EXPECT_WITHIN(rel(X[0], Xref), tol) << "in memory";
+    EXPECT_WITHIN(rel(X[1], Xref), tol) << "out of core";
   }
 }
 
 // The `mumps` backend of the registry on every rank at once (on one rank: one process): each rank passes the same
-// system, every rank gets the solution, equal to CHOLMOD's, for a given order and one MUMPS computes, again after
+// system, every rank gets the solution, the exact one up to the rounding the system's conditioning allows (as
+// CHOLMOD's), for a given order and one MUMPS computes, again after
 // a refactorization that consumes the matrix; a solve before any factorization fails on every rank.
 TEST(MumpsOnRanks, EveryRankGetsTheSolution) {
   const SpMat U = grid_system(23, 19, 3, 0.5);
   const DenseMat B = DenseMat::Random(U.rows(), 2);  // the same on every rank (Eigen's fixed seed)
   db::SolverOptions o;
   o.block_size = 3;
-  const DenseMat Xref = solve_with("cholmod_supernodal", o, U, B);
+  const DenseMat Xref = db::exact::exact_solution(U, B, 3);
+  const double tol = db::exact::solve_bound(db::exact::condition_number(U));
+  EXPECT_WITHIN(rel(solve_with("cholmod_supernodal", o, U, B), Xref), tol);
   for (const std::string ordering : {"natural", "default"}) {
     SCOPED_TRACE(fmt::format("{} on {} ranks", ordering, db::mpi::size()));
     o.ordering = ordering;
@@ -375,7 +396,7 @@ TEST(MumpsOnRanks, EveryRankGetsTheSolution) {
       else s->factorize_consuming(consumed);
       EXPECT_EQ(consumed.nonZeros(), round == 0 ? U.nonZeros() : 0);
       s->solve(B, X);
-      EXPECT_LT(rel(X, Xref), 1e-10);
+      EXPECT_WITHIN(rel(X, Xref), tol) << "round " << round;
     }
     const db::FactorStats st = s->stats();
     EXPECT_EQ(st.n, std::size_t(U.rows()));
