@@ -64,7 +64,7 @@ void add_spread_columns(CsvTable::Row& row, const CellResult& r, const std::stri
 }
 
 void FailedCells::note(const std::string& spec_text, const CellResult& r) {
-  if (r.status != "error") return;
+  if (r.status != "error" || r.exit == kSolverFailureExit) return;
   for (const auto& f : failed_)
     if (f.first == spec_text) return;
   failed_.emplace_back(spec_text, r.exit.empty() ? r.message : fmt::format("{} ({})", r.message, r.exit));

@@ -34,8 +34,13 @@ void add_spread_columns(CsvTable::Row& row, const CellResult& r, const std::stri
 
 //! Exit code of a driver run in which a cell failed (status "error": it crashed, timed out, threw, or its input could
 //! not be loaded). The driver still runs every other cell and writes every row (the failed ones with their status);
-//! budget refusals (#over, #slow: predicted over budget, never attempted) and skipped cells are no failures.
+//! budget refusals (#over, #slow: predicted over budget, never attempted) and skipped cells are no failures, and
+//! neither is a solver or method failure the cell measured (its child's exit 3, kSolverFailureExit: a backend that
+//! does not converge or finds the system singular, LRI frames that degenerate): that is a result of the study,
+//! written in its row with the message.
 constexpr int kCellsFailedExit = 5;
+//! ChildRun::describe() of a cell whose child ended with a SolverError (exit_code(): 3).
+inline const char* const kSolverFailureExit = "exit 3";
 
 //! The failed cells of a driver's run, for its exit: note() every result, return exit_code() at the end.
 class FailedCells {
