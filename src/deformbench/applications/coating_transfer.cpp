@@ -78,26 +78,27 @@ CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const 
   out.scale = options.amplitude * out.sigma * rho * rho;
   out.mapped_detail = out.scale * interpolate(locate_in_parameter_domain(coating.uv, coating.patch.mesh.F, uv),
                                               coating.patch.mesh.F, coating.detail);
-  const std::vector<Mat3> frames = tangent_frames(p.mesh, vertex_adjacency(p.mesh), uv);
+  const Adjacency adj = vertex_adjacency(p.mesh);
+  const std::vector<Mat3> frames = tangent_frames(p.mesh, adj, uv);
   out.map_s = t.seconds();
 
-  const Adjacency adj = vertex_adjacency(target);
-  const Points delta0 = uniform_delta(target, adj);
+  // The coating was written with the source patch's own Laplacian, so it is read with the target patch's: a
+  // boundary vertex's row averages over its neighbours within the patch (the whole mesh's row would divide its
+  // detail by another degree). Only the patch's rows touch its interior; the rest of the target stays as it is.
+  const Points delta0 = uniform_delta(p.mesh, adj);
   Points delta = delta0;
-  std::vector<Constraint> kinds(static_cast<std::size_t>(target.num_vertices()), Constraint::Hard);
-  for (int l = 0; l < p.num_vertices(); ++l) {
-    delta.row(p.parent[l]) += (frames[l] * out.mapped_detail.row(l).transpose()).transpose();
-    if (!p.on_boundary[l]) kinds[p.parent[l]] = Constraint::Free;
-  }
+  for (int l = 0; l < p.num_vertices(); ++l)
+    delta.row(l) += (frames[l] * out.mapped_detail.row(l).transpose()).transpose();
+  const Points x = solve_lse(p.mesh, interior_kinds(p, Constraint::Free), 1.0, delta, p.mesh.V, &out.solve);
   out.result = target;
-  out.result.V = solve_lse(target, kinds, 1.0, delta, target.V, &out.solve);
+  for (int l = 0; l < p.num_vertices(); ++l) out.result.V.row(p.parent[l]) = x.row(l);
 
   // How much of the mapped coating the solved surface carries, read back in the same frames.
-  const Points got = uniform_delta(out.result, adj) - delta0;
+  const Points got = uniform_delta(Mesh{x, p.mesh.F, ""}, adj) - delta0;
   double err2 = 0, ref2 = 0;
   for (int l = 0; l < p.num_vertices(); ++l) {
     if (p.on_boundary[l]) continue;
-    const Vec3 xi = frames[l].transpose() * got.row(p.parent[l]).transpose();
+    const Vec3 xi = frames[l].transpose() * got.row(l).transpose();
     err2 += (xi - out.mapped_detail.row(l).transpose()).squaredNorm();
     ref2 += out.mapped_detail.row(l).squaredNorm();
   }

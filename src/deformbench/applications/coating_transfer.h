@@ -3,8 +3,10 @@
 //! source patch is the difference between its Laplacian coordinates and those of its smoothed version, written
 //! in the smooth surface's local frames (applications/tangent_frames.h). Both patches are mapped onto the unit
 //! disk (Tutte, applications/disk_parameterization.h); each target vertex reads the coating at its parameter
-//! point, turns it into its own frame and adds it to its Laplacian coordinates; the LSE solve (boundary and the
-//! rest of the target fixed) reconstructs the coated target.
+//! point, turns it into its own frame and adds it to its Laplacian coordinates; the LSE solve on the target patch
+//! (its boundary fixed, the rest of the target untouched) reconstructs the coated target. Both sides use the
+//! patch's own Laplacian, boundary rows included (1/deg within the patch), so a surface's own coating put back
+//! onto its own smoothed version gives the surface back on any patch, not only a whole mesh.
 //!
 //! The smoothing is the least-squares mesh of the patch (applications/lse_solve.h with delta = 0 inside: every
 //! interior vertex pulled softly, weight w, towards where it is; the boundary fixed): detail at scales where
