@@ -32,7 +32,7 @@ struct Coating {
   DiskPatch patch;
   UV uv;
   Points smooth;  //!< the smoothed patch
-  Points detail;  //!< per patch vertex: L(V) - L(smooth) in the smooth surface's frames (t1, t2, n)
+  Points detail;  //!< per patch vertex: L(V) - L(smooth), L the patch's own, in the smooth surface's frames (t1, t2, n)
   double boundary_length = 0, mean_edge = 0;
   LseReport smoothing;
   double parameterize_s = 0;

@@ -47,8 +47,9 @@ void cut_faces(const Mesh& mesh, const std::vector<int>& region, const std::stri
   for (int f = 0; f < mesh.num_faces(); ++f)
     if (in[mesh.F(f, 0)] && in[mesh.F(f, 1)] && in[mesh.F(f, 2)]) faces.push_back(f);
   if (faces.empty())  // the count is the selection's, before any trimming
-    throw InputError(fmt::format("{} region holds no whole face of {}{} ({} vertices selected): the patch is empty",
-                                 what, mesh.name, ears == Ears::Trim ? " once its ears are trimmed" : "", selected));
+    throw InputError(fmt::format("{} region holds no whole face of {}{} ({} {} selected): the patch is empty", what,
+                                 mesh.name, ears == Ears::Trim ? " once its ears are trimmed" : "", selected,
+                                 selected == 1 ? "vertex" : "vertices"));
   const int n = mesh.num_vertices();
   std::vector<int> local(static_cast<std::size_t>(n), -1);
   p.mesh.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
