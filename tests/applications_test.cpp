@@ -131,8 +131,8 @@ double self_coating_error(const Mesh& m, const std::vector<int>& region) {
 }
 
 // The exact reference is the input surface itself: on a sub-patch too, each boundary vertex's coating must be read
-// back by the Laplacian row that wrote it (its degree within the patch; with the whole mesh's degree, 1e-3 of the
-// diagonal was lost near the boundary). What remains is rounding through the LSE normal equations, whose condition
+// back by the Laplacian row that wrote it (its degree in the whole mesh; written with its degree within the patch,
+// 1e-3 of the diagonal was lost near the boundary). What remains is rounding through the LSE normal equations, whose condition
 // number grows as the fourth power of the patch's radius in rings r: eps r^4 is under the 1e-8 of the
 // patch's diagonal for the largest patch here (the BS08 disk, r about 66), and far under it for the others.
 TEST(CoatingTransfer, OwnCoatingOfASubPatchReconstructs) {

@@ -31,6 +31,18 @@ double mean_edge_length(const Mesh& m) {
   return sum / (3.0 * m.num_faces());
 }
 
+// The uniform Laplacian coordinates of the patch's vertices placed at X (patch rows), as rows of the whole mesh's
+// Laplacian (the rest of the mesh where it is): a boundary vertex averages over all its neighbours in the mesh, as
+// in the rows of the transfer's LSE solve, which runs on the whole target.
+Points rows_in_mesh(const Mesh& whole, const Adjacency& adj, const DiskPatch& p, const Points& X) {
+  Mesh placed = whole;
+  for (int l = 0; l < p.num_vertices(); ++l) placed.V.row(p.parent[l]) = X.row(l);
+  const Points L = uniform_delta(placed, adj);
+  Points out(p.num_vertices(), 3);
+  for (int l = 0; l < p.num_vertices(); ++l) out.row(l) = L.row(p.parent[l]);
+  return out;
+}
+
 }  // namespace
 
 Coating extract_coating(const Mesh& source, const std::vector<int>& region, const CoatingOptions& options) {
@@ -51,7 +63,11 @@ Coating extract_coating(const Mesh& source, const std::vector<int>& region, cons
                        &c.smoothing);
   const Mesh smooth{c.smooth, m.F, m.name + "_smooth"};
   const std::vector<Mat3> frames = tangent_frames(smooth, adj, c.uv);
-  const Points d = delta - uniform_delta(smooth, adj);
+  // The detail is read back by the rows of the target mesh's Laplacian, so it is written with the source mesh's:
+  // with the patch's own, a boundary vertex's detail would be divided by its degree within the patch, not in the
+  // mesh, and a surface's own coating would not give it back on a sub-patch.
+  const Adjacency whole = vertex_adjacency(source);
+  const Points d = rows_in_mesh(source, whole, c.patch, m.V) - rows_in_mesh(source, whole, c.patch, c.smooth);
   c.detail.resize(d.rows(), 3);
   for (Eigen::Index i = 0; i < d.rows(); ++i) c.detail.row(i) = (frames[i].transpose() * d.row(i).transpose()).transpose();
   c.boundary_length = loop_length(c.patch);
@@ -78,27 +94,26 @@ CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const 
   out.scale = options.amplitude * out.sigma * rho * rho;
   out.mapped_detail = out.scale * interpolate(locate_in_parameter_domain(coating.uv, coating.patch.mesh.F, uv),
                                               coating.patch.mesh.F, coating.detail);
-  const Adjacency adj = vertex_adjacency(p.mesh);
-  const std::vector<Mat3> frames = tangent_frames(p.mesh, adj, uv);
+  const std::vector<Mat3> frames = tangent_frames(p.mesh, vertex_adjacency(p.mesh), uv);
   out.map_s = t.seconds();
 
-  // The coating was written with the source patch's own Laplacian, so it is read with the target patch's: a
-  // boundary vertex's row averages over its neighbours within the patch (the whole mesh's row would divide its
-  // detail by another degree). Only the patch's rows touch its interior; the rest of the target stays as it is.
-  const Points delta0 = uniform_delta(p.mesh, adj);
+  const Adjacency adj = vertex_adjacency(target);
+  const Points delta0 = uniform_delta(target, adj);
   Points delta = delta0;
-  for (int l = 0; l < p.num_vertices(); ++l)
-    delta.row(l) += (frames[l] * out.mapped_detail.row(l).transpose()).transpose();
-  const Points x = solve_lse(p.mesh, interior_kinds(p, Constraint::Free), 1.0, delta, p.mesh.V, &out.solve);
+  std::vector<Constraint> kinds(static_cast<std::size_t>(target.num_vertices()), Constraint::Hard);
+  for (int l = 0; l < p.num_vertices(); ++l) {
+    delta.row(p.parent[l]) += (frames[l] * out.mapped_detail.row(l).transpose()).transpose();
+    if (!p.on_boundary[l]) kinds[p.parent[l]] = Constraint::Free;
+  }
   out.result = target;
-  for (int l = 0; l < p.num_vertices(); ++l) out.result.V.row(p.parent[l]) = x.row(l);
+  out.result.V = solve_lse(target, kinds, 1.0, delta, target.V, &out.solve);
 
   // How much of the mapped coating the solved surface carries, read back in the same frames.
-  const Points got = uniform_delta(Mesh{x, p.mesh.F, ""}, adj) - delta0;
+  const Points got = uniform_delta(out.result, adj) - delta0;
   double err2 = 0, ref2 = 0;
   for (int l = 0; l < p.num_vertices(); ++l) {
     if (p.on_boundary[l]) continue;
-    const Vec3 xi = frames[l].transpose() * got.row(l).transpose();
+    const Vec3 xi = frames[l].transpose() * got.row(p.parent[l]).transpose();
     err2 += (xi - out.mapped_detail.row(l).transpose()).squaredNorm();
     ref2 += out.mapped_detail.row(l).squaredNorm();
   }
