@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `deformbench coat` and `deformbench transplant` on small meshes: a run that works writes the mesh and the CSV;
-# bad input (a patch that is no disk, an empty patch, a region naming vertices the mesh does not have) is exit 2
-# with a message naming the cause and no file left behind; options out of range or for the other command exit 1.
+# bad input (a patch that is no disk, an empty patch, a patch with no interior vertex, a region naming vertices the
+# mesh does not have) is exit 2 with a message naming the cause (and what the region selects) and no file left
+# behind; options out of range or for the other command exit 1.
 # usage: cli_applications.sh PATH/TO/deformbench
 BIN=$1
 source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"  # $T, expect, the octahedron, write_off
@@ -23,6 +24,10 @@ tube_v='1 0 0
 tube_f=$(for k in 0 1 2 3; do n=$(((k + 1) % 4)); echo "3 $k $n $((n + 4))"; echo "3 $k $((n + 4)) $((k + 4))"; done)
 write_off "$T/tube.off" 8 8 "$tube_v" "$tube_f"
 printf '0\n1\n99\n' >"$T/far.txt"
+# A strip of four triangles along the grid's edge (7 vertices, 6 in its faces): a disk with every vertex on its
+# boundary, nothing inside for the LSE solve to move; trimmed of its ears one after the other (transplant), no face
+# is left.
+printf '0\n1\n2\n3\n5\n6\n7\n' >"$T/strip.txt"
 
 for cmd in coat transplant; do
   expect "$cmd runs" 0 "detail_error" -- $cmd "$T/grid.off" "$T/grid.off" --out "$T/out.ply" --csv "$T/out.csv"
@@ -38,6 +43,9 @@ for cmd in coat transplant; do
   expect "$cmd output extension" 1 "extension" -- $cmd "$T/grid.off" "$T/grid.off" --out "$T/out.txt"
   expect "$cmd output over an input" 1 "input" -- $cmd "$T/grid.off" "$T/octa.off" --out "$T/grid.off"
 done
+expect "coat onto a patch without interior" 2 "target patch has no interior vertex \(all 6 of its vertices" -- coat "$T/grid.off" "$T/grid.off" --target-region "indices:$T/strip.txt" --out "$T/out.ply"
+expect "coat from a patch without interior" 2 "source patch has no interior vertex" -- coat "$T/grid.off" "$T/grid.off" --source-region "indices:$T/strip.txt" --out "$T/out.ply"
+expect "transplant counts the selection before trimming" 2 "target region holds no whole face of grid once its ears are trimmed \(7 vertices selected\)" -- transplant "$T/grid.off" "$T/grid.off" --target-region "indices:$T/strip.txt" --out "$T/out.ply"
 expect "coat smooth weight out of range" 1 "smooth-weight" -- coat "$T/grid.off" "$T/grid.off" --smooth-weight 0 --out "$T/out.ply"
 expect "coat refuses --zone" 1 "zone" -- coat "$T/grid.off" "$T/grid.off" --zone 0.3 --out "$T/out.ply"
 expect "transplant zone out of range" 1 "zone" -- transplant "$T/grid.off" "$T/grid.off" --zone 2 --out "$T/out.ply"

@@ -31,6 +31,18 @@ double mean_edge_length(const Mesh& m) {
   return sum / (3.0 * m.num_faces());
 }
 
+// The uniform Laplacian coordinates of the patch's vertices placed at X (patch rows), as rows of the whole mesh's
+// Laplacian (the rest of the mesh where it is): a boundary vertex averages over all its neighbours in the mesh, as
+// in the rows of the transfer's LSE solve, which runs on the whole target.
+Points rows_in_mesh(const Mesh& whole, const Adjacency& adj, const DiskPatch& p, const Points& X) {
+  Mesh placed = whole;
+  for (int l = 0; l < p.num_vertices(); ++l) placed.V.row(p.parent[l]) = X.row(l);
+  const Points L = uniform_delta(placed, adj);
+  Points out(p.num_vertices(), 3);
+  for (int l = 0; l < p.num_vertices(); ++l) out.row(l) = L.row(p.parent[l]);
+  return out;
+}
+
 }  // namespace
 
 Coating extract_coating(const Mesh& source, const std::vector<int>& region, const CoatingOptions& options) {
@@ -51,7 +63,11 @@ Coating extract_coating(const Mesh& source, const std::vector<int>& region, cons
                        &c.smoothing);
   const Mesh smooth{c.smooth, m.F, m.name + "_smooth"};
   const std::vector<Mat3> frames = tangent_frames(smooth, adj, c.uv);
-  const Points d = delta - uniform_delta(smooth, adj);
+  // The detail is read back by the rows of the target mesh's Laplacian, so it is written with the source mesh's:
+  // with the patch's own, a boundary vertex's detail would be divided by its degree within the patch, not in the
+  // mesh, and a surface's own coating would not give it back on a sub-patch.
+  const Adjacency whole = vertex_adjacency(source);
+  const Points d = rows_in_mesh(source, whole, c.patch, m.V) - rows_in_mesh(source, whole, c.patch, c.smooth);
   c.detail.resize(d.rows(), 3);
   for (Eigen::Index i = 0; i < d.rows(); ++i) c.detail.row(i) = (frames[i].transpose() * d.row(i).transpose()).transpose();
   c.boundary_length = loop_length(c.patch);

@@ -4,7 +4,9 @@
 //! in the smooth surface's local frames (applications/tangent_frames.h). Both patches are mapped onto the unit
 //! disk (Tutte, applications/disk_parameterization.h); each target vertex reads the coating at its parameter
 //! point, turns it into its own frame and adds it to its Laplacian coordinates; the LSE solve (boundary and the
-//! rest of the target fixed) reconstructs the coated target.
+//! rest of the target fixed) reconstructs the coated target. Both sides use the whole mesh's Laplacian rows,
+//! boundary vertices included (1/deg in the mesh, not within the patch), so a surface's own coating put back onto
+//! its own smoothed version gives the surface back on any patch, not only a whole mesh.
 //!
 //! The smoothing is the least-squares mesh of the patch (applications/lse_solve.h with delta = 0 inside: every
 //! interior vertex pulled softly, weight w, towards where it is; the boundary fixed): detail at scales where
@@ -30,7 +32,8 @@ struct Coating {
   DiskPatch patch;
   UV uv;
   Points smooth;  //!< the smoothed patch
-  Points detail;  //!< per patch vertex: L(V) - L(smooth) in the smooth surface's frames (t1, t2, n)
+  //! Per patch vertex: L(V) - L(smooth), L the source mesh's rows, in the smooth surface's frames (t1, t2, n).
+  Points detail;
   double boundary_length = 0, mean_edge = 0;
   LseReport smoothing;
   double parameterize_s = 0;

@@ -12,20 +12,45 @@
 namespace db {
 namespace {
 
-// The faces of `mesh` inside the region, renumbered locally; fills parent.
-void cut_faces(const Mesh& mesh, const std::vector<int>& region, const std::string& what, DiskPatch& p) {
+// Per vertex of `mesh`: whether `region` selects it (ids checked). Returns how many distinct vertices it selects.
+int mark_region(const Mesh& mesh, const std::vector<int>& region, const std::string& what, std::vector<char>& in) {
   const int n = mesh.num_vertices();
-  std::vector<char> in(static_cast<std::size_t>(n), 0);
+  in.assign(static_cast<std::size_t>(n), 0);
+  int selected = 0;
   for (int v : region) {
     if (v < 0 || v >= n) throw InputError(fmt::format("{} region: vertex {} is out of range (the mesh has {})", what, v, n));
+    selected += !in[static_cast<std::size_t>(v)];
     in[static_cast<std::size_t>(v)] = 1;
   }
+  return selected;
+}
+
+// Unmarks the ears of the marked region (Ears::Trim) until none is left.
+void unmark_ears(const Mesh& mesh, std::vector<char>& in) {
+  for (bool changed = true; changed;) {
+    std::vector<int> faces(in.size(), 0);
+    for (int f = 0; f < mesh.num_faces(); ++f)
+      if (in[mesh.F(f, 0)] && in[mesh.F(f, 1)] && in[mesh.F(f, 2)])
+        for (int c = 0; c < 3; ++c) ++faces[mesh.F(f, c)];
+    changed = false;
+    for (std::size_t v = 0; v < in.size(); ++v)
+      if (in[v] && faces[v] == 1) in[v] = 0, changed = true;
+  }
+}
+
+// The faces of `mesh` inside the region (without its ears for Ears::Trim), renumbered locally; fills parent.
+void cut_faces(const Mesh& mesh, const std::vector<int>& region, const std::string& what, Ears ears, DiskPatch& p) {
+  std::vector<char> in;
+  const int selected = mark_region(mesh, region, what, in);
+  if (ears == Ears::Trim) unmark_ears(mesh, in);
   std::vector<int> faces;
   for (int f = 0; f < mesh.num_faces(); ++f)
     if (in[mesh.F(f, 0)] && in[mesh.F(f, 1)] && in[mesh.F(f, 2)]) faces.push_back(f);
-  if (faces.empty())
-    throw InputError(fmt::format("{} region holds no whole face of {} ({} vertices selected): the patch is empty", what,
-                                 mesh.name, region.size()));
+  if (faces.empty())  // the count is the selection's, before any trimming
+    throw InputError(fmt::format("{} region holds no whole face of {}{} ({} {} selected): the patch is empty", what,
+                                 mesh.name, ears == Ears::Trim ? " once its ears are trimmed" : "", selected,
+                                 selected == 1 ? "vertex" : "vertices"));
+  const int n = mesh.num_vertices();
   std::vector<int> local(static_cast<std::size_t>(n), -1);
   p.mesh.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
   for (std::size_t k = 0; k < faces.size(); ++k)
@@ -97,9 +122,9 @@ void trace_boundary(DiskPatch& p, const std::string& what) {
 
 }  // namespace
 
-DiskPatch extract_disk_patch(const Mesh& mesh, const std::vector<int>& region, const std::string& what) {
+DiskPatch extract_disk_patch(const Mesh& mesh, const std::vector<int>& region, const std::string& what, Ears ears) {
   DiskPatch p;
-  cut_faces(mesh, region, what, p);
+  cut_faces(mesh, region, what, ears, p);
   const int components = count_components(p.mesh);
   if (components != 1)
     throw InputError(fmt::format("{} patch is not a disk: the region's faces form {} separate pieces", what, components));
@@ -110,28 +135,10 @@ DiskPatch extract_disk_patch(const Mesh& mesh, const std::vector<int>& region, c
   if (V - E + F != 1)
     throw InputError(fmt::format("{} patch is not a disk: Euler characteristic {} (a handle or tunnel inside it)", what,
                                  V - E + F));
+  if (p.boundary.size() == p.parent.size())
+    throw InputError(fmt::format("{} patch has no interior vertex (all {} of its vertices are on its boundary): "
+                                 "nothing inside it to solve for; select a larger region", what, V));
   return p;
-}
-
-std::vector<int> trim_ears(const Mesh& mesh, const std::vector<int>& region) {
-  std::vector<char> in(static_cast<std::size_t>(mesh.num_vertices()), 0);
-  for (int v : region)
-    if (v >= 0 && v < mesh.num_vertices()) in[v] = 1;  // out of range: extract_disk_patch names it
-  for (bool changed = true; changed;) {
-    std::vector<int> faces(in.size(), 0);
-    for (int f = 0; f < mesh.num_faces(); ++f)
-      if (in[mesh.F(f, 0)] && in[mesh.F(f, 1)] && in[mesh.F(f, 2)])
-        for (int c = 0; c < 3; ++c) ++faces[mesh.F(f, c)];
-    changed = false;
-    for (std::size_t v = 0; v < in.size(); ++v)
-      if (in[v] && faces[v] == 1) in[v] = 0, changed = true;
-  }
-  std::vector<int> out;
-  for (int v : region)
-    if (v < 0 || v >= mesh.num_vertices() || in[v]) out.push_back(v);
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
 }
 
 }  // namespace db

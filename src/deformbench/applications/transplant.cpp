@@ -216,8 +216,8 @@ void measure(Transplant& t, const Mesh& target, const Points& wanted, const Adja
 Transplant transplant_patch(const Mesh& source, const std::vector<int>& source_region, const Mesh& target,
                             const std::vector<int>& target_region, const TransplantOptions& options) {
   Transplant out;
-  out.source_patch = extract_disk_patch(source, trim_ears(source, source_region), "source");
-  out.patch = extract_disk_patch(target, trim_ears(target, target_region), "target");
+  out.source_patch = extract_disk_patch(source, source_region, "source", Ears::Trim);
+  out.patch = extract_disk_patch(target, target_region, "target", Ears::Trim);
   Timer t;
   const UV uv_s = tutte_parameterization(out.source_patch), uv_t = tutte_parameterization(out.patch);
   out.parameterize_s = t.seconds();

@@ -5,7 +5,7 @@
 //! Both patches are mapped onto the unit disk (Tutte). The target's region is cut out (its boundary loop stays);
 //! the source patch keeps its own vertices and triangles and sits inside the hole at parameter radius rho (the
 //! radius of the region's first inner ring), placed by the similarity that best fits its boundary onto the
-//! target surface there (Umeyama). Ears are trimmed off both regions first (trim_ears). The band between the
+//! target surface there (Umeyama). Ears are trimmed off both regions first (Ears::Trim). The band between the
 //! hole's loop and the source's boundary is zippered (applications/zipper.h) by parameter angle, or by the shorter
 //! diagonal avoiding folds when that band folds less in the target's shape. The LSE solve, with the target outside the hole fixed, then asks each source vertex
 //! for Laplacian coordinates blended from the target surface's (resampled at its parameter point: the shape the
