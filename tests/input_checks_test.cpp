@@ -132,12 +132,13 @@ TEST_F(EditFiles, ListsWhatAnEditCaseReads) {
 // bounded read, and a targets file's frames are capped as --frames is.
 TEST_F(EditFiles, SpecialAndOversizedInputsAreRefusedBeforeReading) {
   ASSERT_EQ(::mkfifo(path("fifo").c_str(), 0600), 0);
+  ASSERT_EQ(::mkfifo(path("fifo.off").c_str(), 0600), 0);
   EXPECT_MENTIONS(input_error([&] { read_def(path("fifo")); }), "cannot open transform file: " + path("fifo") +
                                                                     " (not a regular file");
   EXPECT_MENTIONS(input_error([&] { read_targets(path("fifo")); }), "not a regular file");
   EXPECT_MENTIONS(input_error([&] { read_index_list(path("fifo")); }), "not a regular file");
   EXPECT_MENTIONS(input_error([&] { read_sel(path("fifo"), 3); }), "not a regular file");
-  EXPECT_MENTIONS(input_error([&] { read_mesh(path("fifo")); }), "not a regular file");
+  EXPECT_MENTIONS(input_error([&] { read_mesh(path("fifo.off")); }), "not a regular file");
   EXPECT_MENTIONS(input_error([&] { InputFile(path("."), "test"); }), "is a directory");
 
   std::ofstream(path("big.def")).close();
@@ -148,7 +149,9 @@ TEST_F(EditFiles, SpecialAndOversizedInputsAreRefusedBeforeReading) {
   EXPECT_MENTIONS(input_error([&] { read_index_list(path("big.def"), 3); }), "holds 2147483648 bytes");
   // Streamed readers stop at the first line that does not end.
   EXPECT_MENTIONS(input_error([&] { read_targets(path("big.def")); }), "line 1: longer than 65536 bytes");
-  EXPECT_MENTIONS(input_error([&] { read_mesh(path("big.def")); }), "line 1: longer than 65536 bytes");
+  std::ofstream(path("big.off")).close();
+  fs::resize_file(path("big.off"), std::uintmax_t(1) << 31);
+  EXPECT_MENTIONS(input_error([&] { read_mesh(path("big.off")); }), "line 1: longer than 65536 bytes");
   InputFile f(path("big.def"), "test");
   EXPECT_EQ(f.size(), std::uint64_t(1) << 31);
   EXPECT_THROW(InputFile(path("big.def"), "test", 1000), InputError);

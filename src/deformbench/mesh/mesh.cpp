@@ -264,4 +264,9 @@ std::vector<int> face_components(const Mesh& mesh) {
   return out;
 }
 
+int count_components(const Mesh& mesh) {
+  const std::vector<int> c = face_components(mesh);
+  return c.empty() ? 0 : *std::max_element(c.begin(), c.end()) + 1;
+}
+
 }  // namespace db
