@@ -20,6 +20,7 @@
 #include "core/cli.h"
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/provenance.h"
 #include "core/resources.h"
 #include "edit/edit_io.h"
@@ -37,8 +38,6 @@ namespace {
 
 using namespace db;
 
-//! Most frames one run interpolates: every frame's phase times are kept for the medians (32 bytes a frame).
-constexpr long long kMaxFrames = 100000;
 const std::vector<std::string> kMeshExtensions = {".off", ".ply", ".obj"};  // what write_mesh writes
 const std::vector<std::string> kMethods = {"lap", "tf", "lri"};
 // Orderings the structured LAP / TF build applies to the vertex graph itself (systems/vertex_ordering.h).
@@ -110,7 +109,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
       ->type_name("FILE");
   d.add_option("--frames", a.frames, "interpolate the handle transform over N frames; report the median frame (an edit's "
                "per-vertex targets: N of its frames, cycling; default all of them)")
-      ->type_name("N")->check(cli::Integer(1, kMaxFrames))->capture_default_str();
+      ->type_name("N")->transform(cli::Integer(1, kMaxFrames))->capture_default_str();
   d.add_option("--frame-mode", a.frame_mode,
                "full: each frame solves; handle: the responses to the handle's affine map are solved for once after "
                "the factorization and each frame streams them (lri: its frame system)")
@@ -152,7 +151,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
                "fig. 3-4)")
       ->check(cli::OneOf({"coordinated", "uncoordinated"}))->capture_default_str()->group(l);
   d.add_option("--lri-seed", a.lri_seed, "seed of --lri-frames random")
-      ->type_name("N")->check(cli::Integer(0, 4294967295LL))->capture_default_str()->group(l);
+      ->type_name("N")->transform(cli::Integer(0, 4294967295LL))->capture_default_str()->group(l);
   const std::string s = "Linear system";
   d.add_option("--build", a.build, "how the normal matrix is formed (lri: structured or naive)")
       ->check(cli::OneOf(names({Build::Structured, Build::Naive, Build::Dense})))->capture_default_str()->group(s);
@@ -167,7 +166,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
                                                       fmt::join(out_of_core_backends(), ", ")))
       ->type_name("DIR")->group(s);
   d.add_option("--memory-budget-mb", a.memory_budget_mb, "refuse builds predicted above MB megabytes (exit 4)")
-      ->type_name("MB")->check(cli::Integer(1, 1000000000))->group(s);
+      ->type_name("MB")->transform(cli::Integer(1, 1000000000))->group(s);
   const std::string p = "Precision";
   d.add_option("--precision", a.precision,
                "double, or mixed: the factor stored in single precision (multifrontal_mixed), each solve refined by "
@@ -177,7 +176,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
                "mixed: refine each solve until a correction is below T of x (max-norms; not reached: exit 3)")
       ->type_name("T")->check(cli::Real(1e-16, 1e-2))->capture_default_str()->group(p);
   d.add_option("--refine-max-iterations", a.refine_max_iterations, "mixed: the refinement's iteration cap (exit 3)")
-      ->type_name("N")->check(cli::Integer(0, 100000))->capture_default_str()->group(p);
+      ->type_name("N")->transform(cli::Integer(0, 100000))->capture_default_str()->group(p);
   d.add_flag("--vs-double", a.vs_double,
              "mixed: deform again with the double factor afterwards and report the largest difference")
       ->group(p);
@@ -457,6 +456,15 @@ double difference_from_double(const EditCase& ec, DeformOptions o, long long fra
   return (mixed - twin).cwiseAbs().maxCoeff() / bbox_diagonal(ec.mesh.V);
 }
 
+// The edit's files are read whole or held parsed: with --memory-budget-mb, files larger than the budget are
+// refused before a byte of them is read.
+void check_input_budget(const DeformArgs& a, const std::vector<std::string>& inputs) {
+  const std::uint64_t bytes = input_bytes(inputs), budget = static_cast<std::uint64_t>(a.memory_budget_mb) * 1000000;
+  if (budget > 0 && bytes > budget)
+    throw BudgetError(fmt::format("the input files of edit {} hold {:.1f} MB, more than --memory-budget-mb {}", a.edit,
+                                  bytes / 1e6, a.memory_budget_mb));
+}
+
 int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   refuse_unused(d, a);
   check_backend(d, a);
@@ -471,9 +479,14 @@ int cmd_deform(const CLI::App& d, const DeformArgs& a) {
   cli::check_output("--out", a.out, kMeshExtensions, inputs);
   if (d.count("--csv") > 0) cli::check_output("--csv", a.csv, {".csv"}, inputs);
   if (d.count("--factor-dir") > 0) cli::check_directory("--factor-dir", a.factor_dir);
+  check_input_budget(a, inputs);
   const Mat4 transform = a.transform.empty() ? Mat4::Identity() : parse_transform(a.transform);  // def:FILE: exit 2
 
   EditCase ec = load_edit_case(a.edit);
+  if (ec.edit.targets.rows() == 0 && d.count("--handle-limit") > 0)
+    throw UsageError(fmt::format("--handle-limit bounds the responses of per-vertex targets, but edit '{}' drags its "
+                                 "handle by one affine transform (no 'targets' file), so it is not used",
+                                 ec.edit.name));
   if (!a.transform.empty()) ec.edit.transform = transform;
   const long long frames = ec.edit.target_frames() > 0 && d.count("--frames") == 0 ? ec.edit.target_frames() : a.frames;
   if (ec.edit.targets.rows() > 0 && !a.transform.empty())

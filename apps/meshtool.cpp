@@ -200,6 +200,8 @@ int repair(const std::string& in, const std::string& out, std::size_t max_list) 
   const Mesh fixed = repair_mesh(m, report);
   std::cout << fmt::format("{}: {}\n", in, report.summary());
   for (const std::string& line : report.details(max_list)) std::cout << "  " << line << "\n";
+  std::cout << fmt::format("components: {} before, {} after{}\n", report.components_before, report.components_after,
+                           report.detached.empty() ? "" : fmt::format(" (detached pieces: {})", report.detached.size()));
   write_mesh(out, fixed);
   report_written(out, fixed);
   return 0;
@@ -245,7 +247,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> params;
   auto budget_option = [&](CLI::App* sub) {
     sub->add_option("--memory-budget-mb", budget_mb, "refuse a result predicted to need more (default: half the RAM)")
-        ->check(cli::Integer(1, 1ll << 40))
+        ->transform(cli::Integer(1, 1ll << 40))
         ->capture_default_str();
   };
 
@@ -265,13 +267,13 @@ int main(int argc, char** argv) {
   repair_cmd->add_option("IN", in, "input mesh")->required();
   repair_cmd->add_option("OUT", out, "output mesh (.off, .ply, .obj)")->required();
   repair_cmd->add_option("--max-list", max_list, "changes listed per kind (0: all)")
-      ->check(cli::Integer(0, 1ll << 40))
+      ->transform(cli::Integer(0, 1ll << 40))
       ->capture_default_str();
 
   CLI::App* subdivide_cmd = app.add_subcommand("subdivide", "Loop subdivision (OpenMesh)");
   subdivide_cmd->add_option("IN", in, "input mesh (a manifold)")->required();
   subdivide_cmd->add_option("OUT", out, "output mesh")->required();
-  subdivide_cmd->add_option("LEVELS", levels, "subdivision levels")->required()->check(cli::Integer(0, 30));
+  subdivide_cmd->add_option("LEVELS", levels, "subdivision levels")->required()->transform(cli::Integer(0, 30));
   budget_option(subdivide_cmd);
 
   CLI::App* generate_cmd =

@@ -261,7 +261,7 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--backends", o.backends, "backends")->delimiter(',')->check(cli::OneOf(solver_names()))
       ->capture_default_str();
   app.add_option("--simplicial-max-n", o.simplicial_max_n, "simplicial backends only up to this many unknowns")
-      ->check(cli::Integer(1, 1000000000))->capture_default_str();
+      ->transform(cli::Integer(1, 1000000000))->capture_default_str();
   // Google Benchmark rejects flags it does not know, and we do not know its: they pass through to it.
   app.allow_extras();
   app.footer("Google Benchmark flags (--benchmark_filter=REGEX, --benchmark_repetitions=N, ...) pass through.");

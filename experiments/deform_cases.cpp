@@ -42,7 +42,7 @@ void define_options(CLI::App& app, Options& o) {
       ->delimiter(',');
   app.add_option("--methods", o.methods, "methods")->delimiter(',')->check(cli::OneOf({"lap", "tf", "lri"}))
       ->capture_default_str();
-  app.add_option("--frames", o.frames, "frames of the drag")->check(cli::Integer(1, 100000))->capture_default_str();
+  app.add_option("--frames", o.frames, "frames of the drag")->transform(cli::Integer(1, 100000))->capture_default_str();
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))
       ->capture_default_str();
   app.add_flag("--dry-run", o.dry_run, "print the grid's cells (one spec a line) and exit");

@@ -398,12 +398,12 @@ void define_options(CLI::App& app, Options& o) {
       ->check(cli::OneOf({"gram_schmidt", "polar"}))->capture_default_str();
   app.add_option("--twist-step", o.twist_step, "degrees per edit of a chained twist")->check(cli::Real(1e-3, 180))
       ->capture_default_str();
-  app.add_option("--seed", o.seed, "seed of the random frame strategy")->check(cli::Integer(0, 4294967295LL))
+  app.add_option("--seed", o.seed, "seed of the random frame strategy")->transform(cli::Integer(0, 4294967295LL))
       ->capture_default_str();
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))
       ->capture_default_str();
   app.add_option("--frame-repeats", o.frame_repeats, "times each frame is solved, for its median and spread")
-      ->check(cli::Integer(1, 100000))->capture_default_str();
+      ->transform(cli::Integer(1, 100000))->capture_default_str();
 }
 
 std::vector<Config> configs_of(const Options& o) {

@@ -91,16 +91,16 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--iterative-max-n", o.iterative_max_n, "iterative backends up to this n")->check(cli::Real(0, 1e9))
       ->capture_default_str();
   app.add_option("--threads", o.threads, "BLAS, OpenMP and assembly threads (0: as the environment says)")
-      ->check(cli::Integer(0, 4096))->capture_default_str();
+      ->transform(cli::Integer(0, 4096))->capture_default_str();
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))->capture_default_str();
   app.add_option("--cell-memory-mb", o.cell_memory_mb, "a cell's address-space limit")->check(cli::Real(64, 1e9))
       ->capture_default_str();
-  app.add_option("--solve-reps", o.solve_reps, "solves per cell, at most")->check(cli::Integer(1, 100000))->capture_default_str();
-  app.add_option("--factor-reps", o.factor_reps, "factorizations per cell, at most")->check(cli::Integer(1, 100000))
+  app.add_option("--solve-reps", o.solve_reps, "solves per cell, at most")->transform(cli::Integer(1, 100000))->capture_default_str();
+  app.add_option("--factor-reps", o.factor_reps, "factorizations per cell, at most")->transform(cli::Integer(1, 100000))
       ->capture_default_str();
   app.add_option("--rep-seconds", o.rep_seconds, "stop repeating a phase after this long")->check(cli::Real(0, 1e6))
       ->capture_default_str();
-  app.add_option("--seed", o.seed, "seed of the synthetic right-hand side")->check(cli::Integer(0, 4294967295LL))
+  app.add_option("--seed", o.seed, "seed of the synthetic right-hand side")->transform(cli::Integer(0, 4294967295LL))
       ->capture_default_str();
   app.add_option("--factor-dir", o.factor_dir, "out of core: backends that can keep their factor in scratch files here")
       ->check(CLI::ExistingDirectory);

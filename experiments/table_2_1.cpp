@@ -86,8 +86,8 @@ void define_options(CLI::App& app, Options& o) {
       ->check(cli::Real(0, 1e7));
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a running cell after this (default max(120, 3 x budget))")
       ->check(cli::Real(0, 1e7));
-  app.add_option("--frames", o.frames, "frames of the drag")->check(cli::Integer(1, 100000))->capture_default_str();
-  app.add_option("--repeats", o.repeats, "fresh children per cell (median)")->check(cli::Integer(1, 1000))
+  app.add_option("--frames", o.frames, "frames of the drag")->transform(cli::Integer(1, 100000))->capture_default_str();
+  app.add_option("--repeats", o.repeats, "fresh children per cell (median)")->transform(cli::Integer(1, 1000))
       ->capture_default_str();
   app.add_option("--repeat-max-s", o.repeat_max_s, "cells predicted above this run once")->check(cli::Real(0, 1e7))
       ->capture_default_str();

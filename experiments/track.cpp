@@ -67,11 +67,11 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--only", o.only, "run only the cells whose name matches one of these globs")->delimiter(',');
   app.add_option("--repeats", o.repeats, "rounds over the suite (a cell's key rounds=N: only the first N; timed "
                  "measures need >= 5 for the gate)")
-      ->check(cli::Integer(1, 1000))->capture_default_str();
+      ->transform(cli::Integer(1, 1000))->capture_default_str();
   app.add_option("--rate-gemm-n", o.rate_gemm_n, "the dgemm rate probe's matrix order (between every two cells)")
-      ->check(cli::Integer(64, 4096))->capture_default_str();
+      ->transform(cli::Integer(64, 4096))->capture_default_str();
   app.add_option("--rate-read-mb", o.rate_read_mb, "the memory read rate probe's array, MB")
-      ->check(cli::Integer(1, 4096))->capture_default_str();
+      ->transform(cli::Integer(1, 4096))->capture_default_str();
   app.add_option("--out", o.out, "the history file (default HISTORY_DIR/<UTC>_<commit>_<machine>.csv)");
   app.add_option("--history-dir", o.history_dir, "where the history file goes without --out")->capture_default_str();
   app.add_option("--commit", o.commit, "the commit measured (default: the source tree's, from provenance)");

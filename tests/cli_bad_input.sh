@@ -75,6 +75,8 @@ printf '0 0 1.1\n0 0.1 1.2\n' >"$T/drag.txt"   # two frames of the one handle ve
 write_drag "$T/drag.edit" drag.txt
 expect_ok drag_full out.ply -- deform "$T/drag.edit" --method tf --out "$OUT"
 expect_ok drag_handle out.ply -- deform "$T/drag.edit" --method tf --frame-mode handle --handle-limit 1e6 --frames 5 --out "$OUT"
+expect_ok budget_scientific out.ply -- deform "$G" --memory-budget-mb 1e3 --out "$OUT"  # 1000 MB (issue 28)
+expect_ok frames_scientific out.ply -- deform "$G" --frames 2.5e1 --out "$OUT"
 expect_ok mixed_precision "out.ply r.csv" -- deform "$G" --precision mixed --vs-double --out "$OUT" --csv "$O/r.csv"
 for k in 1e200 1e-300; do
   scaled_octa "$T/s$k" "$k"
@@ -85,7 +87,7 @@ echo "== 1 usage: the command line"
 expect typo_frame 1 "unknown option --frame .*did you mean --frames" -- deform "$G" --out "$OUT" --frame 20
 expect typo_method 1 "unknown option --metod" -- deform "$G" --metod tf --out "$OUT"
 expect frames_fraction 1 "--frames: 2.5 is not a whole number" -- deform "$G" --out "$OUT" --frames 2.5
-expect frames_1e10 1 "--frames: 1e10 is not a whole number" -- deform "$G" --out "$OUT" --frames 1e10
+expect frames_1e10 1 "--frames: 1e10 is outside \[1, 100000\]" -- deform "$G" --out "$OUT" --frames 1e10
 expect frames_nan 1 "--frames: nan is not a whole number" -- deform "$G" --out "$OUT" --frames nan
 expect frames_negative 1 "--frames: -1 is outside \[1, 100000\]" -- deform "$G" --out "$OUT" --frames -1
 expect frames_over_cap 1 "--frames: 100001 is outside \[1, 100000\]" -- deform "$G" --out "$OUT" --frames 100001
@@ -120,6 +122,8 @@ expect dense_with_sparse_solver 1 "--build dense needs a dense backend" -- defor
 expect lri_dense 1 "--build dense: lri offers" -- deform "$G" --method lri --build dense --out "$OUT"
 
 expect handle_limit_full 1 "--handle-limit bounds handle-mode responses; it needs --frame-mode handle" -- deform "$T/drag.edit" --handle-limit 2 --out "$OUT"
+expect handle_limit_affine 1 "--handle-limit bounds the responses of per-vertex targets, but edit 'good' drags its handle by one affine transform" -- deform "$T/good.edit" --method tf --frame-mode handle --handle-limit 2 --out "$OUT"
+expect budget_fraction 1 "--memory-budget-mb: 1.5e0 is not a whole number" -- deform "$G" --memory-budget-mb 1.5e0 --out "$OUT"
 expect transform_with_targets 1 "--transform replaces the handle transform, but edit 'drag' drags per-vertex targets" -- deform "$T/drag.edit" --transform translate:0,0,1 --out "$OUT"
 
 echo "== 1 usage: outputs, checked before any mesh is read"
@@ -133,12 +137,63 @@ expect out_is_the_input_respelled 1 "is an input file" -- deform "$G" --out "$T/
 expect out_is_the_edit_mesh 1 "is an input file" -- deform "$T/good.edit" --out "$T/good.off"
 expect csv_missing_dir 1 "--csv .*does not exist" -- deform "$G" --out "$OUT" --csv "$O/no/such/dir/r.csv"
 expect csv_bad_extension 1 "--csv .*unsupported extension '.txt'" -- deform "$G" --out "$OUT" --csv "$O/r.txt"
-expect csv_under_a_file 1 "--csv .*does not exist" -- deform "$G" --out "$OUT" --csv "$G.off/r.csv"
-expect factor_dir_missing 1 "--factor-dir: directory .* does not exist" -- deform "$G" --out "$OUT" --factor-dir "$T/nodir"
+expect csv_under_a_file 1 "--csv .*is not a directory" -- deform "$G" --out "$OUT" --csv "$G.off/r.csv"
+OOC=$("$BIN" solvers | awk '/--factor-dir/ {print $1; exit}')  # an out-of-core backend
+expect factor_dir_missing 1 "--factor-dir: directory .* does not exist" -- deform "$G" --out "$OUT" --solver "$OOC" --factor-dir "$T/nodir"
+expect factor_dir_is_a_file 1 "--factor-dir: '.*good.off' is not a directory" -- deform "$G" --out "$OUT" --solver "$OOC" --factor-dir "$G.off"
 if [ "$(id -u)" -ne 0 ]; then # root writes anywhere
   mkdir -p "$T/ro" && chmod 555 "$T/ro"
   expect csv_read_only_dir 1 "--csv .*not writable" -- deform "$G" --out "$OUT" --csv "$T/ro/r.csv"
 fi
+
+# An immutable target cannot be replaced: refused before the solve (root with a file system that takes chattr +i).
+: >"$L/imm.ply"
+if chattr +i "$L/imm.ply" 2>/dev/null; then
+  expect out_immutable 1 "--out .*imm.ply: cannot be replaced \(Operation not permitted: immutable" -- deform "$G" --out "$L/imm.ply"
+  chattr -i "$L/imm.ply"
+else echo "skip out_immutable: chattr +i not permitted here"; fi
+# A full file system is found before the solve (root: a tiny tmpfs in a private mount namespace).
+mkdir -p "$L/full"
+if unshare -m true 2>/dev/null; then
+  msg=$(unshare -m sh -c 'mount -t tmpfs -o size=64k none "$1" && { dd if=/dev/zero of="$1/fill" bs=4k 2>/dev/null; exec timeout 20 "$2" deform "$3" --out "$1/out.ply"; }' \
+    sh "$L/full" "$BIN" "$G" 2>&1)
+  code=$?
+  if [ "$code" -eq 1 ] && grep -q "directory '.*full' is full (No space left on device)" <<<"$msg"; then passes=$((passes + 1)); echo "ok   disk_full (1): $msg"
+  else fails=$((fails + 1)); echo "FAIL disk_full: exit $code: $msg"; fi
+else echo "skip disk_full: no private mount namespace here"; fi
+# A write that fails names the target once and the cause (a file size limit: EFBIG, as ENOSPC would be).
+msg=$( (trap '' XFSZ; ulimit -f 0; exec timeout 20 "$BIN" deform "$G" --out "$OUT") 2>&1 >/dev/null)
+code=$?
+if [ "$code" -ne 0 ] && grep -q "cannot write $OUT: File too large" <<<"$msg" && ! grep -q "\.tmp\.[0-9]" <<<"$msg" && [ -z "$(ls -A "$O")" ]; then
+  passes=$((passes + 1)); echo "ok   write_fails ($code): $msg"
+else fails=$((fails + 1)); echo "FAIL write_fails: exit $code, left '$(ls -A "$O")': $msg"; rm -rf "${O:?}"/*; fi
+
+echo "== 2 bad input: special and oversized files, refused before they are read (issue 28)"
+mkfifo "$T/fifo.edit" "$T/fifo.txt" "$T/fifo.def"
+expect fifo_edit 2 "cannot open edit file: .*fifo.edit \(not a regular file" -- deform "$T/fifo.edit" --out "$OUT"
+write_drag "$T/drag_fifo.edit" fifo.txt
+expect fifo_targets 2 "cannot open targets file: .*fifo.txt \(not a regular file" -- deform "$T/drag_fifo.edit" --out "$OUT"
+write_edit "$T/fifo_indices.edit" indices:fifo.txt indices:handle.txt
+expect fifo_indices 2 "cannot open index list file: .*fifo.txt \(not a regular file" -- deform "$T/fifo_indices.edit" --out "$OUT"
+write_edit "$T/fifo_def.edit" indices:roi_tf.txt indices:handle.txt def:fifo.def
+expect fifo_def 2 "cannot open transform file: .*fifo.def \(not a regular file" -- deform "$T/fifo_def.edit" --out "$OUT"
+expect fifo_transform 2 "cannot open transform file: .*fifo.def \(not a regular file" -- deform "$G" --transform "def:$T/fifo.def" --out "$OUT"
+rm -f "$T"/fifo.*
+# 2 GB sparse files (no line end): refused by their size or at line 1 after a bounded read, never read whole.
+# They lie outside $T, whose files every case checksums.
+truncate -s 2G "$L/sparse.edit" "$L/sparse.txt" "$L/sparse.off" "$L/sparse.idx"
+expect sparse_edit 2 "edit file .*sparse.edit holds 2147483648 bytes, more than such a file can sensibly hold" -- deform "$L/sparse.edit" --out "$OUT"
+printf 'mesh = %s\nroi = indices:%s\nhandle = indices:%s\ntargets = %s\n' "$T/good.off" "$T/roi_tf.txt" "$T/handle.txt" "$L/sparse.txt" >"$L/sparse_targets.edit"
+expect sparse_targets 2 "sparse.txt: line 1: longer than 65536 bytes" -- deform "$L/sparse_targets.edit" --out "$OUT"
+printf 'mesh = %s\nroi = indices:%s\nhandle = indices:%s\ntransform = translate:0,0,1\n' "$T/good.off" "$L/sparse.idx" "$T/handle.txt" >"$L/sparse_indices.edit"
+expect sparse_indices 2 "index list file .*sparse.idx holds 2147483648 bytes, more than" -- deform "$L/sparse_indices.edit" --out "$OUT"
+printf 'mesh = %s\nroi = indices:%s\nhandle = indices:%s\ntransform = translate:0,0,1\n' "$L/sparse.off" "$T/roi_tf.txt" "$T/handle.txt" >"$L/sparse_mesh.edit"
+expect sparse_mesh 2 "sparse.off: line 1: longer than 65536 bytes \(not a mesh file\)" -- deform "$L/sparse_mesh.edit" --out "$OUT"
+expect sparse_over_budget 4 "input files of edit .* hold 2147.* MB, more than --memory-budget-mb 100" -- deform "$L/sparse_mesh.edit" --memory-budget-mb 100 --out "$OUT"
+rm -f "$L"/sparse*
+# A targets file's frames are capped as --frames is: 100001 frames of the one handle vertex.
+awk 'BEGIN { for (i = 0; i < 100001; i++) print "0 0 1.1" }' >"$T/drag_long.txt"; write_drag "$T/drag_long.edit" drag_long.txt
+expect targets_over_frames_cap 2 "drag_long.txt: line 100001: more than 100000 target positions \(100000 frames" -- deform "$T/drag_long.edit" --out "$OUT"
 
 echo "== 2 bad input: mesh and edit files"
 expect missing_mesh 2 "cannot open|not found|no such|missing" -- deform "$T/nothere" --out "$OUT"

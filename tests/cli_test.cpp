@@ -28,7 +28,19 @@ TEST(CliValidators, IntegerNamesEachKindOfMistake) {
   EXPECT_EQ(check(frames, "20"), "");
   EXPECT_EQ(check(frames, "+7"), "");
   EXPECT_EQ(check(frames, "2.5"), "2.5 is not a whole number");
-  EXPECT_EQ(check(frames, "1e10"), "1e10 is not a whole number");
+  EXPECT_EQ(check(frames, "1e10"), "1e10 is outside [1, 100000]");
+  // Scientific notation is a number too, when it names a whole one; the option converts what it names.
+  EXPECT_EQ(check(frames, "1e3"), "");
+  EXPECT_EQ(check(frames, "2.50E1"), "");
+  EXPECT_EQ(check(frames, "1e+2"), "");
+  EXPECT_EQ(check(frames, "1.5e0"), "1.5e0 is not a whole number");
+  EXPECT_EQ(check(frames, "1e-1"), "1e-1 is not a whole number");
+  EXPECT_EQ(check(frames, "1e"), "1e is not a whole number");
+  EXPECT_EQ(check(frames, ".5e1"), ".5e1 is not a whole number");
+  EXPECT_EQ(check(frames, "1e999999999"), "1e999999999 is not a whole number");
+  std::string value = "2.50e1";
+  EXPECT_EQ(frames(value), "");
+  EXPECT_EQ(value, "25");
   EXPECT_EQ(check(frames, "nan"), "nan is not a whole number");
   EXPECT_EQ(check(frames, "0x10"), "0x10 is not a whole number");
   EXPECT_EQ(check(frames, ""), " is not a whole number");
@@ -70,7 +82,7 @@ int run_app(CLI::App& app, std::vector<std::string> args, const std::function<in
 TEST(CliRun, ParseErrorsExitOneNamingTheOption) {
   std::string err;
   long long frames = 1;
-  auto make = [&](CLI::App& app) { app.add_option("--frames", frames)->check(cli::Integer(1, 100000)); };
+  auto make = [&](CLI::App& app) { app.add_option("--frames", frames)->transform(cli::Integer(1, 100000)); };
   int ran = 0;
   {
     CLI::App app("t", "tool");
@@ -82,7 +94,7 @@ TEST(CliRun, ParseErrorsExitOneNamingTheOption) {
     CLI::App app("t", "tool");
     make(app);
     EXPECT_EQ(run_app(app, {"tool", "--frames", "1e10"}, [&] { return ++ran; }, err), 1);
-    EXPECT_NE(err.find("--frames: 1e10 is not a whole number"), std::string::npos) << err;
+    EXPECT_NE(err.find("--frames: 1e10 is outside [1, 100000]"), std::string::npos) << err;
   }
   EXPECT_EQ(ran, 0) << "the body must not run after a parse error";
 }
@@ -156,7 +168,8 @@ TEST_F(CheckOutput, RefusesEachBadPathWithItsCause) {
   EXPECT_NE(output_error(path("a.stl"), {".off", ".ply"}).find("unsupported extension '.stl'"), std::string::npos);
   EXPECT_NE(output_error(path("no/such/a.ply"), {".ply"}).find("does not exist"), std::string::npos);
   touch("file");
-  EXPECT_NE(output_error(path("file/a.ply"), {".ply"}).find("does not exist"), std::string::npos);
+  EXPECT_NE(output_error(path("file/a.ply"), {".ply"}).find("'" + path("file") + "' is not a directory"),
+            std::string::npos);
   fs::create_directory(path("d.ply"));
   EXPECT_NE(output_error(path("d.ply"), {".ply"}).find("is a directory"), std::string::npos);
   if (::geteuid() != 0) {  // root writes anywhere

@@ -3,6 +3,7 @@
 // deforms like the unscaled one, or is refused naming the coordinate that doubles cannot hold).
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "edit/edit_io.h"
 #include "edit/selection.h"
 #include "edit/transform.h"
@@ -123,6 +125,42 @@ TEST_F(EditFiles, ListsWhatAnEditCaseReads) {
   write_mesh(path("p.ply"), tube());
   EXPECT_EQ(edit_case_files(path("p")), (std::vector<std::string>{path("p.ply"), path("p.sel"), path("p.def")}));
   EXPECT_MENTIONS(input_error([&] { edit_case_files(path("missing.edit")); }), "cannot open edit file");
+}
+
+// Issue 28: every reader opens through InputFile. A FIFO without a writer is refused at once (a blocking open would
+// hang here), a file larger than what it can sensibly hold before a byte is read, a line without end after a
+// bounded read, and a targets file's frames are capped as --frames is.
+TEST_F(EditFiles, SpecialAndOversizedInputsAreRefusedBeforeReading) {
+  ASSERT_EQ(::mkfifo(path("fifo").c_str(), 0600), 0);
+  ASSERT_EQ(::mkfifo(path("fifo.off").c_str(), 0600), 0);
+  EXPECT_MENTIONS(input_error([&] { read_def(path("fifo")); }), "cannot open transform file: " + path("fifo") +
+                                                                    " (not a regular file");
+  EXPECT_MENTIONS(input_error([&] { read_targets(path("fifo")); }), "not a regular file");
+  EXPECT_MENTIONS(input_error([&] { read_index_list(path("fifo")); }), "not a regular file");
+  EXPECT_MENTIONS(input_error([&] { read_sel(path("fifo"), 3); }), "not a regular file");
+  EXPECT_MENTIONS(input_error([&] { read_mesh(path("fifo.off")); }), "not a regular file");
+  EXPECT_MENTIONS(input_error([&] { InputFile(path("."), "test"); }), "is a directory");
+
+  std::ofstream(path("big.def")).close();
+  fs::resize_file(path("big.def"), std::uintmax_t(1) << 31);  // sparse: no disk used
+  EXPECT_MENTIONS(input_error([&] { read_def(path("big.def")); }), "holds 2147483648 bytes, more than");
+  // A selection of a 3-vertex mesh, or an index list of it, holds a few lines, not 2 GB.
+  EXPECT_MENTIONS(input_error([&] { read_sel(path("big.def"), 3); }), "holds 2147483648 bytes");
+  EXPECT_MENTIONS(input_error([&] { read_index_list(path("big.def"), 3); }), "holds 2147483648 bytes");
+  // Streamed readers stop at the first line that does not end.
+  EXPECT_MENTIONS(input_error([&] { read_targets(path("big.def")); }), "line 1: longer than 65536 bytes");
+  std::ofstream(path("big.off")).close();
+  fs::resize_file(path("big.off"), std::uintmax_t(1) << 31);
+  EXPECT_MENTIONS(input_error([&] { read_mesh(path("big.off")); }), "line 1: longer than 65536 bytes");
+  InputFile f(path("big.def"), "test");
+  EXPECT_EQ(f.size(), std::uint64_t(1) << 31);
+  EXPECT_THROW(InputFile(path("big.def"), "test", 1000), InputError);
+
+  std::ofstream(path("t.txt")) << "0 0 1\n# a comment\n0 0 2\n0 0 3\n";
+  EXPECT_EQ(read_targets(path("t.txt"), 3).rows(), 3);
+  EXPECT_MENTIONS(input_error([&] { read_targets(path("t.txt"), 2); }),
+                  "t.txt: line 4: more than 2 target positions (" + std::to_string(kMaxFrames) + " frames");
+  EXPECT_EQ(input_bytes({path("t.txt"), path("missing"), path("fifo")}), fs::file_size(path("t.txt")));
 }
 
 // ---- scale independence

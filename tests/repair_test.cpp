@@ -65,21 +65,6 @@ Soup finned() { return std::move(Soup().sheet(6, 6, Vec3(0, 0, 0), X, Y).sheet(6
 // The finned sheet plus a 3 x 3 sheet touching it only at the corner (6, 6, 0): a pinched vertex.
 Soup finned_and_pinched() { return std::move(finned().sheet(3, 3, Vec3(6, 6, 0), X, Y)); }
 
-// Connected components of the face graph through shared vertices.
-int components(const Mesh& m) {
-  std::vector<int> parent(m.num_vertices());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (int f = 0; f < m.num_faces(); ++f)
-    for (int c = 1; c < 3; ++c) parent[find(m.F(f, c))] = find(m.F(f, 0));
-  int n = 0;
-  for (int v = 0; v < m.num_vertices(); ++v) n += find(v) == v;
-  return n;
-}
-
 // The message of the InputError f() throws ("" if it throws none).
 template <class F>
 std::string input_error(F&& f) {
@@ -177,7 +162,16 @@ TEST(Repair, FinComesOffAndTheSheetStaysWhole) {
   }
   EXPECT_EQ(out.num_vertices(), m.num_vertices() + 7);
   EXPECT_EQ(out.num_faces(), m.num_faces());
-  EXPECT_EQ(components(out), 2);  // the sheet (whole) and the fin
+  EXPECT_EQ(count_components(out), 2);  // the sheet (whole) and the fin
+  // The report names the piece that came off (issue 28): the fin's 24 faces, from the one input component.
+  EXPECT_EQ(r.components_before, 1);
+  EXPECT_EQ(r.components_after, 2);
+  ASSERT_EQ(r.detached.size(), 1u);
+  EXPECT_EQ(r.detached[0].faces, 24);
+  EXPECT_EQ(r.detached[0].from, 0);
+  EXPECT_EQ(r.detached[0].from_kept, m.num_faces() - 24);
+  EXPECT_NE(r.summary().find("detached 1 pieces (1 connected components before, 2 after)"), std::string::npos)
+      << r.summary();
   EXPECT_TRUE(r.degenerate_faces.empty() && r.duplicate_faces.empty() && r.isolated_vertices.empty());
 }
 
@@ -189,7 +183,7 @@ TEST(Repair, FourFacesOnOneEdge) {
   RepairReport r;
   const Mesh out = repair_mesh(m, r);
   EXPECT_NO_THROW(validate_mesh(out));
-  EXPECT_EQ(components(out), 2);
+  EXPECT_EQ(count_components(out), 2);
 }
 
 TEST(Repair, PinchedVertexIsSplit) {
@@ -201,7 +195,7 @@ TEST(Repair, PinchedVertexIsSplit) {
   ASSERT_EQ(r.splits.size(), 1u);
   EXPECT_EQ(r.splits[0].vertex, r.non_manifold.vertices[0].v);
   EXPECT_EQ(out.num_vertices(), m.num_vertices() + 1);
-  EXPECT_EQ(components(out), 2);
+  EXPECT_EQ(count_components(out), 2);
 }
 
 TEST(Repair, DuplicateFacesDropped) {
@@ -298,7 +292,7 @@ TEST(Repair, EveryDefectAtOnceThenCotanAndLriAccept) {
   EXPECT_EQ(r.isolated_vertices, std::vector<int>{extra});
   EXPECT_FALSE(r.splits.empty());
   ASSERT_NO_THROW(validate_mesh(out));
-  EXPECT_EQ(components(out), 3);  // sheet, fin, corner sheet
+  EXPECT_EQ(count_components(out), 3);  // sheet, fin, corner sheet
   for (const auto& line : r.details(0)) EXPECT_FALSE(line.empty());
   expect_deforms(out, method("lap", Weights::Cotan));
   expect_deforms(out, method("tf", Weights::Cotan));

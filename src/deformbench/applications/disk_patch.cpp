@@ -67,20 +67,6 @@ void cut_faces(const Mesh& mesh, const std::vector<int>& region, const std::stri
   p.mesh.name = mesh.name + "_" + what + "_patch";
 }
 
-int count_components(const Mesh& m) {
-  std::vector<int> root(static_cast<std::size_t>(m.num_vertices()));
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](int v) {
-    while (root[v] != v) v = root[v] = root[root[v]];
-    return v;
-  };
-  for (int f = 0; f < m.num_faces(); ++f)
-    for (int c = 1; c < 3; ++c) root[find(m.F(f, 0))] = find(m.F(f, c));
-  int components = 0;
-  for (int v = 0; v < m.num_vertices(); ++v) components += find(v) == v;
-  return components;
-}
-
 // The boundary half-edges a -> b (those whose reverse is in no face), checked to form exactly one simple loop.
 void trace_boundary(DiskPatch& p, const std::string& what) {
   const Mesh& m = p.mesh;

@@ -8,8 +8,10 @@
 
 namespace db {
 
-//! Calls write(stream) on a temporary file next to path, then renames it to path.
-//! \throw Error when the file cannot be opened, written or renamed (the temporary is removed).
+//! Calls write(stream) on a temporary file next to path, then renames it to path (a StagedOutputs temporary is
+//! written as it is: commit() renames it).
+//! \throw Error naming the target once and the cause ("cannot write out.ply: No space left on device") when the
+//! file cannot be opened, written or renamed (the temporary is removed).
 void write_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
                       bool binary = false);
 

@@ -1,8 +1,11 @@
 #include "core/cli.h"
 
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -23,6 +26,33 @@ bool is_whole_number(const std::string& s) {
   for (; i < s.size(); ++i)
     if (s[i] < '0' || s[i] > '9') return false;
   return true;
+}
+
+// The decimal digits of a whole number written plainly ("-12") or in scientific notation ("1e3", "2.5E2"), with
+// its sign; "" when s is no whole number ("2.5", "1e-1", "nan", "0x10").
+std::string whole_number_digits(const std::string& s) {
+  const std::size_t e = s.find_first_of("eE");
+  std::string mantissa = s.substr(0, e);
+  long long exponent = 0;
+  if (e != std::string::npos) {
+    const std::string x = s.substr(e + 1);
+    if (!is_whole_number(x) || x.size() > 6) return {};
+    exponent = std::stoll(x);
+  }
+  const std::size_t dot = mantissa.find('.');
+  if (dot != std::string::npos) {
+    exponent -= static_cast<long long>(mantissa.size() - dot - 1);
+    mantissa.erase(dot, 1);
+    if (dot == 0 || mantissa.size() == dot) return {};  // ".5", "5."
+  }
+  if (!is_whole_number(mantissa)) return {};
+  for (; exponent < 0; ++exponent) {
+    if (mantissa.back() != '0' || mantissa.size() < 2) return {};
+    mantissa.pop_back();
+  }
+  if (!is_whole_number(mantissa)) return {};  // "-0e-1" left only the sign
+  if (exponent > 30) return mantissa + std::string(30, '0');  // out of every range; strtoll says so
+  return mantissa + std::string(static_cast<std::size_t>(exponent), '0');
 }
 
 // Levenshtein distance, for "did you mean".
@@ -96,10 +126,12 @@ std::string unknown_subcommand(const CLI::App& app) {
 CLI::Validator Integer(long long min, long long max) {
   return CLI::Validator(
       [min, max](std::string& s) -> std::string {
-        if (!is_whole_number(s)) return fmt::format("{} is not a whole number", s);
+        const std::string digits = whole_number_digits(s);
+        if (digits.empty()) return fmt::format("{} is not a whole number", s);
         errno = 0;
-        const long long v = std::strtoll(s.c_str(), nullptr, 10);
+        const long long v = std::strtoll(digits.c_str(), nullptr, 10);
         if (errno == ERANGE || v < min || v > max) return fmt::format("{} is outside [{}, {}]", s, min, max);
+        s = digits;  // what the option converts (a transform; with check() the value stays as given)
         return {};
       },
       fmt::format("[{}, {}]", min, max));
@@ -161,9 +193,15 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
 
 void check_directory(const std::string& option, const std::string& dir) {
   std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw UsageError(fmt::format("{}: '{}' is not a directory", option, dir));
   if (!fs::is_directory(dir, ec)) throw UsageError(fmt::format("{}: directory '{}' does not exist", option, dir));
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
-    throw UsageError(fmt::format("{}: directory '{}' is not writable", option, dir));
+    throw UsageError(fmt::format("{}: directory '{}' is not writable ({})", option, dir, std::strerror(errno)));
+  // A full file system is found before the solve, not when the result is written.
+  struct statvfs st {};
+  if (::statvfs(dir.c_str(), &st) == 0 && st.f_blocks > 0 && st.f_bavail == 0)
+    throw UsageError(fmt::format("{}: directory '{}' is full ({})", option, dir, std::strerror(ENOSPC)));
 }
 
 void check_output(const std::string& option, const std::string& path, const std::vector<std::string>& extensions,
@@ -180,6 +218,10 @@ void check_output(const std::string& option, const std::string& path, const std:
   check_directory(fmt::format("{} {}", option, path), p.has_parent_path() ? p.parent_path().string() : ".");
   std::error_code ec;
   if (fs::is_directory(p, ec)) throw UsageError(fmt::format("{} {}: is a directory", option, path));
+  // An immutable or append-only file (chattr +i / +a) cannot be replaced, though its directory is writable.
+  if (fs::exists(p, ec) && ::access(path.c_str(), W_OK) != 0 && errno == EPERM)
+    throw UsageError(fmt::format("{} {}: cannot be replaced ({}: immutable or append-only)", option, path,
+                                 std::strerror(EPERM)));
   for (const std::string& in : inputs) {
     const bool same = fs::exists(p, ec) && fs::exists(in, ec) ? fs::equivalent(p, in, ec)
                                                               : fs::weakly_canonical(p, ec) == fs::weakly_canonical(in, ec);

@@ -13,8 +13,9 @@
 
 namespace db::cli {
 
-//! A whole number in [min, max]: rejects "2.5", "1e10", "nan", "0x10" and out-of-range values, each with its own
-//! message ("--frames: 2.5 is not a whole number").
+//! A whole number in [min, max], plain or in scientific notation ("1e3", "2.5e2"): rejects "2.5", "1e-1", "nan",
+//! "0x10" and out-of-range values, each with its own message ("--frames: 2.5 is not a whole number"). Add it with
+//! ->transform() so the option converts the number it names ("1e3" -> 1000); ->check() validates only.
 CLI::Validator Integer(long long min, long long max);
 //! A finite decimal number in [min, max] (rejects nan and inf).
 CLI::Validator Real(double min, double max);
@@ -28,7 +29,7 @@ CLI::Validator OneOf(const std::vector<std::string>& values);
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 //! Checks a directory the run will write into (an out-of-core scratch directory, say) before any work: it exists
-//! and is writable. \throw UsageError naming `option`.
+//! as a directory, is writable and its file system is not full. \throw UsageError naming `option` and the cause.
 void check_directory(const std::string& option, const std::string& dir);
 
 //! Checks an output path before any input is read: its directory exists and is writable, its extension is one

@@ -14,6 +14,10 @@ namespace db {
 //! Botsch-Sorkine 2008 status codes: 0 fixed (outside the region), 1 free (region of interest), 2 handle.
 enum class Role : std::uint8_t { Fixed = 0, Free = 1, Handle = 2 };
 
+//! Most frames one run interpolates (--frames, and the frames of an edit's targets file): every frame's phase times
+//! are kept for the medians.
+constexpr long long kMaxFrames = 100000;
+
 struct Edit {
   std::string name;         //!< for result rows
   std::vector<Role> roles;  //!< one per vertex

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "edit/selection.h"
 #include "edit/transform.h"
 #include "mesh/mesh_io.h"
@@ -22,17 +23,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// What a line of an edit-side text file (.edit, .sel, .def, targets) sensibly holds: a key and a path, a few
+// numbers, a comment.
+constexpr std::size_t kMaxLine = 64 << 10;
+// What a .edit or .def file sensibly holds: eight keys, one 4x4 matrix, with comments.
+constexpr std::uint64_t kSmallFile = 1 << 20;
+// Per vertex of the mesh, what a .sel line or an index-list entry sensibly takes (comments and padding included).
+constexpr std::uint64_t kBytesPerVertex = 64;
+
 // Calls fn(line number, line) for every line of a text file, streaming: a selection of millions of vertices is
-// never held as millions of strings.
-void each_line(const std::string& path, const char* what, const std::function<void(int, const std::string&)>& fn) {
-  std::error_code ec;
-  std::ifstream in(path);
-  if (!in || fs::is_directory(path, ec)) throw InputError(fmt::format("cannot open {} file: {}", what, path));
-  // A device or a pipe (/dev/zero, /dev/stdin) would be read without end.
-  if (!fs::is_regular_file(path, ec)) throw InputError(fmt::format("{} file {} is not a regular file", what, path));
-  int n = 0;
-  for (std::string line; std::getline(in, line);) fn(++n, line);
-  if (in.bad()) throw InputError(fmt::format("cannot read {} file: {}", what, path));
+// never held as millions of strings. The file is refused before reading when larger than max_bytes, and at a
+// line longer than max_line.
+void each_line(const std::string& path, const char* what, const std::function<void(int, const std::string&)>& fn,
+               std::uint64_t max_bytes = kSmallFile, std::size_t max_line = kMaxLine) {
+  InputFile(path, what, max_bytes).each_line(max_line, fn);
+}
+
+// The bound of a file with a line or an entry per vertex of a mesh with num_vertices (unknown: < 0).
+std::uint64_t per_vertex_bound(int num_vertices) {
+  return num_vertices < 0 ? kAnySize : kSmallFile + kBytesPerVertex * static_cast<std::uint64_t>(num_vertices);
 }
 
 // Drops a '#' comment and surrounding whitespace.
@@ -159,7 +168,7 @@ std::vector<Role> read_sel(const std::string& path, int num_vertices) {
     else if (s == "1") roles.push_back(Role::Free);
     else if (s == "2") roles.push_back(Role::Handle);
     else throw InputError(fmt::format("{}: line {}: invalid status '{}' (expected 0, 1 or 2)", path, ln, s));
-  });
+  }, per_vertex_bound(num_vertices));
   if (num_vertices >= 0 && static_cast<long>(roles.size()) != num_vertices)
     throw InputError(fmt::format("{}: selection has {} entries but the mesh has {} vertices", path, roles.size(),
                                  num_vertices));
@@ -188,11 +197,15 @@ Mat4 read_def(const std::string& path) {
   return T;
 }
 
-Points read_targets(const std::string& path) {
+Points read_targets(const std::string& path, long long max_rows) {
   std::vector<double> xyz;
   each_line(path, "targets", [&](int ln, const std::string& line) {
     const std::string s = strip(line);
     if (s.empty()) return;
+    if (max_rows >= 0 && static_cast<long long>(xyz.size() / 3) == max_rows)
+      throw InputError(fmt::format("{}: line {}: more than {} target positions ({} frames of the handle, the most "
+                                   "a run interpolates)",
+                                   path, ln, max_rows, kMaxFrames));
     const auto t = tokens(s, " \t,");
     if (t.size() != 3) throw InputError(fmt::format("{}: line {}: expected 3 numbers (x y z), got {}", path, ln, t.size()));
     for (const std::string& tok : t) {
@@ -201,7 +214,7 @@ Points read_targets(const std::string& path) {
         throw InputError(fmt::format("{}: line {}: bad number '{}' (a finite coordinate expected)", path, ln, tok));
       xyz.push_back(v);
     }
-  });
+  }, kAnySize);
   if (xyz.empty()) throw InputError(path + ": no target positions");
   Points P(static_cast<Eigen::Index>(xyz.size() / 3), 3);
   for (Eigen::Index r = 0; r < P.rows(); ++r)
@@ -217,8 +230,9 @@ Edit read_bs08_edit(const std::string& sel_path, const std::string& def_path, in
   return e;
 }
 
-std::vector<int> read_index_list(const std::string& path) {
+std::vector<int> read_index_list(const std::string& path, int num_vertices) {
   std::vector<int> out;
+  const std::uint64_t bound = per_vertex_bound(num_vertices);
   each_line(path, "index list", [&](int ln, const std::string& line) {
     for (const std::string& t : tokens(strip(line), " \t\r,")) {
       long long v;
@@ -226,7 +240,7 @@ std::vector<int> read_index_list(const std::string& path) {
       if (v < 0 || v > INT32_MAX) throw InputError(fmt::format("{}: line {}: vertex index {} out of range", path, ln, v));
       out.push_back(static_cast<int>(v));
     }
-  });
+  }, bound, bound);  // all ids on one line is fine
   return out;
 }
 
@@ -315,7 +329,9 @@ EditCase load_edit_file(const std::string& path) {
     c.edit = prefixed(path, [&] { return edit_from_lists(nv, roi, handle, T); });
   }
   if (has("targets"))
-    c.edit.targets = prefixed(at("targets"), [&] { return read_targets(resolve(dir, kv["targets"].value)); });
+    c.edit.targets = prefixed(at("targets"), [&] {
+      return read_targets(resolve(dir, kv["targets"].value), kMaxFrames * c.edit.count(Role::Handle));
+    });
   c.edit.name = has("name") ? kv["name"].value : fs::path(path).stem().string();
   return finish(std::move(c), path);
 }

@@ -23,15 +23,16 @@ Mat4 read_def(const std::string& path);
 //! A drag's target positions (`targets = FILE` of a .edit file): three numbers per line (`x y z`, whitespace or
 //! commas), `#` comments and blank lines ignored; one line per handle vertex in ascending vertex index, frame after
 //! frame. \throw InputError naming the file and line for a line that is not three finite numbers, or a file without
-//! any.
-Points read_targets(const std::string& path);
+//! any, or for more than max_rows lines (< 0: no bound; a .edit file's targets: kMaxFrames frames of its handle).
+Points read_targets(const std::string& path, long long max_rows = -1);
 
 //! .sel + .def as an Edit named after the .sel file stem. \throw InputError as read_sel / read_def.
 Edit read_bs08_edit(const std::string& sel_path, const std::string& def_path, int num_vertices);
 
 //! Vertex ids as picked in a modeller: integers separated by whitespace and/or commas, `#` comments.
-//! \throw InputError naming the file and line for a non-integer or negative token, or an unreadable file.
-std::vector<int> read_index_list(const std::string& path);
+//! \throw InputError naming the file and line for a non-integer or negative token, or an unreadable file, or one
+//! larger than a list of a mesh with num_vertices vertices sensibly is (< 0: unknown).
+std::vector<int> read_index_list(const std::string& path, int num_vertices = -1);
 
 //! Edit from vertex lists: ROI vertices are Free, handle vertices Handle (they must lie in the ROI), all others
 //! Fixed. Duplicates are allowed. Does not check that a free vertex remains (validate_edit does).

@@ -107,7 +107,7 @@ std::vector<int> select_by_spec(const Mesh& mesh, const std::string& spec, const
       namespace fs = std::filesystem;
       fs::path p(rest);
       if (p.is_relative() && !base_dir.empty()) p = fs::path(base_dir) / p;
-      std::vector<int> out = read_index_list(p.string());
+      std::vector<int> out = read_index_list(p.string(), mesh.num_vertices());
       for (int i : out)
         if (i >= mesh.num_vertices())
           throw InputError(fmt::format("{}: vertex {} out of range [0, {})", p.string(), i, mesh.num_vertices()));

@@ -44,7 +44,7 @@ void add_shard_options(CLI::App& app, ShardOptions& o) {
                         ""));
   app.add_option("--merge-shards", o.merge,
                  "run nothing: merge the CSVs of RESULTS/shards/1..N-of-N/ into RESULTS/ as one run writes them")
-      ->type_name("N")->check(cli::Integer(1, 10000))->excludes(shard);
+      ->type_name("N")->transform(cli::Integer(1, 10000))->excludes(shard);
 }
 
 std::vector<std::size_t> shard_cells(const std::vector<std::string>& groups, const Shard& s) {

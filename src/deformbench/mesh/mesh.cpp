@@ -245,4 +245,28 @@ double checked_bbox_diagonal(const Points& V) {
                                d, std::numeric_limits<double>::min(), span));
 }
 
+std::vector<int> face_components(const Mesh& mesh) {
+  std::vector<int> parent(static_cast<std::size_t>(mesh.num_vertices()));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    for (int k = 1; k < 3; ++k) parent[find(mesh.F(f, k))] = find(mesh.F(f, 0));
+  std::vector<int> label(static_cast<std::size_t>(mesh.num_vertices()), -1), out;
+  int count = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    int& l = label[find(mesh.F(f, 0))];
+    if (l < 0) l = count++;
+    out.push_back(l);
+  }
+  return out;
+}
+
+int count_components(const Mesh& mesh) {
+  const std::vector<int> c = face_components(mesh);
+  return c.empty() ? 0 : *std::max_element(c.begin(), c.end()) + 1;
+}
+
 }  // namespace db

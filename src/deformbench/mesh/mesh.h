@@ -58,6 +58,12 @@ struct NonManifold {
   std::string summary() const;
 };
 
+//! The connected component of each face (faces sharing a vertex are connected), numbered 0, 1, ... in the order
+//! of their first face; the count is the largest label + 1.
+std::vector<int> face_components(const Mesh& mesh);
+//! How many components face_components finds.
+int count_components(const Mesh& mesh);
+
 //! Every non-manifold edge and vertex, in ascending order. Face indices must be in range (validate_mesh checks
 //! them first). O(F log valence).
 NonManifold find_non_manifold(const Mesh& mesh);

@@ -16,6 +16,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace db {
 
@@ -28,20 +29,18 @@ std::string lower(std::string s) {
   return s;
 }
 
+// Every format read here starts with a short text line (OFF, ply, an OBJ statement or comment).
+constexpr std::size_t kMaxFirstLine = 64 << 10;
+
+// The whole file, read only once its first line has ended within kMaxFirstLine bytes: a large file that is no
+// mesh (a sparse file of zeros) is refused after those bytes, not after reading it all.
 std::string read_all(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError("cannot open mesh file: " + path + " (is a directory)");
-  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
-    throw InputError("cannot open mesh file: " + path + " (not a regular file)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open mesh file: " + path);
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw InputError("cannot open mesh file: " + path + " (cannot determine its size)");
-  std::string data(static_cast<std::size_t>(size), '\0');
-  in.seekg(0, std::ios::beg);
-  in.read(data.data(), size);
-  if (!in) throw InputError("cannot open mesh file: " + path + " (read failed)");
+  InputFile in(path, "mesh");
+  std::string data(static_cast<std::size_t>(std::min<std::uint64_t>(in.size(), kMaxFirstLine)), '\0');
+  data.resize(in.read(data.data(), data.size()));
+  if (in.size() > kMaxFirstLine && data.find('\n') == std::string::npos)
+    throw InputError(fmt::format("{}: line 1: longer than {} bytes (not a mesh file)", path, kMaxFirstLine));
+  data += in.read_all();
   return data;
 }
 

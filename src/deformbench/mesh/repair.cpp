@@ -227,6 +227,28 @@ void remove_isolated(Mesh& m, int input_vertices, RepairReport& r) {
 
 }  // namespace
 
+namespace {
+
+// The output components that came off an input component (output face i is input face keep[i]): all but the
+// largest of each, so that following the repair's advice never hides a mesh falling apart.
+void detached_pieces(const std::vector<int>& before, const std::vector<int>& after, const std::vector<int>& keep,
+                     RepairReport& r) {
+  r.components_before = before.empty() ? 0 : *std::max_element(before.begin(), before.end()) + 1;
+  r.components_after = after.empty() ? 0 : *std::max_element(after.begin(), after.end()) + 1;
+  std::vector<int> faces(r.components_after, 0), from(r.components_after, -1);
+  for (std::size_t f = 0; f < after.size(); ++f) {
+    ++faces[after[f]];
+    from[after[f]] = before[keep[f]];
+  }
+  std::vector<int> largest(r.components_before, -1);  // output component kept per input component
+  for (int c = 0; c < r.components_after; ++c)
+    if (largest[from[c]] < 0 || faces[c] > faces[largest[from[c]]]) largest[from[c]] = c;
+  for (int c = 0; c < r.components_after; ++c)
+    if (largest[from[c]] != c) r.detached.push_back({faces[c], from[c], faces[largest[from[c]]]});
+}
+
+}  // namespace
+
 Mesh repair_mesh(const Mesh& in, RepairReport& r) {
   r = RepairReport{};
   check_arrays(in);
@@ -250,6 +272,7 @@ Mesh repair_mesh(const Mesh& in, RepairReport& r) {
                                  in.name, r.degenerate_faces.size(), r.duplicate_faces.size()));
   if (!find_non_manifold(m).empty())  // split_fans leaves at most two faces on an edge, one fan per vertex
     throw std::logic_error("repair_mesh: the split left a non-manifold element");
+  detached_pieces(face_components(in), face_components(m), keep, r);
   return m;
 }
 
@@ -264,6 +287,9 @@ std::string RepairReport::summary() const {
     parts.push_back(fmt::format("split {} vertices into {} more ({})", splits.size(), copies, non_manifold.summary()));
   if (!isolated_vertices.empty())
     parts.push_back(fmt::format("removed {} isolated vertices", isolated_vertices.size()));
+  if (!detached.empty())
+    parts.push_back(fmt::format("detached {} pieces ({} connected components before, {} after)", detached.size(),
+                                components_before, components_after));
   return fmt::format("{}", fmt::join(parts, "; "));
 }
 
@@ -294,6 +320,11 @@ std::vector<std::string> RepairReport::details(std::size_t max_per_kind) const {
   });
   list(isolated_vertices.size(),
        [&](std::size_t i) { return fmt::format("removed isolated vertex {}", isolated_vertices[i]); });
+  list(detached.size(), [&](std::size_t i) {
+    const Piece& p = detached[i];
+    return fmt::format("detached a piece of {} faces from component {} (which keeps {} faces)", p.faces, p.from,
+                       p.from_kept);
+  });
   return out;
 }
 

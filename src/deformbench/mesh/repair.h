@@ -20,11 +20,21 @@ struct RepairReport {
   std::vector<Split> splits;
   std::vector<int> isolated_vertices;  //!< input indices removed
   std::vector<int> vertex_map;         //!< input vertex -> output vertex (-1: removed)
+  //! Connected components (face_components) of the input and of the output.
+  int components_before = 0, components_after = 0;
+  //! An output component split off an input component by the repair (each input component keeps its largest).
+  struct Piece {
+    int faces;      //!< in the piece
+    int from;       //!< the input component
+    int from_kept;  //!< faces its largest piece keeps
+  };
+  std::vector<Piece> detached;
 
   bool changed() const {
     return !degenerate_faces.empty() || !duplicate_faces.empty() || !splits.empty() || !isolated_vertices.empty();
   }
-  //! One line of counts ("dropped 2 degenerate faces, ...", or "no change").
+  //! One line of counts ("dropped 2 degenerate faces, ...", or "no change"), with the components before and after
+  //! when the repair detached pieces.
   std::string summary() const;
   //! Every change, one per line; at most `max_per_kind` of each kind (0: all), then "... and N more".
   std::vector<std::string> details(std::size_t max_per_kind) const;
