@@ -2,7 +2,7 @@
 # and, preferred when installed, libmumps-ptscotch-dev (the same MPI build linked with SCOTCH and PT-SCOTCH).
 # Debian ships no CMake config for either. Defines MUMPS::DMUMPS (headers, libraries, MPI::MPI_C) and
 # MUMPS_WITH_SCOTCH (ON for the ptscotch flavour; compile definition DB_MUMPS_SCOTCH=1 on the target).
-find_package(MPI REQUIRED COMPONENTS C)
+find_package(MPI QUIET COMPONENTS C)
 find_path(MUMPS_INCLUDE_DIR dmumps_c.h)
 
 find_library(MUMPS_DMUMPS_PTSCOTCH dmumps_ptscotch)
@@ -24,7 +24,7 @@ elseif(MUMPS_DMUMPS_PLAIN AND MUMPS_COMMON_PLAIN)
 endif()
 
 include(FindPackageHandleStandardArgs)
-find_package_handle_standard_args(MUMPS REQUIRED_VARS MUMPS_INCLUDE_DIR MUMPS_LIBRARIES)
+find_package_handle_standard_args(MUMPS REQUIRED_VARS MUMPS_INCLUDE_DIR MUMPS_LIBRARIES MPI_C_FOUND)
 
 if(MUMPS_FOUND AND NOT TARGET MUMPS::DMUMPS)
   add_library(MUMPS::DMUMPS INTERFACE IMPORTED)

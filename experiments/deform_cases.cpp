@@ -11,7 +11,7 @@
 
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
 #include "harness/deform_cell.h"
 #include "harness/driver.h"

@@ -31,12 +31,12 @@
 #include <Eigen/SVD>
 #include <fmt/format.h>
 
-#include "core/atomic_file.h"
+#include "solvers/base/atomic_file.h"
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 #include "core/timer.h"
 #include "edit/edit_io.h"
 #include "edit/transform.h"

@@ -31,9 +31,9 @@
 
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 #include "core/timer.h"
 #include "harness/positions.h"
 #include "harness/solver_cell.h"

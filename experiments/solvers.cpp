@@ -26,7 +26,7 @@
 
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
 #include "harness/driver.h"
 #include "harness/mesh_source.h"

@@ -17,12 +17,12 @@
 
 #include <fmt/format.h>
 
-#include "core/atomic_file.h"
+#include "solvers/base/atomic_file.h"
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 #include "harness/budget.h"
 #include "harness/csv_reader.h"
 #include "harness/deform_cell.h"

@@ -27,9 +27,9 @@
 
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 #include "harness/budget.h"
 #include "harness/cell_pattern.h"
 #include "harness/deform_cell.h"

@@ -8,7 +8,7 @@
 #include <Eigen/Cholesky>
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/backends.h"
 #include "solvers/blas_lapack.h"
 #include "solvers/solver_util.h"

@@ -4,7 +4,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/backends.h"
 #include "solvers/solver_util.h"
 

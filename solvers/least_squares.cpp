@@ -6,7 +6,7 @@
 #include <SuiteSparseQR.hpp>
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/solver_util.h"
 
 namespace db {

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "solvers/linear_solver.h"
 
 namespace db {

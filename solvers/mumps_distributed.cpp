@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/mumps_instance.h"
 #include "solvers/mumps_mpi.h"
 #include "solvers/solver_util.h"

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "solvers/linear_solver.h"
 #include "solvers/mumps_report.h"
 

@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/mumps_mpi.h"
 
 // Indices as in the MUMPS users' guide (1-based).

@@ -17,7 +17,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/backends.h"
 #include "solvers/mumps_distributed.h"
 #include "solvers/mumps_instance.h"

@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/backends.h"
 #include "solvers/linear_solver.h"
 
@@ -33,6 +33,7 @@ const std::vector<Entry>& table() {
       // The double factor with the same refinement: the exact solution of the system, to the tolerance.
       {{"multifrontal_refined", "sparse-cholesky", true, kCholmodOrderings, true},
        [](const SolverOptions& o) { return backends::make_multifrontal(o, backends::Precision::Refined); }},
+#ifdef DEFORMBENCH_HAVE_MUMPS  // absent from a build configured without MUMPS (CMakeLists.txt)
       {{"mumps", "sparse-cholesky", true, backends::mumps_orderings(), true, false},
        [](const SolverOptions& o) { return backends::make_mumps(o); }},
       // MUMPS's double factor with multifrontal_refined's refinement, on one process or under mpirun: the exact
@@ -40,6 +41,7 @@ const std::vector<Entry>& table() {
       // graph on one rank).
       {{"mumps_refined", "sparse-cholesky", true, backends::mumps_refined_orderings(), true, false},
        [](const SolverOptions& o) { return backends::make_mumps_on_ranks(o, true); }},
+#endif
       {{"cholmod_simplicial_ldlt", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(false, o); }},
       {{"dense_llt", "dense", true, kDenseOrderings},

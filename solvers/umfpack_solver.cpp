@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 #include <umfpack.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/backends.h"
 #include "solvers/solver_util.h"
 

@@ -1,7 +1,7 @@
 // Cell patterns and rules (harness/cell_pattern.h): the tracking suite written as data.
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "harness/cell_pattern.h"
 
 using namespace db;

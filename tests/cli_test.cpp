@@ -1,5 +1,5 @@
 // The command-line front (core/cli.h: validators, run's exit codes, output checks) and all-or-nothing outputs
-// (core/atomic_file.h).
+// (solvers/base/atomic_file.h).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "core/atomic_file.h"
+#include "solvers/base/atomic_file.h"
 #include "core/cli.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 namespace {

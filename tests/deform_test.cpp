@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit_io.h"
 #include "exact_deformation.h"
 #include "edit/transform.h"

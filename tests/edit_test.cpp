@@ -11,7 +11,7 @@
 
 #include <Eigen/Geometry>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit.h"
 #include "edit/edit_io.h"
 #include "edit/selection.h"

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "mesh/mesh.h"
 #include "mesh/procedural.h"
 #include "operators/frames.h"

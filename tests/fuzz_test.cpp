@@ -36,7 +36,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit_io.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"

@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit.h"
 #include "edit/edit_io.h"
 #include "harness/budget.h"

@@ -15,7 +15,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/input_file.h"
 #include "edit/edit_io.h"
 #include "edit/selection.h"

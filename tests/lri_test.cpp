@@ -8,7 +8,7 @@
 
 #include <Eigen/SVD>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/transform.h"
 #include "mesh/procedural.h"
 #include "methods/deformer.h"

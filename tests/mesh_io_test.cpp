@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "mesh/mesh.h"
 #include "mesh/procedural.h"
 #include "test_util.h"

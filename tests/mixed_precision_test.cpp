@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit_io.h"
 #include "methods/deformer.h"
 #include "methods/normalization.h"

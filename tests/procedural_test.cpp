@@ -8,7 +8,7 @@
 
 #include <Eigen/Geometry>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"

@@ -8,7 +8,7 @@
 #include <numeric>
 #include <string>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit.h"
 #include "mesh/mesh.h"
 #include "mesh/procedural.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/transform.h"
 #include "exact_deformation.h"
 #include "methods/deformer.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit.h"
 #include "mesh/mesh.h"
 #include "mesh/procedural.h"

@@ -7,7 +7,7 @@
 
 #include <Eigen/Dense>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/transform.h"
 #include "mesh/procedural.h"
 #include "methods/deformer.h"

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "solvers/multifrontal/matrix_chunk.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"

@@ -10,7 +10,7 @@
 //! once per thread.
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "solvers/multifrontal/symbolic.h"
 
 namespace db::multifrontal {

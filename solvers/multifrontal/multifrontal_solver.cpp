@@ -27,8 +27,8 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "solvers/backends.h"
 #include "solvers/multifrontal/float_factor.h"
 #include "solvers/multifrontal/front.h"

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "solvers/multifrontal/triangular_solve.h"
 
 namespace db::multifrontal {

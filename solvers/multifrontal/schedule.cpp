@@ -6,7 +6,7 @@
 
 #include <dlfcn.h>
 
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 #include "solvers/multifrontal/storage.h"
 
 namespace db::multifrontal {

@@ -16,7 +16,7 @@
 
 #include <sys/mman.h>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 
 namespace db::multifrontal {
 

@@ -7,7 +7,7 @@
 #include <cholmod.h>
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/ordering/graph_ordering.h"
 

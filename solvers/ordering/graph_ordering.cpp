@@ -10,8 +10,8 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "solvers/ordering/cholmod_views.h"
 #include "solvers/ordering/ordering_cache.h"
 

@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
+#include "solvers/base/atomic_file.h"
+#include "solvers/base/error.h"
 
 namespace db {
 namespace {

@@ -12,8 +12,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "solvers/least_squares.h"
 #include "solvers/linear_solver.h"
 #include "solvers/tests/exact_reference.h"

@@ -6,7 +6,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/linear_solver.h"
 #include "solvers/tests/exact_reference.h"
 

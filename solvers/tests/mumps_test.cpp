@@ -12,7 +12,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/linear_solver.h"
 #include "solvers/mumps_distributed.h"
 #include "solvers/mumps_instance.h"

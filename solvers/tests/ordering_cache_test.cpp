@@ -11,7 +11,7 @@
 #include <cholmod.h>
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "solvers/ordering/graph_ordering.h"
 #include "solvers/ordering/ordering_cache.h"
 

@@ -4,7 +4,7 @@
 
 #include "applications/parameter_map.h"
 #include "applications/tangent_frames.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/timer.h"
 
 namespace db {

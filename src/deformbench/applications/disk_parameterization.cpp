@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 namespace {

@@ -7,7 +7,7 @@
 //! transfer onto a surface's own smooth version exact). Solved as the minimum of the Dirichlet energy
 //! sum_edges |u_i - u_j|^2 with the boundary fixed, through systems/min_quad_with_fixed.h.
 #include "applications/disk_patch.h"
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "systems/min_quad_with_fixed.h"
 
 namespace db {

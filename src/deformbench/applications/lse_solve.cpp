@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/timer.h"
 #include "methods/deformer.h"
 #include "operators/energy_operator.h"

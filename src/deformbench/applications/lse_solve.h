@@ -10,7 +10,7 @@
 //! systems/min_quad_with_fixed.h factors and solves.
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 #include "systems/min_quad_with_fixed.h"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 namespace {

@@ -9,7 +9,7 @@
 #include "applications/disk_parameterization.h"
 #include "applications/parameter_map.h"
 #include "applications/zipper.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/timer.h"
 #include "operators/frames.h"
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 namespace {

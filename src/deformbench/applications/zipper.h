@@ -10,7 +10,7 @@
 //! would retriangulate the band without the correspondence the shared parameterization already gives.
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 
 namespace db {
 

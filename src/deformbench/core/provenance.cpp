@@ -12,7 +12,7 @@
 
 #include <fmt/format.h>
 
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 
 namespace db {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 

@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/input_file.h"
 #include "edit/selection.h"
 #include "edit/transform.h"

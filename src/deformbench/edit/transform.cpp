@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit_io.h"
 
 namespace db {

@@ -6,7 +6,7 @@
 //! - the long axis is +z; cylinder and bar occupy z in [0, height]; the plane lies in z = 0 plus bumps;
 //! - faces are counter-clockwise seen from outside (outward normals);
 //! - resolutions below the minimum and non-positive sizes are InputError.
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 
 namespace db {

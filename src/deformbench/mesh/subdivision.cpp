@@ -8,7 +8,7 @@
 #pragma GCC diagnostic pop
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 

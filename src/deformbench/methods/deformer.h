@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "edit/edit.h"
 #include "mesh/mesh.h"
 #include "operators/laplacian.h"

@@ -1,7 +1,7 @@
 #pragma once
 //! A handle drag: the frames of an interactive edit interpolate the identity to the final handle transform, or
 //! (an edit with per-vertex targets) take its target frames in turn.
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "edit/edit.h"
 #include "methods/deformer.h"
 

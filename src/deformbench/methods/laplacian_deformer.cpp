@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "core/timer.h"
 #include "solvers/mumps_mpi.h"
 #include "systems/vertex_ordering.h"

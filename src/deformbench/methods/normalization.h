@@ -5,7 +5,7 @@
 //! global system indefinite (the BS08 cactus case). It also makes every geometric test that follows (TF's
 //! collinearity check, degenerate frames) independent of the model's scale: a mesh scaled by 1e200 or 1e-300
 //! deforms like the unscaled one.
-#include "core/types.h"
+#include "solvers/base/types.h"
 
 namespace db {
 

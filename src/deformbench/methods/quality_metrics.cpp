@@ -7,7 +7,7 @@
 
 #include <Eigen/SVD>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "operators/frames.h"
 
 namespace db {

@@ -5,7 +5,7 @@
 #include <optional>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 
 namespace db {

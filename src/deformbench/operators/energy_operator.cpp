@@ -5,7 +5,7 @@
 
 #include <Eigen/Dense>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 #include "operators/laplacian.h"
 

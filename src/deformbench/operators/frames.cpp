@@ -8,7 +8,7 @@
 #include <Eigen/SVD>
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 

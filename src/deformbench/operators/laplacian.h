@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 
 namespace db {

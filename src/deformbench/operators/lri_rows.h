@@ -15,7 +15,7 @@
 #include <functional>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 
 namespace db {

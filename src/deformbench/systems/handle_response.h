@@ -13,7 +13,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "systems/min_quad_with_fixed.h"
 
 namespace db {

@@ -15,7 +15,7 @@
 //! There is no dense build.
 #include <cstddef>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 #include "operators/lri_rows.h"
 #include "systems/normal_system.h"

@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "solvers/linear_solver.h"
 #include "systems/normal_system.h"
 

@@ -4,8 +4,8 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "core/timer.h"
 #include "systems/build_detail.h"
 

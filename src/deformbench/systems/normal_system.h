@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "mesh/mesh.h"
 #include "operators/energy_operator.h"
 

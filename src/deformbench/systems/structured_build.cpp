@@ -4,7 +4,7 @@
 // range of block columns only, as the threads do (each generates the row blocks that touch its columns).
 #include <algorithm>
 
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 #include "systems/build_detail.h"
 
 namespace db::detail {

@@ -6,7 +6,7 @@
 #include <memory>
 #include <thread>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/timer.h"
 #include "solvers/ordering/graph_ordering.h"
 #include "systems/build_detail.h"

@@ -4,7 +4,7 @@
 //! stays independent of the others, the parent compares after the cells have run.
 #include <string>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 
 namespace db::harness {
 

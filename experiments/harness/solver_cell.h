@@ -24,7 +24,7 @@
 //! equations its solution satisfies, and error_exact uses b = A x_ref.
 #include <string>
 
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "harness/cell.h"
 #include "harness/runner.h"
 #include "systems/normal_system.h"

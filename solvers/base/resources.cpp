@@ -1,4 +1,4 @@
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 
 #include <sys/mman.h>
 #include <unistd.h>

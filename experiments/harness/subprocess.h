@@ -47,7 +47,7 @@ std::vector<std::pair<std::string, std::string>> parse_result_line(const std::st
 struct CellOutcome {
   std::string status = "ok";  //!< ok | #over (BudgetError) | error
   std::string message;
-  int exit_code = 0;  //!< the process exit code (core/error.h's codes)
+  int exit_code = 0;  //!< the process exit code (solvers/base/error.h's codes)
 };
 
 //! Runs a cell's measurement in the child and turns what `measure` throws into the outcome. Never throws.

@@ -1,4 +1,4 @@
-#include "core/atomic_file.h"
+#include "solvers/base/atomic_file.h"
 
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 
 namespace db {
 

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "core/timer.h"
 #include "harness/cpu_timer.h"
 #include "harness/positions.h"

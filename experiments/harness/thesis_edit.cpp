@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "edit/edit_io.h"
 #include "edit/selection.h"
 #include "edit/transform.h"

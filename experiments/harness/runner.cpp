@@ -11,8 +11,8 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "harness/machine_rates.h"
 #include "harness/subprocess.h"
 #include "mesh/mesh_io.h"

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "methods/deformer.h"
 #include "operators/energy_operator.h"
 #include "solvers/linear_solver.h"

@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "edit/edit_io.h"
 #include "harness/cpu_timer.h"
 #include "harness/machine_rates.h"

@@ -5,10 +5,10 @@
 #include <numeric>
 #include <vector>
 
-#include "core/error.h"
-#include "core/resources.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "core/timer.h"
-#include "core/types.h"
+#include "solvers/base/types.h"
 #include "solvers/blas_lapack.h"
 
 namespace db::harness {
