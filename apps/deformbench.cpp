@@ -16,13 +16,13 @@
 #include <fmt/format.h>
 
 #include "commands/commands.h"
-#include "core/atomic_file.h"
+#include "solvers/base/atomic_file.h"
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/input_file.h"
 #include "core/provenance.h"
-#include "core/resources.h"
+#include "solvers/base/resources.h"
 #include "edit/edit_io.h"
 #include "edit/transform.h"
 #include "harness/cell.h"

@@ -32,7 +32,7 @@
 #include <fmt/format.h>
 
 #include "core/cli.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
 #include "harness/thesis_edit.h"
 #include "mesh/mesh_io.h"

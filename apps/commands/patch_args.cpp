@@ -2,10 +2,10 @@
 
 #include <fmt/format.h>
 
-#include "core/atomic_file.h"
+#include "solvers/base/atomic_file.h"
 #include "core/cli.h"
 #include "core/csv.h"
-#include "core/error.h"
+#include "solvers/base/error.h"
 #include "core/provenance.h"
 #include "edit/selection.h"
 #include "mesh/mesh_io.h"
