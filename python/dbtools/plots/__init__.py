@@ -1,0 +1,5 @@
+"""The figures, one module per experiment named after it (applications, frames, solvers, table_2_1; history: the
+tracking suite's trend view), each drawing PNGs from the CSVs only, into RESULTS/figures; render_meshes draws the
+frames study's meshes (and holds the mesh drawing applications uses), styles is the one colour + marker table.
+Every module's plot(results, out) is what the report step (dbtools.report) calls; each also runs alone:
+python3 -m dbtools.plots.NAME --results DIR [--out DIR]."""
