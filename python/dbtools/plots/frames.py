@@ -6,7 +6,7 @@
   frames_twist.png          chained bar twists: distance to the ideal and volume change against the number of turns
 Every series has its own colour and marker (styles.py); a bar carries its series' marker on its top.
 
-usage: python3 -m dbtools.plots.frames [--results results] [--out RESULTS/figures]
+drawn by the report step: python3 -m dbtools.report --only frames (figures into RESULTS/figures)
 """
 import csv
 import math
@@ -19,7 +19,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from .cli import out_dir, parser  # noqa: E402
 from .styles import styles  # noqa: E402
 
 MAIN = [  # (config, label)
@@ -182,12 +181,3 @@ def plot(results, out):
         if p:
             print(f"frames: wrote {p}", file=sys.stderr)
     return 0
-
-
-def main(argv=None):
-    a = parser(__doc__).parse_args(argv)
-    return plot(a.results, out_dir(a))
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,6 +1,6 @@
 """Plots of the solver-choice experiment (experiments/solvers.cpp). Reads CSVs only, never recomputes.
 
-  python3 -m dbtools.plots.solvers [--results results] [--out RESULTS/figures]
+  drawn by the report step: python3 -m dbtools.report --only solvers (figures into RESULTS/figures)
 
 Reads RESULTS/solvers.csv (and RESULTS/solvers_blas_*.csv when present) and writes
   OUT/solvers_factorize_vs_solve.png  factorize against per-solve time, per backend (default ordering)
@@ -21,7 +21,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from ..reports.kernel_sets import kernel_sets  # noqa: E402
-from .cli import out_dir, parser  # noqa: E402
 from .styles import styles  # noqa: E402
 
 SYSTEMS = ["lap", "tf"]  # a panel per system that has cells (systems_in)
@@ -221,12 +220,3 @@ def plot(results, out):
     plot_orderings(cells, meta, out)
     plot_blas(results, out)
     return 0
-
-
-def main(argv=None):
-    a = parser(__doc__).parse_args(argv)
-    return plot(a.results, out_dir(a))
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,6 +1,6 @@
 """Plots of thesis Table 2-1 (experiments/table_2_1.cpp). Reads CSVs only, never recomputes a measurement.
 
-  python3 -m dbtools.plots.table_2_1 [--results results] [--out RESULTS/figures]
+  drawn by the report step: python3 -m dbtools.report --only table_2_1 (figures into RESULTS/figures)
 
 Reads RESULTS/table_2_1.csv, table_2_1_thesis.csv, scaling.csv and scaling_fits.csv and writes
   OUT/table_2_1_memory.png  peak RSS per cell against #V, log-log, the thesis' TF memory before / after overlaid;
@@ -24,7 +24,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from .cli import out_dir, parser  # noqa: E402
 from .styles import styles  # noqa: E402
 
 MIB = 1024.0 * 1024.0
@@ -211,12 +210,3 @@ def plot(results, out):
     plot_table(results, out)
     plot_scaling(results, out)
     return 0
-
-
-def main(argv=None):
-    a = parser(__doc__).parse_args(argv)
-    return plot(a.results, out_dir(a))
-
-
-if __name__ == "__main__":
-    sys.exit(main())
