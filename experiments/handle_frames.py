@@ -57,8 +57,8 @@ def write_csv(rows, path):
         w.writeheader()
         w.writerows(rows)
     os.replace(path + ".tmp", path)
-    print(f"[handle_frames] wrote {path}; its report: PYTHONPATH=python /usr/bin/python3 -m dbtools.report --only "
-          "handle_frames", file=sys.stderr)
+    print(f"[handle_frames] wrote {path}; its report: PYTHONPATH=python /usr/bin/python3 -m dbtools.report --results "
+          f"{os.path.dirname(path) or '.'} --only handle_frames", file=sys.stderr)
 
 
 def provenance(build):

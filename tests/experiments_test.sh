@@ -118,6 +118,10 @@ expect "a failed figure module" 1 "figures failed: render_meshes" -- report --re
 [ -s "$T/broken_figures/figures/frames_quality.png" ] && grep -q "^# Does the LRI" "$T/broken_figures/frames.md" &&
   grep -q "^# The thesis' figures" "$T/broken_figures/figures.md" && ok "the other figures and the reports still written" ||
   fail "a failed figure module stopped the step: $(ls "$T/broken_figures" "$T/broken_figures/figures" 2>&1 | tr '\n' ' ')"
+# One Python package, imported as such: no module patches sys.path to find another.
+patched=$(grep -rln "sys\.path" python experiments)
+[ -z "$patched" ] && ok "no sys.path patching under python/ and experiments/" || fail "sys.path patched in: $patched"
+
 # The handle-frames driver (experiments/handle_frames.py: minutes on the armadillo, so not run here) and its report,
 # written by the report step from the CSVs of its kept record.
 expect "handle_frames driver --help" 0 "usage: handle_frames" -- "$PY" experiments/handle_frames.py --help
