@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The measurements ./run reproduce runs, in order. Each driver reads its config (data/experiments/NAME.toml) and
-# writes CSVs only (atomically); ./run then draws the plots and, after them, writes the Markdown reports from the
-# CSVs (scripts/reports.sh). A driver that fails (exit 5: a cell failed, its other cells written; or any other error)
+# writes CSVs only (atomically) under results/; ./run then runs the report step (python3 -m dbtools.report), which
+# draws the figures into results/figures/ and, after them, writes the Markdown reports from the CSVs. A driver that fails (exit 5: a cell failed, its other cells written; or any other error)
 # does not stop the others: every driver runs, then the script exits with the first failure's code, naming every
 # failed driver on stderr and, when EXPERIMENTS_FAILED names a file, in that file (one line each).
 # usage: scripts/experiments.sh BUILD_DIR [--full]
@@ -81,7 +81,7 @@ step frames "$BUILD/exp_frames" --config "$CONF/frames.toml" --data "$ROOT/data"
   --meshes "$ROOT/results/meshes/frames"
 
 # The LSE report's other applications: coating transfer and transplanting on the BS08 plane, the CGAL bunny and a
-# procedural plane; meshes for plots/render_app.py.
+# procedural plane; meshes for the renders (dbtools/plots/applications.py).
 log "applications (coating transfer, transplanting)"
 step applications "$BUILD/exp_applications" --config "$CONF/applications.toml" --data "$ROOT/data" \
   --out "$ROOT/results/applications.csv" --meshes "$ROOT/results/meshes/applications"

@@ -24,5 +24,5 @@ jid=$(sbatch --parsable --job-name="db-$driver" --array="1-$n" --nodes=1 --exclu
 results=results
 for ((i = 1; i <= $#; ++i)); do [ "${!i}" = --results ] && { j=$((i + 1)); results=${!j}; }; done
 sbatch --parsable --job-name="db-$driver-merge" --dependency="afterok:$jid" "${extra[@]}" \
-  --wrap="$exe$args --merge-shards $n && /usr/bin/python3 experiments/reports/report.py --results $(printf %q "$results")"
+  --wrap="$exe$args --merge-shards $n && PYTHONPATH=python /usr/bin/python3 -m dbtools.report --only $driver --results $(printf %q "$results")"
 echo "submitted shards $jid (1-$n) and their merge" >&2

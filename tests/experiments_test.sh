@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The experiment drivers end to end: strict command lines (generated --help, misspelled options and config keys,
 # numbers out of range, unwritable outputs: exit 1, nothing written), the shipped configs (data/experiments/*.toml
-# load and give the grids), a tiny run of every driver on a bundled mesh, and the report step on its CSVs.
+# load and give the grids), a tiny run of every driver on a bundled mesh, and the report step (dbtools.report) on
+# its CSVs: figures under RESULTS/figures/ and nowhere else, then the reports citing them.
 #   experiments_test.sh SOURCE_DIR BUILD_DIR
 set -u
 SRC=$1
@@ -10,6 +11,8 @@ BIN=$2
 cd "$SRC" || exit 1
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=python3
+export PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1  # the one Python package, run as $PY -m dbtools.<module>
+report() { "$PY" -m dbtools.report "$@"; }  # the report step
 
 
 # expect NAME EXIT_CODE MESSAGE_REGEX -- driver args...
@@ -66,32 +69,35 @@ expect "deform_cases tiny run" 0 "wrote" -- "$BIN/exp_deform_cases" --case bar=b
   --out "$R/deform_cases.csv"
 expect "applications tiny run" 0 "wrote" -- "$BIN/exp_applications" --meshes "$R/meshes/applications" \
   --case "flat: coat source=bs08/plane.off target=plane:20:20:1:0:1 target_region=sphere:0,0,0,0.4" --out "$R/applications.csv"
-# The step after the drivers, as ./run reproduce runs it: every plot, then every report, which cite them.
-expect "plots, then reports" 0 "frames.md: written" -- bash scripts/reports.sh "$R" "$R/plots" "$PY"
+# The step after the drivers, as ./run reproduce runs it: every figure, then every report, which cite them. It
+# writes under the results directory only: no figure anywhere else (a source folder such as the old plots/).
+touch "$T/before_report"
+expect "figures, then reports" 0 "frames.md: written" -- report --results "$R"
 for png in render_app_flat render_bar table_2_1_memory table_2_1_init scaling solvers_orderings frames_quality; do
-  [ -s "$R/plots/$png.png" ] && ok "plot $png.png" || fail "no plot $png.png"
+  [ -s "$R/figures/$png.png" ] && ok "figure $png.png" || fail "no figure $png.png"
 done
+strays=$(find "$SRC" "$T" -path "$SRC/build*" -prune -o -name '*.png' -newer "$T/before_report" -print | grep -v "^$R/figures/")
+[ -z "$strays" ] && ok "every figure under RESULTS/figures" || fail "figures outside RESULTS/figures: $strays"
 grep -Eq 'png` *\(?missing' "$R"/*.md && fail "a report cites a missing figure: $(grep -Eho '[a-z_0-9]*\.png` *\(?missing' "$R"/*.md)" \
   || ok "no report cites a missing figure"
-[ ! -e "$R/plots/solvers_blas.png" ] && grep -q "no kernel comparison" "$R/solvers.md" \
+[ ! -e "$R/figures/solvers_blas.png" ] && grep -q "no kernel comparison" "$R/solvers.md" \
   && ok "one BLAS kernel set: no comparison, and the report says so" || fail "a BLAS comparison of one kernel set"
 # Kernel sets are told apart by the core OpenBLAS reported: a second run on this run's core is left out, a run on
 # another core is compared, and two cores that load the same kernels (data/experiments/blas_kernel_sets.txt) count
 # once. The copies below stand for such runs.
-blas_step() { "$PY" plots/solvers.py --results "$R" --out "$R/plots" 2>/dev/null &&
-  "$PY" experiments/reports/report.py --results "$R" --only solvers 2>/dev/null; }
+blas_step() { report --results "$R" --only solvers 2>/dev/null; }
 as_core() {  # as_core CORE NAME: solvers.csv with another blas_core, as results/solvers_blas_NAME.csv
   "$PY" -c 'import csv, sys; r = list(csv.DictReader(open(sys.argv[1]))); w = csv.DictWriter(open(sys.argv[2], "w"), r[0].keys())
 w.writeheader(); w.writerows(dict(x, blas_core=sys.argv[3]) for x in r)' "$R/solvers.csv" "$R/solvers_blas_$2.csv" "$1"; }
 cp "$R/solvers.csv" "$R/solvers_blas_same.csv"
-blas_step && [ ! -e "$R/plots/solvers_blas.png" ] && grep -q "solvers_blas_same.csv. reports core .*: left out" "$R/solvers.md" \
+blas_step && [ ! -e "$R/figures/solvers_blas.png" ] && grep -q "solvers_blas_same.csv. reports core .*: left out" "$R/solvers.md" \
   && ok "a kernel set run twice is not compared with itself" || fail "a kernel set compared with itself"
 as_core OtherCore other && as_core Cooperlake x1 && as_core SapphireRapids x2
-blas_step && [ -s "$R/plots/solvers_blas.png" ] && grep -q "^### .* core OtherCore" "$R/solvers.md" \
+blas_step && [ -s "$R/figures/solvers_blas.png" ] && grep -q "^### .* core OtherCore" "$R/solvers.md" \
   && grep -q "solvers_blas_x2.csv. reports core SapphireRapids, which loads the SkylakeX kernels of the" "$R/solvers.md" \
   && ok "distinct kernel sets compared, one set's two cores once" || fail "kernel sets: distinct not compared, or one twice"
-rm -f "$R"/solvers_blas_*.csv "$R/plots/solvers_blas.png"
-"$PY" -c 'import sys; sys.path.insert(0, "plots"); import styles; p = styles.check(); print(*p, sep="\n"); sys.exit(bool(p))' \
+rm -f "$R"/solvers_blas_*.csv "$R/figures/solvers_blas.png"
+"$PY" -c 'import sys; from dbtools.plots import styles; p = styles.check(); print(*p, sep="\n"); sys.exit(bool(p))' \
   && ok "style table: distinct colours and markers" || fail "style table"
 grep -q "^| cactus | lap | naive |" "$R/table_2_1.md" && ok "table_2_1.md has the cells" || fail "table_2_1.md lacks the cells"
 grep -q "^| cactus | lap | .* | spqr |" "$R/solvers.md" && ok "solvers.md has the spqr row" || fail "solvers.md lacks spqr"
@@ -103,7 +109,27 @@ grep -q "error_vs_cholmod" "$R/solvers.csv" && ok "error_vs_cholmod measured" ||
 grep -q "error_vs_refined" "$R/solvers.csv" && grep -q "^| cactus | lap | .* | ok |" <(sed -n '/^## Mixed precision/,/^## /p' "$R/solvers.md") \
   && ok "mixed row against double and refined, out of core" || fail "no mixed-precision row with error_vs_refined"
 grep -q ",peak_rss_bytes," "$R/frames.csv" || head -1 "$R/frames.csv" | grep -q "peak_rss_bytes" && ok "frames rows carry peak RSS" || fail "frames lacks peak_rss_bytes"
-expect "report unknown name" 1 "unknown report" -- "$PY" experiments/reports/report.py --results "$R" --only tables
+expect "report unknown name" 1 "unknown experiment" -- report --results "$R" --only tables
+expect "report on a missing directory" 1 "not a directory" -- report --results "$T/none"
+# A figure module that fails costs only its figures: the other figures and every report are written, exit 1.
+mkdir -p "$T/broken_figures/meshes/frames" && cp "$R"/frames*.csv "$T/broken_figures/"
+printf 'ply\nformat binary_little_endian 1.0\nelement vertex 3\n' >"$T/broken_figures/meshes/frames/x__rest.ply"
+expect "a failed figure module" 1 "figures failed: render_meshes" -- report --results "$T/broken_figures" --only frames
+[ -s "$T/broken_figures/figures/frames_quality.png" ] && grep -q "^# Does the LRI" "$T/broken_figures/frames.md" &&
+  grep -q "^# The thesis' figures" "$T/broken_figures/figures.md" && ok "the other figures and the reports still written" ||
+  fail "a failed figure module stopped the step: $(ls "$T/broken_figures" "$T/broken_figures/figures" 2>&1 | tr '\n' ' ')"
+# One Python package, imported as such: no module patches sys.path to find another.
+patched=$(grep -rln "sys\.path" python experiments)
+[ -z "$patched" ] && ok "no sys.path patching under python/ and experiments/" || fail "sys.path patched in: $patched"
+
+# The handle-frames driver (experiments/handle_frames.py: minutes on the armadillo, so not run here) and its report,
+# written by the report step from the CSVs of its kept record.
+expect "handle_frames driver --help" 0 "usage: handle_frames" -- "$PY" experiments/handle_frames.py --help
+mkdir -p "$T/hf" && cp results/records/2026-11-24-handle-frames/*.csv "$T/hf/"
+expect "handle_frames report from the record" 0 "handle_drags.md: written" -- report --results "$T/hf" --only handle_frames
+grep -q "^| armadillo_104k (soft) | tf | [0-9.]* | [0-9.]* |" "$T/hf/handle_frames.md" &&
+  grep -q "^| armadillo_26k | lap | 30 | [0-9.]* |" "$T/hf/handle_drags.md" && ok "handle_frames.md and handle_drags.md have the cases" ||
+  fail "handle_frames reports: $(grep -c '^| armadillo' "$T/hf"/handle_*.md | tr '\n' ' ')"
 
 # ---------------------------------------------------------------- timings carry their spread (min, max, repeats)
 grep -q ",frame_s,[^,]*,s," "$R/table_2_1.csv" && grep -q ",frame_min_s,[^,]*,s," "$R/table_2_1.csv" &&
@@ -154,8 +180,7 @@ for name, match, key in (("table_2_1.csv", lambda r: r["build"] == "structured",
         w.writeheader()
         w.writerows(rows)
 PYEOF
-expect "report on planted repeats" 0 "table_2_1.md: written" -- "$PY" experiments/reports/report.py --results "$T/planted" \
-  --only table_2_1,frames
+expect "report on planted repeats" 0 "table_2_1.md: written" -- report --results "$T/planted" --only table_2_1,frames
 grep -q '^| cactus | lap | structured | .*n=2) \*\*(!)\*\*' "$T/planted/table_2_1.md" &&
   grep -q '^| cactus | .* / [0-9.]* \*\*(!)\*\* |' "$T/planted/table_2_1.md" &&
   grep -q "more than 2x apart .*median may be unreliable" "$T/planted/table_2_1.md" &&
@@ -165,10 +190,10 @@ grep -q '^| bar | tf | .*n=4) \*\*(!)\*\* |' "$T/planted/frames.md" && grep -q "
   ok "frames.md flags the planted frame" || fail "frames.md does not flag the planted frame"
 
 # Reports get a new file's mode (0666 less the umask), as the CSVs do, not a temporary file's 0600.
-(umask 022 && "$PY" experiments/reports/report.py --results "$R" --only table_2_1 2>/dev/null)
+(umask 022 && report --results "$R" --only table_2_1 2>/dev/null)
 [ "$(stat -c %a "$R/table_2_1.md")" = 644 ] && [ "$(stat -c %a "$R/table_2_1.csv")" = "$(stat -c %a "$R/frames.md")" ] &&
   ok "reports are 0644 under umask 022, like the CSVs" || fail "report modes: $(stat -c '%n %a' "$R"/*.md "$R/table_2_1.csv")"
-(umask 027 && "$PY" experiments/reports/report.py --results "$R" --only table_2_1 2>/dev/null)
+(umask 027 && report --results "$R" --only table_2_1 2>/dev/null)
 [ "$(stat -c %a "$R/table_2_1.md")" = 640 ] && ok "a report respects the umask" || fail "umask 027 gave $(stat -c %a "$R/table_2_1.md")"
 
 # ---------------------------------------------------------------- a failed cell: every row written, exit 5

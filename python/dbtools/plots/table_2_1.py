@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """Plots of thesis Table 2-1 (experiments/table_2_1.cpp). Reads CSVs only, never recomputes a measurement.
 
-  table_2_1.py --results DIR --out DIR
+  drawn by the report step: python3 -m dbtools.report --only table_2_1 (figures into RESULTS/figures)
 
 Reads RESULTS/table_2_1.csv, table_2_1_thesis.csv, scaling.csv and scaling_fits.csv and writes
   OUT/table_2_1_memory.png  peak RSS per cell against #V, log-log, the thesis' TF memory before / after overlaid;
@@ -12,10 +11,9 @@ Reads RESULTS/table_2_1.csv, table_2_1_thesis.csv, scaling.csv and scaling_fits.
   OUT/scaling.png           structured build: init, factor bytes and frame time against #V with the fitted
                             power laws (exponents from scaling_fits.csv; a fit on fewer than MIN_FIT_POINTS
                             points is not drawn), each fit's n beside its r^2
-Every series has its own colour and marker (plots/styles.py). Run with Debian's /usr/bin/python3 (numpy +
+Every series has its own colour and marker (styles.py). Run with Debian's /usr/bin/python3 (numpy +
 matplotlib).
 """
-import argparse
 import csv
 import os
 import sys
@@ -26,8 +24,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from styles import styles  # noqa: E402
+from .styles import styles  # noqa: E402
 
 MIB = 1024.0 * 1024.0
 BUILDS = ("structured", "naive", "dense")
@@ -208,15 +205,8 @@ def plot_scaling(results, out):
     print(f"[plots] wrote {path}", file=sys.stderr)
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--results", default="results")
-    p.add_argument("--out", default="plots")
-    a = p.parse_args()
-    os.makedirs(a.out, exist_ok=True)
-    plot_table(a.results, a.out)
-    plot_scaling(a.results, a.out)
-
-
-if __name__ == "__main__":
-    main()
+def plot(results, out):
+    os.makedirs(out, exist_ok=True)
+    plot_table(results, out)
+    plot_scaling(results, out)
+    return 0

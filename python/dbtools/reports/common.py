@@ -1,6 +1,7 @@
 """What every report needs: reading the drivers' CSVs, formatting numbers, writing a file atomically.
 
-Standard library only, so the report step runs with any python3 (./run uses /usr/bin/python3, as for the plots).
+Standard library only: the reports run with any python3 (the report step, dbtools.report, also draws the figures
+and so needs Debian's /usr/bin/python3 with numpy and matplotlib).
 """
 import csv
 import math
@@ -10,6 +11,19 @@ import tempfile
 
 MIB = 1024.0 * 1024.0
 NAN = float("nan")
+FIGURES = "figures"  # the figures' folder under the results directory; reports cite them as figures/NAME.png
+
+
+def figures_dir(results):
+    """Where the figures of a results directory go (and where its reports look for them): RESULTS/figures."""
+    return os.path.join(results, FIGURES)
+
+
+def cite_figure(results, name, made_by):
+    """"`figures/NAME`", and " (missing: MADE_BY)" after it when RESULTS/figures/NAME is not there: the report step
+    draws the figures first, so a missing one is a figure its module did not draw."""
+    rel = f"{FIGURES}/{name}"
+    return f"`{rel}`" if os.path.exists(os.path.join(figures_dir(results), name)) else f"`{rel}` (missing: {made_by})"
 
 
 def read_rows(path):

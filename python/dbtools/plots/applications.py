@@ -1,16 +1,14 @@
-#!/usr/bin/env python3
 """Renders of the applications experiment (exp_applications: coating transfer, transplanting): one PNG per case,
 panels source (its patch orange), target (its patch orange), result, and the result's patch close up beside the
 target's (the same camera), so the transferred detail and the seam can be checked by eye.
 
 Reads results/meshes/applications/CASE__{source,target,result}.ply and CASE__{source_patch,patch,result_patch}.txt
 (the vertex ids of the source and target patches, and of the result's transferred or grafted part: a transplant's
-result is a joined mesh with its own faces, the graft and the zippered band blue); writes OUT/render_app_CASE.png. Drawing as plots/render_meshes.py (flat shading, orthographic, painter's
+result is a joined mesh with its own faces, the graft and the zippered band blue); writes OUT/render_app_CASE.png. Drawing as render_meshes.py (flat shading, orthographic, painter's
 algorithm), whose helpers it imports.
 
-usage: /usr/bin/python3 plots/render_app.py --results results --out plots [--cases SUBSTRING]
+usage: python3 -m dbtools.plots.applications [--results results] [--out RESULTS/figures] [--cases SUBSTRING]
 """
-import argparse
 import glob
 import os
 import sys
@@ -21,8 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from render_meshes import camera, draw, read_ply, shade  # noqa: E402
+from .cli import out_dir, parser  # noqa: E402
+from .render_meshes import camera, draw, read_ply, shade  # noqa: E402
 
 BASE = np.array([0.62, 0.66, 0.72])
 PATCH = np.array([0.95, 0.62, 0.25])
@@ -102,24 +100,27 @@ def render_case(case, d, out_dir):
     return path
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--results", default="results")
-    ap.add_argument("--out", default="plots")
+def plot(results, out, meshes=None, cases=""):
+    """Renders every case under MESHES (default RESULTS/meshes/applications) whose name contains `cases`."""
+    d = meshes or os.path.join(results, "meshes", "applications")
+    found = sorted(glob.glob(os.path.join(d, "*__result.ply")))
+    if not found:
+        print(f"applications: no meshes under {d} (run exp_applications first); nothing to render", file=sys.stderr)
+        return 0
+    os.makedirs(out, exist_ok=True)
+    for p in found:
+        case = os.path.basename(p)[: -len("__result.ply")]
+        if cases in case:
+            print(f"applications: wrote {render_case(case, d, out)}", file=sys.stderr)
+    return 0
+
+
+def main(argv=None):
+    ap = parser(__doc__)
     ap.add_argument("--meshes", default=None, help="default: RESULTS/meshes/applications")
     ap.add_argument("--cases", default="", help="render only cases whose name contains this")
-    a = ap.parse_args()
-    d = a.meshes or os.path.join(a.results, "meshes", "applications")
-    results = sorted(glob.glob(os.path.join(d, "*__result.ply")))
-    if not results:
-        print(f"render_app: no meshes under {d} (run exp_applications first); nothing to render", file=sys.stderr)
-        return 0
-    os.makedirs(a.out, exist_ok=True)
-    for p in results:
-        case = os.path.basename(p)[: -len("__result.ply")]
-        if a.cases in case:
-            print(render_case(case, d, a.out))
-    return 0
+    a = ap.parse_args(argv)
+    return plot(a.results, out_dir(a), a.meshes, a.cases)
 
 
 if __name__ == "__main__":

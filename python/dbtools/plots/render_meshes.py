@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Before/after renders of the frames experiment (exp_frames): one PNG per case, panels rest (coloured by role:
 fixed grey, free red, handle yellow, as in thesis fig. 4-4), the analytic ideal where there is one, and the results
 of LAP, TF (free and normalized scale) and LRI (every frame strategy with Gram-Schmidt, and first-neighbour frames
@@ -13,9 +12,9 @@ standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio,
 differ by too little to tell apart side by side, a grid of distance maps below the shapes colours each result by
 its per-vertex distance from LAP's, in rest bounding-box diagonals, with a colour bar.
 
-usage: /usr/bin/python3 plots/render_meshes.py --results results --out plots [--cases SUBSTRING] [--max-faces N]
+usage: python3 -m dbtools.plots.render_meshes [--results results] [--out RESULTS/figures] [--cases SUBSTRING]
+       [--max-faces N]
 """
-import argparse
 import glob
 import os
 import sys
@@ -29,6 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.cm import ScalarMappable  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from matplotlib.colors import Normalize  # noqa: E402
+
+from .cli import out_dir, parser  # noqa: E402
 
 PANELS = [
     ("rest", "rest (fixed / free / handle)"),
@@ -277,23 +278,17 @@ def render_case(case, files, out_dir, max_faces):
     return path
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--results", default="results")
-    ap.add_argument("--out", default="plots")
-    ap.add_argument("--meshes", default=None, help="default: RESULTS/meshes/frames")
-    ap.add_argument("--cases", default="", help="render only cases whose name contains this")
-    ap.add_argument("--max-faces", type=int, default=200000)
-    a = ap.parse_args()
-    mesh_dir = a.meshes or os.path.join(a.results, "meshes", "frames")
+def plot(results, out, meshes=None, cases="", max_faces=200000):
+    """Renders every case under MESHES (default RESULTS/meshes/frames) whose name contains `cases`."""
+    mesh_dir = meshes or os.path.join(results, "meshes", "frames")
     rests = sorted(glob.glob(os.path.join(mesh_dir, "*__rest.ply")))
     if not rests:
         print(f"render_meshes: no meshes under {mesh_dir} (run exp_frames first); nothing to render", file=sys.stderr)
         return 0
-    os.makedirs(a.out, exist_ok=True)
+    os.makedirs(out, exist_ok=True)
     for rest in rests:
         case = os.path.basename(rest)[: -len("__rest.ply")]
-        if a.cases not in case:
+        if cases not in case:
             continue
         files = {}
         for key, _ in PANELS:
@@ -301,10 +296,19 @@ def main():
             if os.path.exists(p):
                 files[key] = p
         files["roles"] = os.path.join(mesh_dir, f"{case}__roles.sel")
-        path = render_case(case, files, a.out, a.max_faces)
+        path = render_case(case, files, out, max_faces)
         if path:
             print(f"render_meshes: wrote {path}", file=sys.stderr)
     return 0
+
+
+def main(argv=None):
+    ap = parser(__doc__)
+    ap.add_argument("--meshes", default=None, help="default: RESULTS/meshes/frames")
+    ap.add_argument("--cases", default="", help="render only cases whose name contains this")
+    ap.add_argument("--max-faces", type=int, default=200000)
+    a = ap.parse_args(argv)
+    return plot(a.results, out_dir(a), a.meshes, a.cases, a.max_faces)
 
 
 if __name__ == "__main__":

@@ -1,15 +1,13 @@
-#!/usr/bin/env python3
 """Figures of the LRI frame experiment, from results/frames.csv only (written by exp_frames):
 
   frames_ideal.png          RMS distance to the analytic ideal per case and method / frame strategy
   frames_strategy_diff.png  largest vertex difference between frame strategies (Gram-Schmidt vs polar), log scale
   frames_quality.png        edge-length distortion, ARAP energy, LRI detail error, local normal deviation
   frames_twist.png          chained bar twists: distance to the ideal and volume change against the number of turns
-Every series has its own colour and marker (plots/styles.py); a bar carries its series' marker on its top.
+Every series has its own colour and marker (styles.py); a bar carries its series' marker on its top.
 
-usage: /usr/bin/python3 plots/frames.py --results results --out plots
+drawn by the report step: python3 -m dbtools.report --only frames (figures into RESULTS/figures)
 """
-import argparse
 import csv
 import math
 import os
@@ -21,8 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from styles import styles  # noqa: E402
+from .styles import styles  # noqa: E402
 
 MAIN = [  # (config, label)
     ("lap", "LAP"),
@@ -172,23 +169,15 @@ def fig_twist(rows, out):
     return path
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--results", default="results")
-    ap.add_argument("--out", default="plots")
-    a = ap.parse_args()
-    path = os.path.join(a.results, "frames.csv")
+def plot(results, out):
+    path = os.path.join(results, "frames.csv")
     if not os.path.exists(path):
-        print(f"frames.py: {path} missing (run exp_frames first); nothing to plot", file=sys.stderr)
+        print(f"frames: {path} missing (run exp_frames first); nothing to plot", file=sys.stderr)
         return 0
     rows, cases, by = load(path)
-    os.makedirs(a.out, exist_ok=True)
-    for p in (fig_ideal(cases, by, a.out), fig_strategy_diff(cases, by, a.out), fig_quality(cases, by, a.out),
-              fig_twist(rows, a.out)):
+    os.makedirs(out, exist_ok=True)
+    for p in (fig_ideal(cases, by, out), fig_strategy_diff(cases, by, out), fig_quality(cases, by, out),
+              fig_twist(rows, out)):
         if p:
-            print(f"frames.py: wrote {p}", file=sys.stderr)
+            print(f"frames: wrote {p}", file=sys.stderr)
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,13 +1,14 @@
 """Which BLAS kernel set runs of the solver study (results/solvers.csv and solvers_blas_*.csv) are distinct, for the
-report (experiments/reports/solvers.py) and the plot (plots/solvers.py) alike. A run's kernel set is the core OpenBLAS
+report (dbtools/reports/solvers.py) and the plot (dbtools/plots/solvers.py) alike. A run's kernel set is the core OpenBLAS
 reported in its rows (blas_core), or the set data/experiments/blas_kernel_sets.txt maps that core to. Standard
 library only."""
 import glob
 import os
 
-from common import provenance, read_rows
+from .common import provenance, read_rows
 
-ALIASES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data", "experiments",
+# python/dbtools/reports/ -> the repository's data/experiments/
+ALIASES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "data", "experiments",
                        "blas_kernel_sets.txt")
 
 

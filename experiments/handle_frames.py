@@ -1,8 +1,12 @@
 #!/usr/bin/python3
-"""Handle-mode frames against full-mode frames (issue 16): frame medians of both modes, the precompute, the
-responses' bytes against the memory read rate, and how far the two modes' results lie apart.
+"""The handle-frames driver (issue 16): handle-mode frames against full-mode frames: frame times of both modes, the
+precompute, the responses' bytes against the memory read rate, and how far the two modes' results lie apart. A
+driver: it writes CSV only; the report step (python3 -m dbtools.report --only handle_frames) writes the Markdown.
+Not part of ./run reproduce (it runs the 26k and 104k armadillo for minutes): the run kept is a record,
+results/records/2026-11-24-handle-frames/.
 
-  scripts/handle_frames.py [--build DIR] [--results DIR] [--repeats R] [--frames F] [--quick]
+  experiments/handle_frames.py [--build DIR] [--results DIR] [--repeats R] [--frames F] [--quick] [--drags]
+  (from the repository root, with Debian's /usr/bin/python3: numpy)
 
 Each case is a deform cell (harness/deform_cell.h) with handle_frames=1, run in a fresh process of
 exp_table_2_1 --cell: one init, the drag in full mode, then the same factored systems precompute their handle
@@ -15,21 +19,19 @@ Every case runs once more per round on the multifrontal_refined backend (3 frame
 the exact solution in both modes, so their difference (`refined:handle_vs_full`) is the handle-mode precompute's
 own error, free of the default backend's rounding of these ill-conditioned systems (the default backend's
 difference is recorded beside it; its full frame stays the thesis' one solve).
-Writes RESULTS/handle_frames.csv (long: case, measure, value, unit, with provenance) and RESULTS/handle_frames.md.
---quick: the 26k tier and one BS08 edit, one round (a smoke run). --report-only: rewrite the .md from the .csv.
---note TEXT: a paragraph for the .md (e.g. the machine's load during the run).
+Writes RESULTS/handle_frames.csv (long: case, measure, value, unit, with provenance).
+--quick: the 26k tier and one BS08 edit, one round (a smoke run).
 
 --drags: instead, per-vertex drags (an edit's `targets` file) against full frames, to find the handle size up to
 which handle-mode frames pay: for each tier, method (lap, tf; soft constraints) and handle size h (the h vertices
 nearest the armadillo's head, lifted and bent: a smooth, non-affine drag; its feet, the lowest 5%, fixed), `deformbench deform` runs in
 full mode and in handle mode (--handle-limit 1e6: no fallback), one process each, paired back to back; rounds
-interleave the cases. Writes RESULTS/handle_drags.csv and RESULTS/handle_drags.md (frame medians, precompute,
-responses against the factor's bytes, the frames after which the precompute has paid, the two modes' difference).
+interleave the cases. Writes RESULTS/handle_drags.csv (frame medians, precompute, responses and the factor's bytes,
+the two modes' difference, the load average).
 """
 import argparse
 import csv
 import os
-import statistics
 import subprocess
 import sys
 
@@ -55,6 +57,8 @@ def write_csv(rows, path):
         w.writeheader()
         w.writerows(rows)
     os.replace(path + ".tmp", path)
+    print(f"[handle_frames] wrote {path}; its report: PYTHONPATH=python /usr/bin/python3 -m dbtools.report --results "
+          f"{os.path.dirname(path) or '.'} --only handle_frames", file=sys.stderr)
 
 
 def provenance(build):
@@ -69,24 +73,11 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--frames", type=int, default=20)
     ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--report-only", action="store_true")
-    ap.add_argument("--note", default="")
     ap.add_argument("--drags", action="store_true")
     ap.add_argument("--sizes", default="", help="--drags: handle sizes, e.g. 10,30,100 (default per tier/method)")
     a = ap.parse_args()
-    if a.drags and not a.report_only:
+    if a.drags:
         drags(a)
-        return
-    path = os.path.join(a.results, "handle_frames.csv")
-    if a.report_only and a.drags:
-        with open(os.path.join(a.results, "handle_drags.csv"), newline="") as f:
-            rows = list(csv.DictReader(f))
-        drags_report(rows, os.path.join(a.results, "handle_drags.md"), rows[0], a.note)
-        return
-    if a.report_only:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-        report(rows, os.path.join(a.results, "handle_frames.md"), rows[0], a.note)
         return
     timed = TIMED[:1] if a.quick else TIMED
     bs08 = BS08[-1:] if a.quick else BS08
@@ -131,15 +122,14 @@ def main():
                      ["kind=deform", f"edit=data/bs08/{stem}", f"model=bs08_{stem}", f"method={method}",
                       f"constraints={constraints}"], 5)
     os.makedirs(a.results, exist_ok=True)
-    write_csv(rows, path)
-    report(rows, os.path.join(a.results, "handle_frames.md"), prov, a.note)
+    write_csv(rows, os.path.join(a.results, "handle_frames.csv"))
 
 
 DRAG_SIZES = {("armadillo_26k", "lap"): [30, 100, 300, 1000], ("armadillo_26k", "tf"): [10, 30, 100, 300],
               ("armadillo_104k", "lap"): [100, 300, 1000], ("armadillo_104k", "tf"): [10, 30, 100]}
 HEAD = (-20.2599, 97.1076, -28.8554)  # the timing edits' handle centre (data/edits/armadillo_whole.edit)
 DRAG_MESH = {"armadillo_26k": "data/meshes/armadillo.off", "armadillo_104k": "data/generated/armadillo_loop1.off"}
-TARGETS_H = 30  # the timing cases' per-vertex drag: responses a third of the factor's bytes (handle_drags.md)
+TARGETS_H = 30  # the timing cases' per-vertex drag (handle_drags.md: where handle frames stop paying)
 
 
 def read_off(path):
@@ -218,91 +208,7 @@ def drags(a):
                     rows.append({"case": tier, "method": method, "handle": h, "round": rnd, "frames": a.frames,
                                  "measure": k, "value": repr(v), "command": cfull + " ; " + chand, **prov})
     os.makedirs(a.results, exist_ok=True)
-    path = os.path.join(a.results, "handle_drags.csv")
-    write_csv(rows, path)
-    drags_report(rows, os.path.join(a.results, "handle_drags.md"), prov, a.note)
-
-
-def drags_report(rows, path, prov, note):
-    keys = sorted({(r["case"], r["method"], int(r["handle"])) for r in rows},
-                  key=lambda k: (k[0] != "armadillo_26k", k[1], k[2]))
-    med = lambda k, m: statistics.median(float(r["value"]) for r in rows  # noqa: E731
-                                         if (r["case"], r["method"], int(r["handle"]), r["measure"]) == (*k, m))
-    out = ["# Per-vertex drags: handle-mode frames against full frames (issue 16, item 3)\n",
-           f"git {prov.get('git_sha')}, {prov.get('cpu')}, {prov.get('blas')} ({prov.get('blas_core')}), "
-           f"{prov.get('build_threads')} worker threads, {prov.get('timestamp')}. Each case: the h vertices nearest the "
-           "armadillo's head lifted by 5% of the diagonal and bent across the handle (a smooth, non-affine drag), the feet "
-           "(lowest 5% of the height) fixed, soft constraints (every vertex an unknown), `deformbench deform` "
-           "in full mode and in handle mode (`--handle-limit 1e6`), paired back to back, rounds interleaving the cases; "
-           "medians over the rounds. `bytes ratio` = the responses one handle frame streams over the factor's bytes; "
-           "`pays after` = the frames after which init + precompute + frames in handle mode cost less than init + "
-           "frames in full mode (precompute / (full - handle)). Produced by `scripts/handle_frames.py --drags "
-           f"--repeats {max(int(r['round']) for r in rows)} --frames {rows[0]['frames']}`; the exact commands are in "
-           "handle_drags.csv.\n", note + "\n" if note else "",
-           "| case | method | h | full frame ms | handle frame ms | full / handle | responses MB | factor MB | "
-           "bytes ratio | precompute s | pays after (frames) | handle vs full | load | rounds |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for k in keys:
-        g = lambda m: med(k, m)  # noqa: E731
-        gain = g("full_frame_s") - g("handle_frame_s")
-        pays = f"{g('precompute_s') / gain:.0f}" if gain > 0 else "never"
-        n = len([r for r in rows if (r["case"], r["method"], int(r["handle"]), r["measure"]) == (*k, "precompute_s")])
-        out.append(f"| {k[0]} | {k[1]} | {k[2]} | {g('full_frame_s') * 1e3:.2f} | {g('handle_frame_s') * 1e3:.2f} | "
-                   f"{g('full_frame_s') / g('handle_frame_s'):.2f} | {g('response_bytes') / 1e6:.1f} | "
-                   f"{g('factor_bytes') / 1e6:.1f} | {g('response_bytes') / g('factor_bytes'):.2f} | "
-                   f"{g('precompute_s'):.2f} | {pays} | "
-                   f"{max(float(r['value']) for r in rows if (r['case'], r['method'], int(r['handle']), r['measure']) == (*k, 'handle_vs_full')):.1e} | "
-                   f"{g('load_average'):.1f} | {n} |")
-    with open(path + ".tmp", "w") as f:
-        f.write("\n".join(out) + "\n")
-    os.replace(path + ".tmp", path)
-
-
-def report(rows, path, prov, note):
-    def med(case, method, constraints, measure):
-        v = [float(r["value"]) for r in rows if (r["case"], r["method"], r["constraints"], r["measure"]) ==
-             (case, method, constraints, measure)]
-        return statistics.median(v) if v else float("nan"), len(v)
-
-    out = ["# Handle-mode frames (issue 16)\n",
-           f"git {prov.get('git_sha')}, {prov.get('cpu')}, {prov.get('blas')} ({prov.get('blas_core')}), "
-           f"{prov.get('build_threads')} worker threads, {prov.get('timestamp')}. Medians over the rounds (fresh "
-           "processes, cases interleaved); each cell runs the drag in full mode, then in handle mode on the same "
-           "factor. `pass` = the responses' bytes at the memory read rate measured right after the handle drag "
-           "(the least a handle frame could take). Produced by `scripts/handle_frames.py "
-           f"--repeats {max(int(r['round']) for r in rows)}`; each row's exact cell command is in handle_frames.csv.\n",
-           note + "\n" if note else "",
-           "`precompute cpu s`: its CPU time (all threads), which a loaded machine's time-slicing does not "
-           "lengthen. `handle vs full`: the largest distance between the two modes' last frames / bounding-box "
-           "diagonal, the worst round, on the default backend (its full frame one solve, the thesis' measure) and on "
-           "multifrontal_refined (both modes refined to the exact solution: the precompute's own error).\n",
-           "| case | method | full frame ms | handle frame ms | ratio | responses MB | read GB/s | pass ms | "
-           "init s | precompute s | precompute cpu s | handle vs full | refined: handle vs full | rounds |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    lri = ["\nLRI's handle frame in parts (medians, ms): the frame system from its responses; the orthonormalization; "
-           "the position right-hand side (the rest of rhs); the position solve.\n",
-           "| case | responses | orthonormalize | position rhs | position solve |", "|---|---|---|---|---|"]
-    keys = sorted({(r["case"], r["method"], r["constraints"]) for r in rows},
-                  key=lambda k: (not k[0].startswith("armadillo"), k[0], METHODS.index(k[1]), k[2]))
-    def worst(case, method, cons, measure):
-        v = [float(r["value"]) for r in rows if (r["case"], r["method"], r["constraints"], r["measure"]) ==
-             (case, method, cons, measure)]
-        return f"{max(v):.1e}" if v else "-"
-
-    for case, method, cons in keys:
-        g = lambda m: med(case, method, cons, m)[0]  # noqa: E731
-        n = med(case, method, cons, "frame_s")[1]
-        out.append(f"| {case} ({cons}) | {method} | {g('frame_s') * 1e3:.3f} | {g('frame_handle_s') * 1e3:.3f} | "
-                   f"{g('frame_s') / g('frame_handle_s'):.0f}x | {g('response_bytes') / 1e6:.1f} | "
-                   f"{g('memory_read'):.1f} | {g('response_pass_s') * 1e3:.3f} | {g('init_s'):.2f} | "
-                   f"{g('precompute_s'):.3f} | {g('precompute_cpu_s'):.3f} | {worst(case, method, cons, 'handle_vs_full')} | "
-                   f"{worst(case, method, cons, 'refined:handle_vs_full')} | {n} |")
-        if method == "lri":
-            lri.append(f"| {case} ({cons}) | {g('response_s') * 1e3:.3f} | {g('orthonormalize_s') * 1e3:.3f} | "
-                       f"{(g('handle_rhs_s') - g('orthonormalize_s')) * 1e3:.3f} | {g('handle_solve_s') * 1e3:.3f} |")
-    with open(path + ".tmp", "w") as f:
-        f.write("\n".join(out + lri) + "\n")
-    os.replace(path + ".tmp", path)
+    write_csv(rows, os.path.join(a.results, "handle_drags.csv"))
 
 
 if __name__ == "__main__":

@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Trend view of the tracking suite (experiments/track.cpp, `./run track`). Reads history files only.
 
-  history.py --results DIR --out DIR [--machine ID]
+  python3 -m dbtools.plots.history [--results results] [--out RESULTS/figures] [--machine ID]
 
 Reads RESULTS/history/runs/*.csv and RESULTS/history/reference/*.csv (runs with --override rules left out), keeps
 one machine's (default: the newest run's), and writes for the deformation cells, one panel per tier and a line per
@@ -10,13 +9,12 @@ method / build, over the runs in date order (labelled by commit), with the machi
   OUT/history_frame.png         frame CPU time (the median frame, frame_cpu_s)
   OUT/history_factor_bytes.png  factor bytes
   OUT/history_peak_rss.png      peak RSS of the cell's process
-The times are the CPU times the gate compares (scripts/track_gate.py), normalized as it normalizes them: each
+The times are the CPU times the gate compares (dbtools/track/gate.py), normalized as it normalizes them: each
 round of a run divided by that round's drift, the median over the round's CPU times of (time / that time's
 median over all the plotted runs), then the median over the run's rounds. The rates panel (median dgemm GFlop/s
 and memory read GB/s around the run's cells) shows whether a step is the machine's. Run with Debian's
 /usr/bin/python3 (numpy + matplotlib).
 """
-import argparse
 import csv
 import os
 import statistics
@@ -29,10 +27,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import track_gate  # noqa: E402
-from styles import styles  # noqa: E402
+from .cli import out_dir, parser  # noqa: E402
+from .styles import styles  # noqa: E402
 
 FIGURES = [("init_cpu_s", "init CPU (s)", 1.0, "history_init.png"),
            ("frame_cpu_s", "frame CPU (ms)", 1e3, "history_frame.png"),
@@ -67,11 +63,11 @@ def medians(rows):
     return out
 
 
-def normalized_cpu(runs):
-    """[{(cell, measure): median normalized CPU time}] per run: the gate's round drift (track_gate.round_drift)
+def normalized_cpu(runs, gate):
+    """[{(cell, measure): median normalized CPU time}] per run: the gate's round drift (gate.round_drift)
     against the pooled medians of every plotted run, each run's values divided by their round's factor."""
-    s = track_gate.Settings()
-    hists = [track_gate.History.from_rows(rows) for rows in runs]
+    s = gate.Settings()
+    hists = [gate.History.from_rows(rows) for rows in runs]
     pooled = defaultdict(list)
     for h in hists:
         for key, (cls, _) in h.classes.items():
@@ -81,7 +77,7 @@ def normalized_cpu(runs):
            if len(v) >= s.min_repeats and statistics.median(v) >= s.min_time_s}
     out = []
     for h in hists:
-        drift = track_gate.Drift(now=track_gate.round_drift(h, ref, s))
+        drift = gate.Drift(now=gate.round_drift(h, ref, s))
         out.append({key: statistics.median(vals) for key in pooled if key in h.values
                     for vals in [drift.normalized(h, key, "now")] if vals})
     return out
@@ -141,36 +137,41 @@ def figure(runs, meds, measure, ylabel, scale, path):
     os.replace(tmp, path)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--results", default="results")
-    ap.add_argument("--out", default="plots")
-    ap.add_argument("--machine", help="machine id (default: the newest run's)")
-    try:
-        a = ap.parse_args()
-    except SystemExit as e:  # argparse's usage error is 2; the project's is 1
-        return 1 if e.code == 2 else e.code
-    runs = read_runs(a.results)
+def plot(results, out, machine=None):
+    """The trend figures of one machine's runs (default: the newest run's machine); 0 drawn or nothing to draw, 1 no
+    run of that machine, 2 a history the gate refuses."""
+    runs = read_runs(results)
     if not runs:
-        print(f"history.py: no history under {a.results}/history: skipped")
+        print(f"history: no history under {results}/history: skipped", file=sys.stderr)
         return 0
-    machine = a.machine or runs[-1][0]["machine_id"]
+    from ..track import gate  # noqa: PLC0415 - the gate's rules (round drift), needed only when there is history
+    machine = machine or runs[-1][0]["machine_id"]
     runs = [r for r in runs if r[0]["machine_id"] == machine]
     if not runs:
-        print(f"history.py: no history of machine {machine}", file=sys.stderr)
+        print(f"history: no history of machine {machine}", file=sys.stderr)
         return 1
     meds = [medians(r) for r in runs]
     try:
-        for m, cpu in zip(meds, normalized_cpu(runs)):
+        for m, cpu in zip(meds, normalized_cpu(runs, gate)):
             m.update(cpu)
-    except track_gate.InputError as e:
-        print(f"history.py: {e}", file=sys.stderr)
+    except gate.InputError as e:
+        print(f"history: {e}", file=sys.stderr)
         return 2
-    os.makedirs(a.out, exist_ok=True)
+    os.makedirs(out, exist_ok=True)
     for measure, ylabel, scale, name in FIGURES:
-        figure(runs, meds, measure, ylabel, scale, os.path.join(a.out, name))
-    print(f"history.py: {len(runs)} run(s) of machine {machine} -> {a.out}/history_*.png")
+        figure(runs, meds, measure, ylabel, scale, os.path.join(out, name))
+    print(f"history: {len(runs)} run(s) of machine {machine} -> {out}/history_*.png", file=sys.stderr)
     return 0
+
+
+def main(argv=None):
+    ap = parser(__doc__)
+    ap.add_argument("--machine", help="machine id (default: the newest run's)")
+    try:
+        a = ap.parse_args(argv)
+    except SystemExit as e:  # argparse's usage error is 2; the project's is 1
+        return 1 if e.code == 2 else e.code
+    return plot(a.results, out_dir(a), a.machine)
 
 
 if __name__ == "__main__":

@@ -1,17 +1,15 @@
-#!/usr/bin/env python3
 """Plots of the solver-choice experiment (experiments/solvers.cpp). Reads CSVs only, never recomputes.
 
-  solvers.py --results DIR --out DIR
+  drawn by the report step: python3 -m dbtools.report --only solvers (figures into RESULTS/figures)
 
 Reads RESULTS/solvers.csv (and RESULTS/solvers_blas_*.csv when present) and writes
   OUT/solvers_factorize_vs_solve.png  factorize against per-solve time, per backend (default ordering)
   OUT/solvers_scaling.png             factorize and solve time against the number of unknowns n
   OUT/solvers_orderings.png           nnz(L) and factorize time per ordering, sparse direct backends, largest tier
   OUT/solvers_blas.png                factorize time per OpenBLAS kernel set: only when the runs report more than
-                                      one distinct core (experiments/reports/kernel_sets.py); else it is removed
-Every series has its own colour and marker (plots/styles.py).
+                                      one distinct core (dbtools/reports/kernel_sets.py); else it is removed
+Every series has its own colour and marker (styles.py).
 """
-import argparse
 import csv
 import os
 import sys
@@ -22,11 +20,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-sys.path.insert(1, os.path.join(HERE, "..", "experiments", "reports"))
-from kernel_sets import kernel_sets  # noqa: E402
-from styles import styles  # noqa: E402
+from ..reports.kernel_sets import kernel_sets  # noqa: E402
+from .styles import styles  # noqa: E402
 
 SYSTEMS = ["lap", "tf"]  # a panel per system that has cells (systems_in)
 # Minimum over a cell's repetitions (interference from other jobs only adds time), as in results/solvers.md.
@@ -210,26 +205,18 @@ def plot_blas(results, out):
     plt.close(fig)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", required=True)
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args()
-    path = os.path.join(a.results, "solvers.csv")
+def plot(results, out):
+    path = os.path.join(results, "solvers.csv")
     if not os.path.exists(path):
-        print(f"solvers.py: {path} not found (run exp_solvers); nothing to plot", file=sys.stderr)
+        print(f"solvers: {path} not found (run exp_solvers); nothing to plot", file=sys.stderr)
         return 0
-    os.makedirs(a.out, exist_ok=True)
+    os.makedirs(out, exist_ok=True)
     cells, meta = load(path)
     if not systems_in(cells):
-        print(f"solvers.py: no cell of {path} ran; nothing to plot", file=sys.stderr)
+        print(f"solvers: no cell of {path} ran; nothing to plot", file=sys.stderr)
         return 0
-    plot_factor_vs_solve(cells, meta, a.out)
-    plot_scaling(cells, meta, a.out)
-    plot_orderings(cells, meta, a.out)
-    plot_blas(a.results, a.out)
+    plot_factor_vs_solve(cells, meta, out)
+    plot_scaling(cells, meta, out)
+    plot_orderings(cells, meta, out)
+    plot_blas(results, out)
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -3,7 +3,7 @@ scaling_fits.csv, table_2_1_settings.csv): the thesis' layout with its numbers b
 phase times in detail, the targets at the 104k tier and the scaling fits. Reads CSVs only, never measures."""
 import os
 
-from common import (MIB, NAN, SPREAD_NOTE, cells, count_flagged, fmt, isnan, mark, number, provenance, read_rows,
+from .common import (MIB, NAN, SPREAD_NOTE, cells, count_flagged, fmt, isnan, mark, number, provenance, read_rows,
                     settings, spread_text, write_atomically)
 
 # The timings the tables show, each with its spread or flag; fps and fps_handle follow their frame's.

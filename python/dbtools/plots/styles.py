@@ -1,4 +1,4 @@
-"""The one style table of every plot under plots/: each series of a figure gets its own colour AND its own marker,
+"""The one style table of every figure (dbtools/plots/): each series of a figure gets its own colour AND its own marker,
 so that no two series of a figure look alike (in colour or in grey print).
 
 A series name that several figures share (an ordering, a backend, a frames configuration, a Table 2-1 build) keeps
@@ -6,7 +6,7 @@ one style in all of them: KINDS lists each kind's names in a fixed order, and th
 colour and the k-th marker. A name no kind lists (a BLAS core, a scaling series) gets the next style that no other
 series of the figure uses.
 
-  from styles import styles
+  from .styles import styles
   st = styles("ordering", ["default", "amd", "qamd"])   # name -> {"color": ..., "marker": ...}
   ax.plot(x, y, label=name, **st[name])
 """
