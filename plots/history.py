@@ -10,7 +10,7 @@ method / build, over the runs in date order (labelled by commit), with the machi
   OUT/history_frame.png         frame CPU time (the median frame, frame_cpu_s)
   OUT/history_factor_bytes.png  factor bytes
   OUT/history_peak_rss.png      peak RSS of the cell's process
-The times are the CPU times the gate compares (scripts/track_gate.py), normalized as it normalizes them: each
+The times are the CPU times the gate compares (dbtools.track.gate), normalized as it normalizes them: each
 round of a run divided by that round's drift, the median over the round's CPU times of (time / that time's
 median over all the plotted runs), then the median over the run's rounds. The rates panel (median dgemm GFlop/s
 and memory read GB/s around the run's cells) shows whether a step is the machine's. Run with Debian's
@@ -29,9 +29,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import track_gate  # noqa: E402
+from dbtools.track import gate as track_gate  # noqa: E402 (PYTHONPATH=<repo>/python)
 from styles import styles  # noqa: E402
 
 FIGURES = [("init_cpu_s", "init CPU (s)", 1.0, "history_init.png"),

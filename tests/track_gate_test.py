@@ -13,10 +13,7 @@ import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPTS = os.path.join(HERE, "..", "scripts")
-sys.path.insert(0, SCRIPTS)
-import track_gate as g  # noqa: E402
+from dbtools.track import gate as g
 
 CELL = "deform/armadillo/tf/structured/multifrontal"
 
@@ -290,7 +287,7 @@ class OtherRules(unittest.TestCase):
         self.assertEqual(c[(CELL, "status")].verdict, "FAIL")
         self.assertIn("boom", c[(CELL, "status")].note)
         self.assertEqual(c[("solve/y", "nnz")].verdict, "new")
-        self.assertEqual(c[("solve/x", "nnz")].verdict, "missing")
+        self.assertEqual(c[("solve/x", "nnz")].verdict, "not run")
 
     def test_cell_and_measure_filters(self):
         base = g.History.from_rows([row("nnz", "deterministic", "", 5, 1), row("n", "deterministic", "", 5, 1)])
@@ -310,8 +307,7 @@ class CommandLine(unittest.TestCase):
         return path
 
     def run_gate(self, *args):
-        return subprocess.run([sys.executable, os.path.join(SCRIPTS, "track_gate.py"), *args], text=True,
-                              capture_output=True)
+        return subprocess.run([sys.executable, "-m", "dbtools.track.gate", *args], text=True, capture_output=True)
 
     def test_exit_codes_and_report(self):
         with tempfile.TemporaryDirectory() as d:
@@ -358,16 +354,16 @@ class PowerScript(unittest.TestCase):
             paths = [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
                                                  for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))])
                      for i in range(4)]
-            tool = os.path.join(SCRIPTS, "track_gate_power.py")
-            p = subprocess.run([sys.executable, tool, *paths, "--slowdown", "1.5"], text=True, capture_output=True)
+            tool = ["-m", "dbtools.track.power"]
+            p = subprocess.run([sys.executable, *tool, *paths, "--slowdown", "1.5"], text=True, capture_output=True)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side)", p.stdout)
             self.assertIn("planted x1.5 slowdowns caught: 50 ms and over 1.00 of 144; all 1.00", p.stdout)
-            p = subprocess.run([sys.executable, tool, *paths, "--pool", "2", "--slowdown", "1.01"], text=True,
+            p = subprocess.run([sys.executable, *tool, *paths, "--pool", "2", "--slowdown", "1.01"], text=True,
                                capture_output=True)
             self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side)", p.stdout)
             self.assertIn("50 ms and over 0.00 of 72", p.stdout)
-            self.assertEqual(subprocess.run([sys.executable, tool, paths[0], "--pool", "1"]).returncode, 1)
+            self.assertEqual(subprocess.run([sys.executable, *tool, paths[0], "--pool", "1"]).returncode, 1)
 
 
 if __name__ == "__main__":

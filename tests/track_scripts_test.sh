@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# scripts/track.py (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
+# python3 -m dbtools.track (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
 # measure.txt as a history of one cell): the default baseline (the newest history of an ancestor, never a dirty
 # run), --baseline REV measured in a worktree and then reused, the committed reference as a fresh clone's
 # baseline, and --bisect finding planted regressions of a deterministic and of a timed measure. Seconds, no build.
@@ -24,7 +24,8 @@ no_worktrees() {  # the worktrees of other commits are removed once measured
     ok "$1: no worktree left" || fail "$1: worktrees left: $(git -C "$R" worktree list; ls -A "$T/work")"
 }
 
-TRACK=(/usr/bin/python3 "$SRC/scripts/track.py" --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
+export PYTHONPATH=$SRC/python
+TRACK=(/usr/bin/python3 -m dbtools.track --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
   --report "$T/track.md" --no-plots)
 # expect NAME EXIT_CODE REGEX -- args...
 expect() {
