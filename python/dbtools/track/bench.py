@@ -7,7 +7,7 @@
 Builds bench_phases (a Release build in $DEFORMBENCH_BUILD_DIR, default build/; the data step when its meshes
 are missing), runs it with --threads (1) for the BLAS, OpenMP and the structured assembly (on a shared machine a
 parallel region waits for descheduled threads), --repetitions (5) x --min-time (0.1 s) with random interleaving,
-and keeps the raw record results/bench/run-<UTC>.json. Its context carries the provenance (core/provenance.h)
+and keeps the raw record results/bench/run-<UTC>.json (--runs-dir). Its context carries the provenance (core/provenance.h)
 and the suite's definition: `deformbench_suite` (the hash of every benchmark these options register, listed by
 --benchmark_list_tests, whatever a --benchmark_filter ran), `deformbench_suite_version` (bench/phases.cpp's) and
 `deformbench_build_type`. Then it gates the run against the baseline (results/bench/baseline.json) with gate.py's
@@ -48,6 +48,7 @@ def parse_args(argv):
     ap.add_argument("--threads", type=int, default=1, help="BLAS, OpenMP and assembly threads (1)")
     ap.add_argument("--full", action="store_true", help="all four tiers (bench_phases --full)")
     ap.add_argument("--markdown", help="the report (default: the run's .md)")
+    ap.add_argument("--runs-dir", help="where runs are written (default results/bench)")
     g.add_rule_options(ap)
     g.add_baseline_options(ap)
     ap.set_defaults(drift_cells=0)
@@ -78,7 +79,7 @@ def definition(binary, options):
 
 
 def run_suite(a, repo, build, extra):
-    """Runs bench_phases into results/bench/run-<UTC>.json: (its path, the names of the suite's benchmarks)."""
+    """Runs bench_phases into RUNS/run-<UTC>.json: (its path, the names of the suite's benchmarks)."""
     cmake_build(repo, build, "bench_phases", os.environ.get("JOBS", "2"))
     ensure_data(repo, build, list(TIERS) if a.full else ["hand", "armadillo"])
     binary = build / "bench_phases"
@@ -86,7 +87,7 @@ def run_suite(a, repo, build, extra):
                *[x for x in extra if not x.startswith("--benchmark_")]]
     names = definition(binary, options)
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
-    out = repo / "results" / "bench" / f"run-{stamp}.json"
+    out = Path(a.runs_dir or repo / "results" / "bench").resolve() / f"run-{stamp}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     threads = str(a.threads)
     env = dict(os.environ, DEFORMBENCH_SOURCE_DIR=str(repo), OMP_NUM_THREADS=threads, OPENBLAS_NUM_THREADS=threads,
