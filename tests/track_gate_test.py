@@ -6,7 +6,7 @@ fails, a loaded machine (wall times x3, CPU times as they were) passes; scripts/
 are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
 deterministic, memory and status rules; a subset run compares what ran ("not run", never a failure); stale and
 foreign baselines refused with their messages and exit codes (3, 4) unless allowed; bench_phases JSON records
-(gbench.py) under the same rules. Run: PYTHONPATH=python tests/track_gate_test.py (ctest `track_gate`)."""
+(gbench.py) and the drivers' result CSVs (results.py) under the same rules. Run: PYTHONPATH=python tests/track_gate_test.py (ctest `track_gate`)."""
 import math
 import os
 import random
@@ -586,6 +586,41 @@ class GoogleBenchmarkRecords(unittest.TestCase):
         p = self.gate(gbench_doc(), bad)
         self.assertEqual(p.returncode, 2)
         self.assertRegex(p.stderr, r"cpu_time 'fast' 'us' is not a time")
+
+
+class DriverResults(unittest.TestCase):
+    """dbtools.track.results: two runs of the drivers' CSVs, schema first, numbers by the gate's rules."""
+    HEADER = "model,system,build,backend,factor_storage,measure,value,unit,git_sha,cpu\n"
+
+    def run_on(self, old_rows, new_rows, header_new=None):
+        with tempfile.TemporaryDirectory() as d:
+            for sub, rows, header in (("old", old_rows, self.HEADER), ("new", new_rows, header_new or self.HEADER)):
+                os.mkdir(os.path.join(d, sub))
+                with open(os.path.join(d, sub, "table_2_1.csv"), "w") as f:
+                    f.write(header + "".join(rows))
+            return run_module("dbtools.track.results", os.path.join(d, "old"), os.path.join(d, "new"))
+
+    def rows(self, nnz, init, sha="a"):
+        return [f"hand,lap,structured,multifrontal,memory,nnz_factor,{nnz},count,{sha},X\n",
+                f"hand,lap,structured,multifrontal,memory,init_s,{init},s,{sha},X\n"]
+
+    def test_same_schema_and_counts_pass_times_summarized(self):
+        p = self.run_on(self.rows(1000, 0.5), self.rows(1000, 0.75, sha="b"))
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("init_s: new/old median 1.5 (range 1.5-1.5, 1 values)", p.stdout)
+
+    def test_a_count_grown_fails_a_schema_change_fails(self):
+        p = self.run_on(self.rows(1000, 0.5), self.rows(1100, 0.5))
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertRegex(p.stdout, r"table_2_1\.csv:hand/lap/structured/multifrontal/memory +nnz_factor +deterministic "
+                                   r"+1000 +1100 +1\.100 +FAIL")
+        p = self.run_on(self.rows(1000, 0.5), [r.rsplit(",", 1)[0] + "\n" for r in self.rows(1000, 0.5)],
+                        self.HEADER.replace(",cpu", ""))
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertIn("schema: table_2_1.csv: columns added [], removed ['cpu']", p.stdout)
+        p = self.run_on(self.rows(1000, 0.5), self.rows(1000, 0.5)[:1])
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertIn("table_2_1.csv: measures only old ['init_s'], only new []", p.stdout)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,8 @@
 
   python3 -m dbtools.track.bench [--baseline FILE] [--update-baseline] [--run FILE] [--repetitions N]
                                  [--min-time S] [--threads N] [--full] [gate options: --threshold PCT ...]
-                                 [--allow-stale] [--allow-foreign] [-- bench_phases flags]
+                                 [--allow-stale] [--allow-foreign] [--cell GLOB] [--measure M]
+                                 [-- bench_phases flags]
 
 Builds bench_phases (a Release build in $DEFORMBENCH_BUILD_DIR, default build/; the data step when its meshes
 are missing), runs it with --threads (1) for the BLAS, OpenMP and the structured assembly (on a shared machine a
@@ -49,15 +50,17 @@ def parse_args(argv):
     ap.add_argument("--full", action="store_true", help="all four tiers (bench_phases --full)")
     ap.add_argument("--markdown", help="the report (default: the run's .md)")
     ap.add_argument("--runs-dir", help="where runs are written (default results/bench)")
+    ap.add_argument("--all", action="store_true", help="print every comparison, not only the notable ones")
     g.add_rule_options(ap)
     g.add_baseline_options(ap)
+    g.add_filter_options(ap)
     ap.set_defaults(drift_cells=0)
     a = ap.parse_args(argv)
     if a.repetitions < 1 or a.min_time <= 0 or a.threads < 1:
         ap.error("--repetitions and --threads must be >= 1, --min-time > 0")
     if a.run and (extra or a.full):
         ap.error("--run gates an existing record: no bench_phases flags")
-    return a, g.settings(ap, a), extra
+    return a, g.settings(ap, a, a.cell, a.measure), extra
 
 
 def ensure_data(repo, build, tiers):
@@ -124,7 +127,8 @@ def main(argv=None):
         print(f"track bench: error: {e}", file=sys.stderr)
         return 2
     md = a.markdown if a.markdown or a.run else str(run.with_suffix(".md"))
-    return g.gate(base, now, s, names, a.allow_stale, a.allow_foreign, md, title="Google Benchmark suite")
+    return g.gate(base, now, s, names, a.allow_stale, a.allow_foreign, md, show_all=a.all,
+                  title="Google Benchmark suite")
 
 
 if __name__ == "__main__":

@@ -308,6 +308,11 @@ def rule_args(a):
     return out + (["--gate-wall"] if a.gate_wall else [])
 
 
+def add_filter_options(ap):
+    ap.add_argument("--cell", action="append", default=[], help="only cells matching this glob (repeatable)")
+    ap.add_argument("--measure", action="append", default=[], help="only this measure (repeatable)")
+
+
 def settings(ap, a, cells=(), measures=()):
     """The Settings of parsed rule options (a usage error through `ap` when out of range)."""
     bad = not (0 < a.alpha < 1) or min(a.threshold, a.det_threshold, a.rss_threshold, a.min_time_s,
@@ -342,8 +347,7 @@ def parse_args(argv):
     ap.add_argument("now")
     add_rule_options(ap)
     add_baseline_options(ap)
-    ap.add_argument("--cell", action="append", default=[], help="only cells matching this glob (repeatable)")
-    ap.add_argument("--measure", action="append", default=[], help="only this measure (repeatable)")
+    add_filter_options(ap)
     ap.add_argument("--markdown", help="write the report here")
     ap.add_argument("--all", action="store_true", help="print every comparison, not only the notable ones")
     a = ap.parse_args(argv)
