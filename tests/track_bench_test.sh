@@ -12,6 +12,7 @@ set -u
 SRC=$(cd "$1" && pwd)
 BIN=$(cd "$2" && pwd)
 . "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
+. "$(dirname "$0")/track_lib.sh"  # expect
 cd "$SRC" || exit 1
 for f in data/meshes/hand.off data/meshes/armadillo.off; do
   [ -f "$f" ] || { echo "FAIL $f is missing: run scripts/data.sh (./run test does)"; exit 1; }
@@ -19,16 +20,8 @@ done
 export PYTHONPATH=$SRC/python DEFORMBENCH_BUILD_DIR=$BIN
 BENCH=(/usr/bin/python3 -m dbtools.track.bench --min-time 0.01 --runs-dir "$T/runs")
 COUNTERS=(--measure n --measure nnz --measure nnz_L --measure bytes)
-HAND='--benchmark_filter=^(build|factorize|solve)/mesh:hand/system:lap/build:structured(/backend:(multifrontal|umfpack))?$'
-# expect NAME EXIT_CODE REGEX -- command...
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  "$@" >"$T/out" 2>&1
-  local got=$?
-  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(tail -c 800 "$T/out")"; return; fi
-  if ! grep -Eq -- "$re" "$T/out"; then fail "$name: output does not match /$re/: $(tail -c 800 "$T/out")"; return; fi
-  ok "$name"
-}
+STEM=mesh:hand/system:lap/build:structured
+HAND="--benchmark_filter=^(build|factorize|solve)/$STEM(/backend:(multifrontal|umfpack))?\$"
 # edited FILE EXPR: a copy of the record FILE with the Python statement EXPR applied to its dict `d`
 edited() {
   /usr/bin/python3 - "$1" "$T/edited.json" "$2" <<'PY'
@@ -45,20 +38,26 @@ FACT="factorize/mesh:hand/system:lap/build:structured/backend:umfpack"
 expect "record a baseline" 0 "baseline updated: $B" -- "${BENCH[@]}" --baseline "$B" --update-baseline -- "$HAND"
 [ "$(grep -o '"run_name": "[^"]*"' "$B" | sort -u | wc -l)" -eq 5 ] && ok "five benchmarks in it" ||
   fail "baseline benchmarks: $(grep -o '"run_name": "[^"]*"' "$B" | sort -u)"
-grep -q '"deformbench_suite": "[0-9a-f]\{12\} (80 benchmarks)"' "$B" && grep -q '"deformbench_suite_version": "1"' "$B" &&
+grep -q '"deformbench_suite": "[0-9a-f]\{12\} (80 benchmarks)"' "$B" &&
+  grep -q '"deformbench_suite_version": "1"' "$B" &&
   grep -q '"deformbench_build_type": "Release"' "$B" && ok "its suite definition and build type" ||
   fail "no suite definition in $(grep deformbench_ "$B")"
 expect "the same benchmarks pass" 0 "verdict: pass" -- "${BENCH[@]}" --baseline "$B" "${COUNTERS[@]}" -- "$HAND"
 [ -s "$(ls "$T"/runs/run-*.md | tail -1)" ] && ok "Markdown report beside the run" || fail "no report in $T/runs"
 RUN=$(ls "$T"/runs/run-*.json | tail -1)
-expect "a filtered run compares what ran" 0 "comparisons: .*not run [0-9]+.*\(not run: in the baseline, not in this run\)" \
+expect "a filtered run compares what ran" 0 \
+  "comparisons: .*not run [0-9]+.*\(not run: in the baseline, not in this run\)" \
   -- "${BENCH[@]}" --baseline "$B" "${COUNTERS[@]}" -- "--benchmark_filter=^$FACT\$"
 grep -Eq "MISSING|FAIL" "$T/out" && fail "filtered run: $(cat "$T/out")" || ok "no benchmark left out is a failure"
-expect "other suite options: stale" 3 "is stale: suite definition 'bench_phases v1, [0-9a-f]+ \(80 benchmarks\)' in the baseline, 'bench_phases v1, [0-9a-f]+ \([0-9]+ benchmarks\)' now; 2 cell\(s\) the suite no longer defines: (analyze|factorize|solve)/mesh:hand/system:lap/build:structured/backend:multifrontal" \
+SUITE="bench_phases v1, [0-9a-f]+"
+expect "other suite options: stale" 3 "is stale: suite definition '$SUITE \(80 benchmarks\)' in the baseline, \
+'$SUITE \([0-9]+ benchmarks\)' now; 2 cell\(s\) the suite no longer defines: \
+factorize/$STEM/backend:multifrontal, solve/" \
   -- "${BENCH[@]}" --baseline "$B" -- --backends umfpack "$HAND"
 expect "another suite version: stale" 3 "is stale: suite definition 'bench_phases v0, " -- "${BENCH[@]}" \
   --baseline "$(edited "$B" 'd["context"]["deformbench_suite_version"] = "0"')" --run "$RUN"
-expect "another CPU: foreign" 4 "is foreign: CPU Some Other CPU in the baseline, .* now: record a baseline on this machine" \
+expect "another CPU: foreign" 4 \
+  "is foreign: CPU Some Other CPU in the baseline, .* now: record a baseline on this machine" \
   -- "${BENCH[@]}" --baseline "$(edited "$B" 'd["context"]["deformbench_cpu"] = "Some Other CPU"')" --run "$RUN"
 expect "--allow-foreign: the counters gated" 0 "foreign baseline \(--allow-foreign\): deterministic measures only" \
   -- "${BENCH[@]}" --baseline "$T/edited.json" --run "$RUN" --allow-foreign --all
@@ -74,7 +73,8 @@ expect "bad option" 1 "--repetitions and --threads must be >= 1" -- "${BENCH[@]}
 # this machine's, or another's: not a test).
 expect "committed baseline: current" 0 "verdict: pass" -- "${BENCH[@]}" --allow-foreign "${COUNTERS[@]}" -- \
   '--benchmark_filter=mesh:hand/'
-grep -Eq "comparisons: not run [0-9]+, ok [0-9]+ \(not run" "$T/out" && ok "committed baseline: every counter of the hand tier equal" ||
+grep -Eq "comparisons: not run [0-9]+, ok [0-9]+ \(not run" "$T/out" &&
+  ok "committed baseline: every counter of the hand tier equal" ||
   fail "committed baseline: counters changed: $(cat "$T/out")"
 
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi

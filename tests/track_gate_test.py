@@ -6,7 +6,8 @@ fails, a loaded machine (wall times x3, CPU times as they were) passes; scripts/
 are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
 deterministic, memory and status rules; a subset run compares what ran ("not run", never a failure); stale and
 foreign baselines refused with their messages and exit codes (3, 4) unless allowed; bench_phases JSON records
-(gbench.py) and the drivers' result CSVs (results.py) under the same rules. Run: PYTHONPATH=python tests/track_gate_test.py (ctest `track_gate`)."""
+(gbench.py) and the drivers' result CSVs (results.py) under the same rules.
+Run: PYTHONPATH=python tests/track_gate_test.py (ctest `track_gate`)."""
 import math
 import os
 import random
@@ -459,8 +460,8 @@ class ForeignBaselines(unittest.TestCase):
             now = write_csv(d, "n.csv", rows("m2", "AMD EPYC", 1.5))
             p = run_module("dbtools.track.gate", base, now)
             self.assertEqual(p.returncode, 4, p.stdout)
-            self.assertRegex(p.stderr, r"the baseline .*b\.csv \(commit cccccccccccc, .*machine m1 \(CPU Intel Xeon\)\) "
-                                       r"is foreign: CPU Intel Xeon in the baseline, AMD EPYC now: .*--allow-foreign")
+            self.assertRegex(p.stderr, r"the baseline .*b\.csv \(commit cccccccccccc, .*machine m1 "
+                                       r"\(CPU Intel Xeon\)\) is foreign: CPU Intel Xeon in the baseline, AMD EPYC now: .*--allow-foreign")
             p = run_module("dbtools.track.gate", base, now, "--allow-foreign", "--all")
             self.assertEqual(p.returncode, 1, p.stderr)
             self.assertRegex(p.stdout, r"nnz_factor +deterministic +1000 +1500 +1\.500 +FAIL")

@@ -82,7 +82,8 @@ mkdir -p "$T/history3/reference"
 sed "s/,fake-machine,/,other-machine,/" "$T/history2/reference/ref.csv" >"$T/history3/reference/ref.csv"
 TRACK+=(--history-dir "$T/history3")
 expect "another machine's reference: foreign" 4 \
-  "track_gate: error: the baseline .*ref.csv \(commit $(sha c7 | cut -c1-12), .*machine other-machine\) is foreign: machine id other-machine in the baseline, fake-machine now" --
+  "the baseline .*ref.csv \(commit $(sha c7 | cut -c1-12), .*machine other-machine\) is foreign: machine id \
+other-machine in the baseline, fake-machine now" --
 expect "--allow-foreign: its deterministic measures" 0 \
   "foreign baseline \(--allow-foreign\): deterministic measures only" -- --allow-foreign \
   --baseline-file "$T/history3/reference/ref.csv"  # the refused run above is this machine's newest history now

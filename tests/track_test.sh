@@ -11,16 +11,8 @@ set -u
 SRC=$(cd "$1" && pwd)
 BIN=$(cd "$2" && pwd)
 . "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
+. "$(dirname "$0")/track_lib.sh"  # expect
 cd "$SRC" || exit 1
-# expect NAME EXIT_CODE REGEX -- command...
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  "$@" >"$T/out" 2>&1
-  local got=$?
-  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(tail -c 600 "$T/out")"; return; fi
-  if ! grep -Eq -- "$re" "$T/out"; then fail "$name: output does not match /$re/: $(tail -c 600 "$T/out")"; return; fi
-  ok "$name"
-}
 X="$BIN/exp_track"
 export PYTHONPATH=$SRC/python
 

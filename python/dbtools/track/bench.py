@@ -8,9 +8,9 @@
 Builds bench_phases (a Release build in $DEFORMBENCH_BUILD_DIR, default build/; the data step when its meshes
 are missing), runs it with --threads (1) for the BLAS, OpenMP and the structured assembly (on a shared machine a
 parallel region waits for descheduled threads), --repetitions (5) x --min-time (0.1 s) with random interleaving,
-and keeps the raw record results/bench/run-<UTC>.json (--runs-dir). Its context carries the provenance (core/provenance.h)
-and the suite's definition: `deformbench_suite` (the hash of every benchmark these options register, listed by
---benchmark_list_tests, whatever a --benchmark_filter ran), `deformbench_suite_version` (bench/phases.cpp's) and
+and keeps the raw record results/bench/run-<UTC>.json (--runs-dir). Its context carries the provenance
+(core/provenance.h) and the suite's definition: `deformbench_suite` (the hash of every benchmark these options
+register, listed by --benchmark_list_tests, whatever a --benchmark_filter ran), `deformbench_suite_version` (bench/phases.cpp's) and
 `deformbench_build_type`. Then it gates the run against the baseline (results/bench/baseline.json) with gate.py's
 rules on gbench.py's rows, writing results/bench/run-<UTC>.md. Differences from the tracking suite's defaults:
 none in the rules; no round drift (--drift-cells 0), since gbench's repetitions are not rounds over the suite.

@@ -109,7 +109,8 @@ def cmake_build(src, build_dir, target, jobs):
         check_release(build_dir)
     else:
         log(f"configuring {build_dir}")
-        launcher = ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"] if sh(["which", "ccache"], check=False).returncode == 0 else []
+        ccache = sh(["which", "ccache"], check=False).returncode == 0
+        launcher = ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"] if ccache else []
         sh(["cmake", "-S", str(src), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release", *launcher])
     log(f"building {target} in {build_dir}")
     p = sh(["cmake", "--build", str(build_dir), "-j", jobs, "--target", target], check=False)

@@ -11,7 +11,6 @@ power: for each such pair and each CPU-time measure the gate tests, that measure
   50 ms) and in all.
 Exit: 0 (a measurement, not a gate), 1 usage, 2 unreadable history. Run with Debian's /usr/bin/python3.
 """
-import argparse
 import copy
 import itertools
 import statistics
