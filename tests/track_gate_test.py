@@ -2,7 +2,7 @@
 """Unit tests of the regression gate (python/dbtools/track) on synthetic records: a 30% slowdown of a CPU time is
 flagged, a 5% one and pure noise pass, a 30% slowdown of a phase so short that it is under the absolute floor
 (--min-delta-ms) is recorded only, a suite of 50 phases with this box's run-to-run spread and no change rarely
-fails, a loaded machine (wall times x3, CPU times as they were) passes; scripts/track_gate_power.py; wall times
+fails, a loaded machine (wall times x3, CPU times as they were) passes; the power measurement (power.py); wall times
 are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
 deterministic, memory and status rules; a subset run compares what ran ("not run", never a failure); stale and
 foreign baselines refused with their messages and exit codes (3, 4) unless allowed; bench_phases JSON records
@@ -348,7 +348,7 @@ class CommandLine(unittest.TestCase):
 
 
 class PowerScript(unittest.TestCase):
-    """scripts/track_gate_power.py on four synthetic runs of one commit (12 phases of 0.5 s, 2% noise)."""
+    """python3 -m dbtools.track.power on four synthetic runs of one commit (12 phases of 0.5 s, 2% noise)."""
     write = CommandLine.write
 
     def test_false_alarms_and_planted_slowdowns(self):

@@ -84,6 +84,8 @@ TRACK+=(--history-dir "$T/history3")
 expect "another machine's reference: foreign" 4 \
   "the baseline .*ref.csv \(commit $(sha c7 | cut -c1-12), .*machine other-machine\) is foreign: machine id \
 other-machine in the baseline, fake-machine now" --
+grep -q "baseline refused (foreign, exit 4)" "$T/track.md" && ok "the report says it was refused" ||
+  fail "track.md: $(head -3 "$T/track.md")"
 expect "--allow-foreign: its deterministic measures" 0 \
   "foreign baseline \(--allow-foreign\): deterministic measures only" -- --allow-foreign \
   --baseline-file "$T/history3/reference/ref.csv"  # the refused run above is this machine's newest history now

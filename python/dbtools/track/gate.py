@@ -331,6 +331,8 @@ def gate(base, now, s, suite_cells=None, allow_stale=False, allow_foreign=False,
         verdict = check(base, now, suite_cells, allow_stale, allow_foreign)
     except Refused as e:
         print(f"track_gate: error: {e}", file=sys.stderr)
+        if markdown:  # the last report must not be an earlier comparison's
+            report.write_atomically(markdown, f"# {title}: baseline refused ({e.kind}, exit {e.exit_code})\n\n{e}\n")
         return e.exit_code
     cmps = compare(base, now, s, verdict.same_machine)
     if not quiet:
