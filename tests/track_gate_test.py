@@ -603,12 +603,14 @@ class DriverResults(unittest.TestCase):
 
     def rows(self, nnz, init, sha="a"):
         return [f"hand,lap,structured,multifrontal,memory,nnz_factor,{nnz},count,{sha},X\n",
-                f"hand,lap,structured,multifrontal,memory,init_s,{init},s,{sha},X\n"]
+                f"hand,lap,structured,multifrontal,memory,init_s,{init},s,{sha},X\n",
+                f"hand,lap,structured,multifrontal,memory,fps_handle,{1 / init},1/s,{sha},X\n"]
 
-    def test_same_schema_and_counts_pass_times_summarized(self):
-        p = self.run_on(self.rows(1000, 0.5), self.rows(1000, 0.75, sha="b"))
+    def test_same_schema_and_counts_pass_times_and_rates_summarized(self):
+        p = self.run_on(self.rows(1000, 0.75), self.rows(1000, 0.5, sha="b"))
         self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
-        self.assertIn("init_s: new/old median 1.5 (range 1.5-1.5, 1 values)", p.stdout)
+        self.assertIn("init_s: new/old median 0.667 (range 0.667-0.667, 1 values)", p.stdout)
+        self.assertIn("fps_handle: new/old median 1.5", p.stdout)  # a rate, not a count of handles
 
     def test_a_count_grown_fails_a_schema_change_fails(self):
         p = self.run_on(self.rows(1000, 0.5), self.rows(1100, 0.5))
@@ -621,7 +623,7 @@ class DriverResults(unittest.TestCase):
         self.assertIn("schema: table_2_1.csv: columns added [], removed ['cpu']", p.stdout)
         p = self.run_on(self.rows(1000, 0.5), self.rows(1000, 0.5)[:1])
         self.assertEqual(p.returncode, 1, p.stdout)
-        self.assertIn("table_2_1.csv: measures only old ['init_s'], only new []", p.stdout)
+        self.assertIn("table_2_1.csv: measures only old ['fps_handle', 'init_s'], only new []", p.stdout)
 
 
 if __name__ == "__main__":

@@ -5,15 +5,16 @@
                                  [--allow-stale] [--allow-foreign] [--cell GLOB] [--measure M]
                                  [-- bench_phases flags]
 
-Builds bench_phases (a Release build in $DEFORMBENCH_BUILD_DIR, default build/; the data step when its meshes
-are missing), runs it with --threads (1) for the BLAS, OpenMP and the structured assembly (on a shared machine a
-parallel region waits for descheduled threads), --repetitions (5) x --min-time (0.1 s) with random interleaving,
-and keeps the raw record results/bench/run-<UTC>.json (--runs-dir). Its context carries the provenance
+Builds bench_phases (a Release build in $DEFORMBENCH_BUILD_DIR, default build/; the data step when its meshes are
+missing), runs it with --threads (1) for the BLAS, OpenMP and the structured assembly (on a shared machine a
+parallel region waits for descheduled threads), --repetitions (5) x --min-time (0.1 s) with random interleaving, and
+keeps the raw record results/bench/run-<UTC>.json (--runs-dir). Its context carries the provenance
 (core/provenance.h) and the suite's definition: `deformbench_suite` (the hash of every benchmark these options
-register, listed by --benchmark_list_tests, whatever a --benchmark_filter ran), `deformbench_suite_version` (bench/phases.cpp's) and
-`deformbench_build_type`. Then it gates the run against the baseline (results/bench/baseline.json) with gate.py's
-rules on gbench.py's rows, writing results/bench/run-<UTC>.md. Differences from the tracking suite's defaults:
-none in the rules; no round drift (--drift-cells 0), since gbench's repetitions are not rounds over the suite.
+register, listed by --benchmark_list_tests, whatever a --benchmark_filter ran), `deformbench_suite_version`
+(bench/phases.cpp's) and `deformbench_build_type`. Then it gates the run against the baseline
+(results/bench/baseline.json) with gate.py's rules on gbench.py's rows, writing results/bench/run-<UTC>.md.
+Differences from the tracking suite's defaults: none in the rules; no round drift (--drift-cells 0), since gbench's
+repetitions are not rounds over the suite.
 A filtered run (-- --benchmark_filter=REGEX) compares the benchmarks that ran: the others are "not run".
 --update-baseline records the run as the baseline instead; --run FILE gates an existing record.
 Exit: 0 pass, 1 regression or usage, 2 could not build, run or read, 3 stale baseline, 4 foreign baseline.

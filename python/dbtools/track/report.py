@@ -27,9 +27,12 @@ HEADER = ["cell", "measure", "class", "baseline", "now", "ratio", "p", "verdict"
 def describe(h):
     """A record's provenance in one line: commit, date, machine, suite, overrides, file."""
     m = h.meta
-    extra = (f", suite {m['suite']}" if m.get("suite") else "") + \
-        (f", overrides: {m['overrides']}" if m.get("overrides") else "")
-    return f"{m.get('git_sha') or m['commit'][:12]} ({m['date']}, {describe_machine(m)}{extra}) {h.path}"
+    parts = [m.get("date"), describe_machine(m) if m.get("machine_id") else "",
+             f"suite {m['suite']}" if m.get("suite") else "",
+             f"overrides: {m['overrides']}" if m.get("overrides") else ""]
+    inner = ", ".join(p for p in parts if p)
+    head = m.get("git_sha") or m.get("commit", "")[:12]
+    return " ".join(x for x in (head, f"({inner})" if inner else "", h.path) if x)
 
 
 def largest_time_ratios(cmps, cls="cpu", k=5, min_time_s=0.005):

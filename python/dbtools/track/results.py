@@ -4,13 +4,13 @@ sharded run against the whole): their result CSVs read as records.
   python3 -m dbtools.track.results OLD_DIR NEW_DIR [--rename COLUMN:OLD=NEW ...] [--all]
 
 The schema first: for every CSV in either directory, columns added, removed or reordered; for the files of KEYS
-(their key columns), row keys and (long tables) measure names only in one run. Then the numbers of the rows in
-both: each row key is a cell (`FILE:key/values`), each value a measure (long tables: the `measure` column's name;
-wide ones: each value column); exact counts (EXACT: vertices, n, nnz, factor bytes, frames, ...) are class
-deterministic, compared exactly (gate.py: any change reported, an increase over 0.5% fails); every other number
-is class info, its new/old ratio summarized per measure (median and range), never gated: times of two runs move
-with the machine. Provenance columns (git sha, BLAS, CPU, timestamp) are left out. --rename maps a value of the
-old run to the new one's before comparing (e.g. backend:eigen_llt=dense_llt).
+(their key columns), row keys and (long tables) measure names only in one run. Then the numbers of the rows in both:
+each row key is a cell (`FILE:key/values`), each value a measure (long tables: the `measure` column's name; wide
+ones: each value column); exact counts (is_exact: vertices, n, nnz, factor and matrix bytes, frames, ...) are class
+deterministic, compared exactly (gate.py: any change reported, an increase over 0.5% fails); every other number is
+class info, its new/old ratio summarized per measure (median and range), never gated: times of two runs move with
+the machine. Provenance columns (git sha, BLAS, CPU, timestamp) are left out. --rename maps a value of the old run
+to the new one's before comparing (e.g. backend:eigen_llt=dense_llt).
 Exit: 0 the same schema and no deterministic increase, 1 otherwise (or usage), 2 unreadable directory or file.
 """
 import argparse
@@ -35,13 +35,18 @@ KEYS = {
 }
 PROVENANCE = {"git_sha", "blas", "blas_core", "blas_coretype_env", "blas_threads", "build_threads",
               "hardware_threads", "cpu", "compiler", "timestamp"}
-# Measures / columns that count what a deterministic computation made: compared exactly.
-EXACT = ("vertices", "faces", "handle", "fixed", "free", "nnz", "rhs_cols", "frames", "steps", "factor_bytes",
-         "matrix_bytes", "held", "predicted_factor_nnz", "points")
+# Measures / columns that count what a deterministic computation made: compared exactly. Rates, ratios, times and
+# measured memory (RSS) are not: "handle" counts vertices, "fps_handle" is a rate.
+EXACT = {"n", "nnz", "nnz_factor", "vertices", "faces", "handle", "fixed", "free", "frames", "steps", "rhs_cols",
+         "points", "factor_flops"}
 
 
 def is_exact(name):
-    return name in ("n", "vertices", "faces") or any(name.startswith(h) or name.endswith(h) for h in EXACT)
+    if name in EXACT or name.endswith("_reps") or name.startswith("held_bytes:"):
+        return True
+    if "rss" in name:
+        return False
+    return name.endswith("_bytes") or name.startswith("predicted_") and not name.endswith("_s")
 
 
 def read(path, renames):
@@ -58,7 +63,7 @@ def read(path, renames):
     return header, rows
 
 
-def record_rows(name, rows, keys, label):
+def record_rows(name, rows, keys):
     """The gate's rows of one file's `rows`: a cell per row key, a measure per number."""
     out, seen = [], {}
     for r in rows:
@@ -71,7 +76,7 @@ def record_rows(name, rows, keys, label):
             except (TypeError, ValueError):
                 continue  # a label or a status: the schema check covers it
             repeat = seen[(cell, measure)] = seen.get((cell, measure), 0) + 1
-            out.append({"commit": label, "date": "", "machine_id": "", "cell": cell, "measure": measure,
+            out.append({"commit": "", "date": "", "machine_id": "", "cell": cell, "measure": measure,
                         "class": "deterministic" if is_exact(measure) else "info", "rate": "", "value": value,
                         "repeat": str(repeat), "blas_dgemm_before": "", "blas_dgemm_after": "",
                         "memory_read_before": "", "memory_read_after": ""})
@@ -125,8 +130,8 @@ def compare_dirs(old_dir, new_dir, renames):
         keys = [k for k in KEYS.get(name, []) if k in old[0] and k in new[0]]
         problems += schema(name, old, new, keys)
         if keys:
-            rows[0].extend(record_rows(name, old[1], keys, old_dir))
-            rows[1].extend(record_rows(name, new[1], keys, new_dir))
+            rows[0].extend(record_rows(name, old[1], keys))
+            rows[1].extend(record_rows(name, new[1], keys))
     if not rows[0] or not rows[1]:
         raise InputError(f"no numbers of a known result file ({', '.join(KEYS)}) in both runs")
     return problems, History.from_rows(rows[0], old_dir), History.from_rows(rows[1], new_dir)
