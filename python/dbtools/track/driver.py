@@ -384,6 +384,7 @@ def bisect(ctx, a, good, bad, machine):
             "--history-dir", str(ctx.history), "--config", str(ctx.config),
             "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure, *track_gate.rule_args(a)]
     step += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
+    step += [f for f, on in (("--allow-stale", a.allow_stale), ("--allow-foreign", a.allow_foreign)) if on]
     git(wt, "bisect", "reset", check=False)
     try:
         git(wt, "bisect", "start", bad, good)
