@@ -1,7 +1,7 @@
 // Google Benchmark suite for regression tracking of the four phases of a deformation's precompute / per-frame
 // split: system build, solver analyze, factorize and solve, per (tier, system, build, backend).
 //
-// Names are stable (scripts/bench_compare.sh matches them against results/bench/baseline.json):
+// Names are stable (`./run track bench` gates them against results/bench/baseline.json):
 //   build/mesh:armadillo/system:tf/build:structured
 //   analyze/mesh:armadillo/system:tf/build:structured/backend:cholmod_supernodal
 //   factorize/... solve/...  (same shape as analyze)
@@ -103,7 +103,7 @@ DenseMat rhs_of(const NormalSystem& s) {
 }
 
 // Factorized solvers for the solve benchmarks, one per benchmark name, kept for the whole run: repetitions may be
-// interleaved (--benchmark_enable_random_interleaving, as scripts/bench_compare.sh runs them), and a solve must
+// interleaved (--benchmark_enable_random_interleaving, as `./run track bench` runs them), and a solve must
 // never pay for a factorization. The default suite holds about 0.7 GB of factors at its peak.
 std::map<std::string, std::unique_ptr<LinearSolver>>& factored() {
   static std::map<std::string, std::unique_ptr<LinearSolver>> f;
@@ -329,6 +329,9 @@ int main(int argc, char** argv) {
     benchmark::Initialize(&n, args.data());
     if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
     for (const auto& [k, v] : provenance().columns()) benchmark::AddCustomContext("deformbench_" + k, v);
+    // The suite's definition: bump it when a benchmark's work or a counter's meaning changes, so that the gate
+    // refuses a baseline of the old definition as stale (python/dbtools/track/provenance.py).
+    benchmark::AddCustomContext("deformbench_suite_version", "1");
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return 0;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sharded grids end to end: a small Table 2-1 grid and a small solver-study grid run whole and as 2 shards
 # (--shard 1/2, --shard 2/2), the shards merged (--merge-shards 2); the merged CSVs must have the whole run's
-# columns and the same rows in the same order (the key columns of scripts/compare_results.py, line by line), and
+# columns and the same rows in the same order (the key columns of dbtools.track.results, line by line), and
 # the shards must not overlap. Bad shard specs and a merge with a missing shard are refused.
 #   shards_test.sh SOURCE_DIR BUILD_DIR
 set -u
@@ -19,14 +19,12 @@ run() { # NAME EXPECTED_EXIT -- COMMAND...
   [ "$got" -eq "$code" ] && ok "$name" || fail "$name: exit $got, expected $code: $(tail -c 400 "$T/out")"
 }
 
-# The key columns of FILE's rows, in file order (compare_results.py's keys for that file name).
+# The key columns of FILE's rows, in file order (dbtools.track.results' keys for that file name).
+export PYTHONPATH=$PWD/python  # after cd "$SRC"
 keys() {
   "$PY" - "$1" <<'EOF'
 import csv, os, sys
-sys.path.insert(0, "scripts")
-import importlib.util
-spec = importlib.util.spec_from_file_location("cr", "scripts/compare_results.py")
-cr = importlib.util.module_from_spec(spec); spec.loader.exec_module(cr)
+from dbtools.track import results as cr
 with open(sys.argv[1], newline="") as f:
     r = csv.DictReader(f)
     print(",".join(r.fieldnames))
@@ -56,7 +54,7 @@ run "table_2_1 merge" 0 -- "$BIN/exp_table_2_1" "${TAB[@]}" --results "$T/sharde
 for f in table_2_1.csv scaling.csv scaling_fits.csv table_2_1_thesis.csv; do
   same_rows "table_2_1 $f" "$T/whole/$f" "$T/sharded/$f"
 done
-run "table_2_1 compare_results" 0 -- "$PY" scripts/compare_results.py "$T/whole" "$T/sharded"
+run "table_2_1 results compared" 0 -- "$PY" -m dbtools.track.results "$T/whole" "$T/sharded"
 
 # ------------------------------------------------------------------------------------------ solver study
 SOL=(--tier cactus=bs08/cactus.off --tier bar=bs08/bar.off --systems lap,tf

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""A stand-in for building and running exp_track, for the tests of scripts/track.py (DEFORMBENCH_TRACK_MEASURE):
+"""A stand-in for building and running exp_track, for the tests of dbtools.track (driver.py) (DEFORMBENCH_TRACK_MEASURE):
 the "suite" of a commit is its file measure.txt (lines `MEASURE=VALUE`), written as a history of one cell.
 
   track_fake_measure.py machine-id                    prints the machine id (fake-machine)
@@ -25,7 +25,7 @@ def measure(src, out, commit):
             if "=" in line:
                 k, v = line.strip().split("=", 1)
                 values[k] = float(v)
-    sha = os.environ["DEFORMBENCH_GIT_SHA"]  # set by scripts/track.py: the short sha, "+dirty" for local changes
+    sha = os.environ["DEFORMBENCH_GIT_SHA"]  # set by the driver: the short sha, "+dirty" for local changes
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%S.%fZ")
     rows = []
     for k, v in values.items():

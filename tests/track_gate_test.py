@@ -1,10 +1,13 @@
 #!/usr/bin/python3
-"""Unit tests of the tracking gate (scripts/track_gate.py) on synthetic histories: a 30% slowdown of a CPU time is
+"""Unit tests of the regression gate (python/dbtools/track) on synthetic records: a 30% slowdown of a CPU time is
 flagged, a 5% one and pure noise pass, a 30% slowdown of a phase so short that it is under the absolute floor
 (--min-delta-ms) is recorded only, a suite of 50 phases with this box's run-to-run spread and no change rarely
-fails, a loaded machine (wall times x3, CPU times as they were) passes; scripts/track_gate_power.py; wall times
+fails, a loaded machine (wall times x3, CPU times as they were) passes; the power measurement (power.py); wall times
 are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
-deterministic, memory and status rules.  Run: tests/track_gate_test.py (ctest `track_gate`)."""
+deterministic, memory and status rules; a subset run compares what ran ("not run", never a failure); stale and
+foreign baselines refused with their messages and exit codes (3, 4) unless allowed; bench_phases JSON records
+(gbench.py) and the drivers' result CSVs (results.py) under the same rules.
+Run: PYTHONPATH=python tests/track_gate_test.py (ctest `track_gate`)."""
 import math
 import os
 import random
@@ -13,10 +16,7 @@ import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPTS = os.path.join(HERE, "..", "scripts")
-sys.path.insert(0, SCRIPTS)
-import track_gate as g  # noqa: E402
+from dbtools.track import gate as g
 
 CELL = "deform/armadillo/tf/structured/multifrontal"
 
@@ -290,7 +290,7 @@ class OtherRules(unittest.TestCase):
         self.assertEqual(c[(CELL, "status")].verdict, "FAIL")
         self.assertIn("boom", c[(CELL, "status")].note)
         self.assertEqual(c[("solve/y", "nnz")].verdict, "new")
-        self.assertEqual(c[("solve/x", "nnz")].verdict, "missing")
+        self.assertEqual(c[("solve/x", "nnz")].verdict, "not run")
 
     def test_cell_and_measure_filters(self):
         base = g.History.from_rows([row("nnz", "deterministic", "", 5, 1), row("n", "deterministic", "", 5, 1)])
@@ -300,7 +300,7 @@ class OtherRules(unittest.TestCase):
 
 
 class CommandLine(unittest.TestCase):
-    def write(self, d, name, rows):
+    def write(self, d, name, rows):  # noqa: also called unbound (write_csv)
         import csv
         path = os.path.join(d, name)
         with open(path, "w", newline="") as f:
@@ -310,8 +310,7 @@ class CommandLine(unittest.TestCase):
         return path
 
     def run_gate(self, *args):
-        return subprocess.run([sys.executable, os.path.join(SCRIPTS, "track_gate.py"), *args], text=True,
-                              capture_output=True)
+        return subprocess.run([sys.executable, "-m", "dbtools.track.gate", *args], text=True, capture_output=True)
 
     def test_exit_codes_and_report(self):
         with tempfile.TemporaryDirectory() as d:
@@ -349,7 +348,7 @@ class CommandLine(unittest.TestCase):
 
 
 class PowerScript(unittest.TestCase):
-    """scripts/track_gate_power.py on four synthetic runs of one commit (12 phases of 0.5 s, 2% noise)."""
+    """python3 -m dbtools.track.power on four synthetic runs of one commit (12 phases of 0.5 s, 2% noise)."""
     write = CommandLine.write
 
     def test_false_alarms_and_planted_slowdowns(self):
@@ -358,16 +357,273 @@ class PowerScript(unittest.TestCase):
             paths = [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
                                                  for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))])
                      for i in range(4)]
-            tool = os.path.join(SCRIPTS, "track_gate_power.py")
-            p = subprocess.run([sys.executable, tool, *paths, "--slowdown", "1.5"], text=True, capture_output=True)
+            tool = ["-m", "dbtools.track.power"]
+            p = subprocess.run([sys.executable, *tool, *paths, "--slowdown", "1.5"], text=True, capture_output=True)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side)", p.stdout)
             self.assertIn("planted x1.5 slowdowns caught: 50 ms and over 1.00 of 144; all 1.00", p.stdout)
-            p = subprocess.run([sys.executable, tool, *paths, "--pool", "2", "--slowdown", "1.01"], text=True,
+            p = subprocess.run([sys.executable, *tool, *paths, "--pool", "2", "--slowdown", "1.01"], text=True,
                                capture_output=True)
             self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side)", p.stdout)
             self.assertIn("50 ms and over 0.00 of 72", p.stdout)
-            self.assertEqual(subprocess.run([sys.executable, tool, paths[0], "--pool", "1"]).returncode, 1)
+            self.assertEqual(subprocess.run([sys.executable, *tool, paths[0], "--pool", "1"]).returncode, 1)
+
+def write_csv(d, name, rows):
+    return CommandLine.write(None, d, name, rows)
+
+
+def run_module(module, *args):
+    return subprocess.run([sys.executable, "-m", module, *args], text=True, capture_output=True)
+
+
+def det(cell, value, **kw):
+    return row("nnz_factor", "deterministic", "", value, 1, cell=cell, **kw)
+
+
+class SubsetRuns(unittest.TestCase):
+    def test_entries_that_did_not_run_are_not_run_never_a_failure(self):
+        base = g.History.from_rows([det("deform/a", 10), det("deform/b", 10), det("solve/c", 10)])
+        now = g.History.from_rows([det("deform/a", 10)])
+        c = verdicts(base, now)
+        self.assertEqual({k: v.verdict for k, v in c.items()},
+                         {("deform/a", "nnz_factor"): "ok", ("deform/b", "nnz_factor"): "not run",
+                          ("solve/c", "nnz_factor"): "not run"})
+        with tempfile.TemporaryDirectory() as d:
+            p = run_module("dbtools.track.gate", write_csv(d, "b.csv", [det("deform/a", 10), det("deform/b", 10)]),
+                           write_csv(d, "n.csv", [det("deform/a", 10)]))
+            self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+            self.assertIn("comparisons: not run 1, ok 1 (not run: in the baseline, not in this run)", p.stdout)
+            self.assertNotIn("deform/b", p.stdout.split("baseline:")[0])  # not listed as a notable comparison
+
+
+def spec_rows(spec, cell=CELL, overrides="", measure="nnz_factor", cls="deterministic", **kw):
+    return [row(measure, cls, "", 100, 1, cell=cell, spec=spec, overrides=overrides, **kw)]
+
+
+class StaleBaselines(unittest.TestCase):
+    SPEC = "kind=deform model=hand method=tf build=structured mesh=data/meshes/hand.off frames=5"
+
+    def refused(self, base_rows, now_rows, suite_cells=None):
+        base, now = g.History.from_rows(base_rows, "base.csv"), g.History.from_rows(now_rows, "now.csv")
+        with self.assertRaises(g.Refused) as e:
+            g.check(base, now, suite_cells)
+        self.assertEqual((e.exception.kind, e.exception.exit_code), ("stale", 3))
+        self.assertRegex(str(e.exception), r"^the baseline base.csv \(commit cccccccccccc, .*machine m1\) is stale: ")
+        self.assertIn("--allow-stale", str(e.exception))
+        return str(e.exception)
+
+    def test_a_cell_defined_otherwise(self):
+        msg = self.refused(spec_rows(self.SPEC), spec_rows(self.SPEC.replace("frames=5", "frames=9")))
+        self.assertIn(f"{CELL}: frames=5 in the baseline, 9 now", msg)
+
+    def test_keys_the_runs_overrides_set_are_the_change_under_test(self):
+        base = g.History.from_rows(spec_rows(self.SPEC))
+        now = g.History.from_rows(spec_rows(self.SPEC + " ordering=natural", overrides="kind=deform: ordering=natural"))
+        self.assertEqual(g.check(base, now).notes, [])
+
+    def test_a_changed_cell_list_measure_class_or_measure_set(self):
+        msg = self.refused(spec_rows("") + spec_rows("", cell="solve/gone"), spec_rows(""), suite_cells=[CELL])
+        self.assertIn("1 cell(s) the suite no longer defines: solve/gone", msg)
+        msg = self.refused(spec_rows("", measure="init_s", cls="time"), spec_rows("", measure="init_s", cls="cpu"))
+        self.assertIn(f"{CELL} init_s: class time in the baseline, cpu now", msg)
+        msg = self.refused(spec_rows("") + spec_rows("", measure="flops"), spec_rows(""))
+        self.assertIn(f"{CELL}: flops no longer measured", msg)
+
+    def test_another_suite_definition(self):
+        msg = self.refused(spec_rows("", suite="bench_phases v1, aaa (80 benchmarks)"),
+                           spec_rows("", suite="bench_phases v2, aaa (80 benchmarks)"))
+        self.assertIn("suite definition 'bench_phases v1, aaa (80 benchmarks)' in the baseline, "
+                      "'bench_phases v2, aaa (80 benchmarks)' now", msg)
+
+    def test_exit_3_unless_allowed(self):
+        with tempfile.TemporaryDirectory() as d:
+            base = write_csv(d, "b.csv", spec_rows(self.SPEC))
+            now = write_csv(d, "n.csv", [dict(r, value="200") for r in spec_rows(self.SPEC.replace("5", "9"))])
+            p = run_module("dbtools.track.gate", base, now)
+            self.assertEqual(p.returncode, 3, p.stdout)
+            self.assertRegex(p.stderr, r"track_gate: error: the baseline .*b\.csv .* is stale: .*frames=5 in the "
+                                       r"baseline, 9 now")
+            self.assertEqual(p.stdout, "")
+            p = run_module("dbtools.track.gate", base, now, "--allow-stale")
+            self.assertEqual(p.returncode, 1, p.stderr)  # compared: nnz_factor doubled
+            self.assertIn("stale baseline compared anyway (--allow-stale)", p.stdout)
+
+
+class ForeignBaselines(unittest.TestCase):
+    def test_another_machine_is_refused_with_exit_4_unless_allowed(self):
+        def rows(machine, cpu_model, factor):
+            return [row("factorize_cpu_s", "cpu", "", t * factor, i + 1, machine=machine, machine_cpu=cpu_model)
+                    for i, t in enumerate([1.0, 1.01, 0.99, 1.02, 0.98])] + \
+                [row("nnz_factor", "deterministic", "", 1000 * factor, 1, machine=machine, machine_cpu=cpu_model)]
+        with tempfile.TemporaryDirectory() as d:
+            base = write_csv(d, "b.csv", rows("m1", "Intel Xeon", 1))
+            now = write_csv(d, "n.csv", rows("m2", "AMD EPYC", 1.5))
+            p = run_module("dbtools.track.gate", base, now)
+            self.assertEqual(p.returncode, 4, p.stdout)
+            self.assertRegex(p.stderr, r"the baseline .*b\.csv \(commit cccccccccccc, .*machine m1 "
+                                       r"\(CPU Intel Xeon\)\) is foreign: CPU Intel Xeon in the baseline, AMD EPYC now: .*--allow-foreign")
+            p = run_module("dbtools.track.gate", base, now, "--allow-foreign", "--all")
+            self.assertEqual(p.returncode, 1, p.stderr)
+            self.assertRegex(p.stdout, r"nnz_factor +deterministic +1000 +1500 +1\.500 +FAIL")
+            self.assertRegex(p.stdout, r"factorize_cpu_s +cpu .*not gated +other machine")
+            self.assertIn("foreign baseline (--allow-foreign): deterministic measures only", p.stdout)
+
+    def test_another_build_type_is_foreign(self):
+        base = g.History.from_rows([det(CELL, 1, build_type="Release")], "b.csv")
+        now = g.History.from_rows([det(CELL, 1, build_type="Debug")], "n.csv")
+        with self.assertRaisesRegex(g.Refused, "is foreign: build Release in the baseline, Debug now"):
+            g.check(base, now)
+
+
+def gbench_doc(cpu_model="AMD EPYC", version="1", suite="abc (3 benchmarks)", scale=None, names=None, error=None):
+    """A bench_phases JSON: 5 repetitions of each benchmark (+ their aggregates), counters, one context."""
+    scale = scale or {}
+    ctx = {"date": "2026-01-01T00:00:00+00:00", "deformbench_git_sha": "abcdef123456", "deformbench_cpu": cpu_model,
+           "deformbench_blas_core": "Haswell", "deformbench_hardware_threads": "2", "deformbench_blas_threads": "1",
+           "deformbench_build_threads": "1", "deformbench_timestamp": "2026-01-01T00:00:00Z",
+           "deformbench_suite_version": version, "deformbench_suite": suite, "deformbench_build_type": "Release"}
+    out = []
+    for name, ms in (names or {"factorize/mesh:hand/system:lap/build:structured/backend:umfpack": 20.0,
+                               "solve/mesh:hand/system:lap/build:structured/backend:umfpack": 2.0,
+                               "build/mesh:hand/system:lap/build:structured": 8.0}).items():
+        if name == error:
+            out.append({"name": name, "run_name": name, "run_type": "iteration", "error_occurred": True,
+                        "error_message": "solver failed"})
+            continue
+        f = scale.get(name, {})
+        for i, k in enumerate([1.0, 1.01, 0.99, 1.02, 0.98]):
+            out.append({"name": name, "run_name": name, "run_type": "iteration", "repetition_index": i,
+                        "cpu_time": ms * k * f.get("cpu_time", 1) * 1e3, "real_time": ms * k * f.get("real_time", 1)
+                        * 1e3, "time_unit": "us", "n": 1197.0, "nnz": 12508.0,
+                        "nnz_L": round(122047 * f.get("nnz_L", 1)), "bytes": round(595176 * f.get("bytes", 1))})
+        out.append({"name": name + "_median", "run_name": name, "run_type": "aggregate", "aggregate_name": "median",
+                    "cpu_time": 1e9, "real_time": 1e9, "time_unit": "us"})
+    return {"context": ctx, "benchmarks": out}
+
+
+FACT = "factorize/mesh:hand/system:lap/build:structured/backend:umfpack"
+
+
+class GoogleBenchmarkRecords(unittest.TestCase):
+    def write(self, d, name, doc):
+        import json
+        path = os.path.join(d, name)
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        return path
+
+    def gate(self, base, now, *args):
+        with tempfile.TemporaryDirectory() as d:
+            return run_module("dbtools.track.gate", self.write(d, "base.json", base), self.write(d, "now.json", now),
+                              *args)
+
+    def test_rows(self):
+        with tempfile.TemporaryDirectory() as d:
+            h = g.load_history(self.write(d, "r.json", gbench_doc(error="build/mesh:hand/system:lap/build:structured")))
+        for got, want in zip(h.values[(FACT, "cpu_s")].values(), [1.0, 1.01, 0.99, 1.02, 0.98]):
+            self.assertAlmostEqual(got, 0.02 * want, delta=1e-15)  # 20 ms * k, read in microseconds
+        self.assertEqual(h.values[(FACT, "nnz_L")], {1: 122047.0})
+        self.assertEqual(h.classes[(FACT, "bytes")][0], "deterministic")
+        self.assertEqual(h.classes[(FACT, "wall_s")][0], "time")
+        self.assertEqual(h.failed, {"build/mesh:hand/system:lap/build:structured": "solver failed"})
+        self.assertEqual((h.meta["machine_cpu"], h.meta["build_type"], h.meta["suite"]),
+                         ("AMD EPYC", "Release", "bench_phases v1, abc (3 benchmarks)"))
+
+    def test_the_same_run_passes(self):
+        p = self.gate(gbench_doc(), gbench_doc())
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("verdict: pass", p.stdout)
+
+    def test_counters_compared_exactly(self):
+        p = self.gate(gbench_doc(), gbench_doc(scale={FACT: {"nnz_L": 1.01}}))
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertRegex(p.stdout, FACT + r" +nnz_L +deterministic +122047 +123267 +1\.010 +FAIL")
+        p = self.gate(gbench_doc(), gbench_doc(scale={FACT: {"bytes": 0.99}}))
+        self.assertEqual(p.returncode, 0, p.stdout)
+        self.assertRegex(p.stdout, FACT + r" +bytes +deterministic +595176 +589224 +0\.990 +changed")
+
+    def test_cpu_time_by_the_cpu_rule_wall_time_reported(self):
+        p = self.gate(gbench_doc(), gbench_doc(scale={FACT: {"cpu_time": 1.5}}))
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertRegex(p.stdout, FACT + r" +cpu_s +cpu +0\.02 +0\.03 +1\.500 +0\.00[0-9]+ +FAIL")
+        p = self.gate(gbench_doc(), gbench_doc(scale={FACT: {"real_time": 2}}))
+        self.assertEqual(p.returncode, 0, p.stdout)
+        self.assertEqual(self.gate(gbench_doc(), gbench_doc(scale={FACT: {"real_time": 2}}), "--gate-wall")
+                         .returncode, 1)
+
+    def test_a_filtered_run_compares_what_ran(self):
+        p = self.gate(gbench_doc(), gbench_doc(names={FACT: 20.0}))
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("not run 12", p.stdout)
+
+    def test_an_errored_benchmark_fails(self):
+        p = self.gate(gbench_doc(), gbench_doc(error=FACT))
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertRegex(p.stdout, FACT + r" +status +status .*FAIL +solver failed")
+
+    def test_stale_and_foreign(self):
+        p = self.gate(gbench_doc(version="0"), gbench_doc())
+        self.assertEqual(p.returncode, 3, p.stderr)
+        self.assertIn("is stale: suite definition 'bench_phases v0, abc (3 benchmarks)' in the baseline, "
+                      "'bench_phases v1, abc (3 benchmarks)' now", p.stderr)
+        old = gbench_doc()
+        for k in ("deformbench_suite_version", "deformbench_suite", "deformbench_build_type"):
+            del old["context"][k]
+        p = self.gate(old, gbench_doc())
+        self.assertEqual(p.returncode, 3, p.stderr)
+        self.assertIn("suite definition 'not recorded' in the baseline", p.stderr)
+        p = self.gate(gbench_doc(cpu_model="Intel Xeon"), gbench_doc())
+        self.assertEqual(p.returncode, 4, p.stderr)
+        self.assertIn("is foreign: CPU Intel Xeon in the baseline, AMD EPYC now", p.stderr)
+
+    def test_unreadable_records(self):
+        bad = gbench_doc()
+        del bad["context"]["deformbench_cpu"]
+        p = self.gate(gbench_doc(), bad)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("no provenance in its context (no deformbench_cpu): not a bench_phases run", p.stderr)
+        bad = gbench_doc()
+        bad["benchmarks"][0]["cpu_time"] = "fast"
+        p = self.gate(gbench_doc(), bad)
+        self.assertEqual(p.returncode, 2)
+        self.assertRegex(p.stderr, r"cpu_time 'fast' 'us' is not a time")
+
+
+class DriverResults(unittest.TestCase):
+    """dbtools.track.results: two runs of the drivers' CSVs, schema first, numbers by the gate's rules."""
+    HEADER = "model,system,build,backend,factor_storage,measure,value,unit,git_sha,cpu\n"
+
+    def run_on(self, old_rows, new_rows, header_new=None):
+        with tempfile.TemporaryDirectory() as d:
+            for sub, rows, header in (("old", old_rows, self.HEADER), ("new", new_rows, header_new or self.HEADER)):
+                os.mkdir(os.path.join(d, sub))
+                with open(os.path.join(d, sub, "table_2_1.csv"), "w") as f:
+                    f.write(header + "".join(rows))
+            return run_module("dbtools.track.results", os.path.join(d, "old"), os.path.join(d, "new"))
+
+    def rows(self, nnz, init, sha="a"):
+        return [f"hand,lap,structured,multifrontal,memory,nnz_factor,{nnz},count,{sha},X\n",
+                f"hand,lap,structured,multifrontal,memory,init_s,{init},s,{sha},X\n",
+                f"hand,lap,structured,multifrontal,memory,fps_handle,{1 / init},1/s,{sha},X\n"]
+
+    def test_same_schema_and_counts_pass_times_and_rates_summarized(self):
+        p = self.run_on(self.rows(1000, 0.75), self.rows(1000, 0.5, sha="b"))
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("init_s: new/old median 0.667 (range 0.667-0.667, 1 values)", p.stdout)
+        self.assertIn("fps_handle: new/old median 1.5", p.stdout)  # a rate, not a count of handles
+
+    def test_a_count_grown_fails_a_schema_change_fails(self):
+        p = self.run_on(self.rows(1000, 0.5), self.rows(1100, 0.5))
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertRegex(p.stdout, r"table_2_1\.csv:hand/lap/structured/multifrontal/memory +nnz_factor +deterministic "
+                                   r"+1000 +1100 +1\.100 +FAIL")
+        p = self.run_on(self.rows(1000, 0.5), [r.rsplit(",", 1)[0] + "\n" for r in self.rows(1000, 0.5)],
+                        self.HEADER.replace(",cpu", ""))
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertIn("schema: table_2_1.csv: columns added [], removed ['cpu']", p.stdout)
+        p = self.run_on(self.rows(1000, 0.5), self.rows(1000, 0.5)[:1])
+        self.assertEqual(p.returncode, 1, p.stdout)
+        self.assertIn("table_2_1.csv: measures only old ['fps_handle', 'init_s'], only new []", p.stdout)
 
 
 if __name__ == "__main__":

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# scripts/track.py (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
+# python3 -m dbtools.track (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
 # measure.txt as a history of one cell): the default baseline (the newest history of an ancestor, never a dirty
 # run), --baseline REV measured in a worktree and then reused, the committed reference as a fresh clone's
-# baseline, and --bisect finding planted regressions of a deterministic and of a timed measure. Seconds, no build.
+# baseline (another machine's: refused as foreign, exit 4, unless --allow-foreign), a baseline holding a cell the
+# suite no longer defines refused as stale (exit 3), and --bisect finding planted regressions of a deterministic
+# and of a timed measure. Seconds, no build.
 #   track_scripts_test.sh SOURCE_DIR
 set -u
 SRC=$(cd "$1" && pwd)
@@ -24,7 +26,8 @@ no_worktrees() {  # the worktrees of other commits are removed once measured
     ok "$1: no worktree left" || fail "$1: worktrees left: $(git -C "$R" worktree list; ls -A "$T/work")"
 }
 
-TRACK=(/usr/bin/python3 "$SRC/scripts/track.py" --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
+export PYTHONPATH=$SRC/python
+TRACK=(/usr/bin/python3 -m dbtools.track --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
   --report "$T/track.md" --no-plots)
 # expect NAME EXIT_CODE REGEX -- args...
 expect() {
@@ -73,6 +76,30 @@ sed "s/^$(sha c7)/$(printf 'f%.0s' {1..40})/" "$(ls "$T"/history/runs/*"$(sha c7
   >"$T/history2/reference/ref.csv"
 TRACK+=(--history-dir "$T/history2")
 expect "fresh clone: the committed reference" 0 "this machine's committed reference" --
+
+# A fresh clone on another machine: the only reference is foreign.
+mkdir -p "$T/history3/reference"
+sed "s/,fake-machine,/,other-machine,/" "$T/history2/reference/ref.csv" >"$T/history3/reference/ref.csv"
+TRACK+=(--history-dir "$T/history3")
+expect "another machine's reference: foreign" 4 \
+  "the baseline .*ref.csv \(commit $(sha c7 | cut -c1-12), .*machine other-machine\) is foreign: machine id \
+other-machine in the baseline, fake-machine now" --
+grep -q "baseline refused (foreign, exit 4)" "$T/track.md" && ok "the report says it was refused" ||
+  fail "track.md: $(head -3 "$T/track.md")"
+expect "--allow-foreign: its deterministic measures" 0 \
+  "foreign baseline \(--allow-foreign\): deterministic measures only" -- --allow-foreign \
+  --baseline-file "$T/history3/reference/ref.csv"  # the refused run above is this machine's newest history now
+grep -Eq "fake/cell +factorize_s +cpu .*not gated" "$T/out" || grep -q "not gated 1" "$T/out" &&
+  ok "--allow-foreign: times not gated" || fail "--allow-foreign: $(cat "$T/out")"
+
+# A baseline holding a cell the suite no longer defines: stale.
+REF=$T/history2/reference/ref.csv
+{ cat "$REF"; tail -n +2 "$REF" | sed "s|,fake/cell,|,fake/gone,|"; } >"$T/stale.csv"
+expect "a cell the suite no longer defines: stale" 3 \
+  "is stale: 1 cell\(s\) the suite no longer defines: fake/gone: record a baseline of the current suite" -- \
+  --baseline-file "$T/stale.csv"
+expect "--allow-stale" 0 "stale baseline compared anyway \(--allow-stale\)" -- --baseline-file "$T/stale.csv" \
+  --allow-stale
 
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi
 echo "all passed"

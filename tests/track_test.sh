@@ -2,7 +2,7 @@
 # The tracking suite end to end on the real driver (build/exp_track), reduced to small meshes (hand and the CGAL
 # cactus of the data step; it fails naming them when they are missing): strict command line and config, the
 # shipped suite's grid, and a planted regression:
-# the suite run again through scripts/track.py with a worse ordering for the TF cells (--override ordering=natural)
+# the suite run again through the driver (python3 -m dbtools.track) with a worse ordering for the TF cells (--override ordering=natural)
 # against a baseline with the default fails, naming nnz(L) and factor bytes of the TF cells and nothing of LAP's;
 # the same worse ordering caught by the CPU-time rule alone (init_cpu_s); the unchanged cell is gated on its exact
 # measures only (whether it passes on time is the machine's noise: results/history/README.md).
@@ -11,17 +11,10 @@ set -u
 SRC=$(cd "$1" && pwd)
 BIN=$(cd "$2" && pwd)
 . "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
+. "$(dirname "$0")/track_lib.sh"  # expect
 cd "$SRC" || exit 1
-# expect NAME EXIT_CODE REGEX -- command...
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  "$@" >"$T/out" 2>&1
-  local got=$?
-  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(tail -c 600 "$T/out")"; return; fi
-  if ! grep -Eq -- "$re" "$T/out"; then fail "$name: output does not match /$re/: $(tail -c 600 "$T/out")"; return; fi
-  ok "$name"
-}
 X="$BIN/exp_track"
+export PYTHONPATH=$SRC/python
 
 # ---------------------------------------------------------------- command line and the shipped suite
 expect "--help" 0 "Usage: exp_track" -- "$X" --help
@@ -63,7 +56,7 @@ expect "a failed cell" 5 "FAILED kind=deform model=cactus method=tf .*frames=100
   --cell-timeout-s 1
 grep -q ",status,.*timed out" "$T/failed.csv" && ok "the failed cell's status row" || fail "no status row: $(cat "$T/failed.csv")"
 [ "$(cut -d, -f4 "$T/base.csv" | sort -u | grep -c /)" -eq 4 ] && ok "four cells in the history" || fail "cells: $(cut -d, -f4 "$T/base.csv" | sort -u)"
-TRACK=(env DEFORMBENCH_BUILD_DIR="$BIN" /usr/bin/python3 "$SRC/scripts/track.py" --no-build --no-plots
+TRACK=(env DEFORMBENCH_BUILD_DIR="$BIN" /usr/bin/python3 -m dbtools.track --no-build --no-plots
   --config "$T/small.toml" --history-dir "$T/history" --report "$T/track.md" --baseline-file "$T/base.csv")
 expect "same suite passes" 0 "verdict: pass" -- "${TRACK[@]}"
 expect "TF with the natural ordering fails" 1 "verdict: FAIL" -- "${TRACK[@]}" \
@@ -94,9 +87,9 @@ for run in base same slow; do
   "$X" --config "$T/cpu.toml" --data "$SRC/data" --out "$T/cpu_$run.csv" "${over[@]}" >/dev/null 2>&1 ||
     fail "cpu run $run did not run"
 done
-GATE=(/usr/bin/python3 "$SRC/scripts/track_gate.py" --measure init_cpu_s "$T/cpu_base.csv")
+GATE=(/usr/bin/python3 -m dbtools.track.gate --measure init_cpu_s "$T/cpu_base.csv")
 expect "unchanged: exact measures pass" 0 "verdict: pass" -- \
-  /usr/bin/python3 "$SRC/scripts/track_gate.py" --measure nnz_factor "$T/cpu_base.csv" "$T/cpu_same.csv"
+  /usr/bin/python3 -m dbtools.track.gate --measure nnz_factor "$T/cpu_base.csv" "$T/cpu_same.csv"
 expect "CPU time: a slower init fails" 1 \
   "^deform/hand/tf/structured/multifrontal +init_cpu_s +cpu +[0-9.]+ +[0-9.]+ +[0-9.]+ +0.00[0-9]+ +FAIL" -- \
   "${GATE[@]}" "$T/cpu_slow.csv"

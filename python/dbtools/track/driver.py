@@ -1,24 +1,27 @@
-#!/usr/bin/python3
-"""Regression tracking of init time and memory across commits (`./run track`; README "Regression tracking").
+"""Regression tracking of init time and memory across commits (`./run track`, `python3 -m dbtools.track`).
 
-  track.py [--baseline REV | --baseline-file CSV] [--repeats N] [--only GLOBS] [--override RULE]...
-           [--threshold PCT] [--alpha P] [--min-delta-ms MS] [--gate-wall] [--save-reference] [--no-plots]
-  track.py --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
+  python3 -m dbtools.track [--baseline REV | --baseline-file CSV] [--repeats N] [--only GLOBS] [--override RULE]...
+                           [gate options: --threshold PCT ...] [--allow-stale] [--allow-foreign]
+                           [--save-reference] [--no-plots]
+  python3 -m dbtools.track --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
 
 run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
 new history file results/history/runs/<UTC>_<commit>_<machine>.csv, picks a baseline history and gates the run
-against it (scripts/track_gate.py), writing results/track.md and plots/history_*.png.
+against it (gate.py: the cells that ran; a stale or foreign baseline is refused, exit 3 / 4), writing
+results/track.md and the trend figures (plots/history.py, when present). The build must be a Release build.
   baseline: --baseline REV: the newest history of REV on this machine, else REV built in a git worktree
             (WORK/rev-<sha>) and measured now; default: the newest history of an ancestor commit (HEAD included)
             on this machine id, clean and without overrides, in results/history/runs or results/history/reference;
-            else the newest committed reference of this machine, else of another machine (deterministic measures
-            only); none at all: the run is recorded, nothing gated.
+            else the newest committed reference of this machine, else of another machine (foreign: refused, exit 4,
+            unless --allow-foreign, which gates its deterministic measures only); none at all: the run is
+            recorded, nothing gated.
 --bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: measures
   GOOD and BAD (that cell only, each built in the worktree WORK/bisect), then `git bisect run` with this script's
   bisect-step (build, measure, gate against GOOD; a commit that does not build or cannot run the cell is skipped).
   WORK (default BUILD/track, git-ignored) holds only the worktrees of a command under way: each is removed when
   its commit is measured (--baseline) or the bisection ends.
-Exit codes: 0 pass / found; 1 regression, usage, or (bisect) BAD not regressed; 2 could not build, measure or read.
+Exit codes: 0 pass / found; 1 regression, usage, or (bisect) BAD not regressed; 2 could not build, measure or read;
+3 stale baseline; 4 foreign baseline (provenance.py).
 Environment: DEFORMBENCH_BUILD_DIR (default build/), JOBS (default 2), DEFORMBENCH_TRACK_MEASURE (tests: a command
 `CMD machine-id` / `CMD measure SRC OUT COMMIT ONLY` used instead of building and running exp_track).
 """
@@ -31,10 +34,11 @@ import subprocess
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import track_gate  # noqa: E402
+from . import gate as track_gate
+from .history import InputError, load_history
 
 PY = "/usr/bin/python3"
+PACKAGES = Path(__file__).resolve().parents[2]  # <repo>/python: the PYTHONPATH of the commands this one starts
 
 
 class Failure(Exception):
@@ -77,7 +81,7 @@ class Context:
     """Where things are: the repository measured, its build, the worktrees for other commits, the histories."""
 
     def __init__(self, a):
-        self.repo = Path(a.repo).resolve() if a.repo else Path(__file__).resolve().parent.parent
+        self.repo = Path(a.repo).resolve() if a.repo else PACKAGES.parent
         self.build = Path(os.environ.get("DEFORMBENCH_BUILD_DIR") or self.repo / "build").resolve()
         self.work = Path(a.work_dir).resolve() if a.work_dir else self.build / "track"
         self.history = Path(a.history_dir).resolve() if a.history_dir else self.repo / "results" / "history"
@@ -87,25 +91,41 @@ class Context:
         self.jobs = os.environ.get("JOBS", "2")
         hook = os.environ.get("DEFORMBENCH_TRACK_MEASURE")
         self.hook = shlex.split(hook) if hook else None
-        self.threshold, self.alpha, self.repeats, self.gate_wall = a.threshold, a.alpha, a.repeats, a.gate_wall
-        self.min_delta_ms = a.min_delta_ms
+        self.args, self.repeats = a, a.repeats
         self.only, self.overrides, self.build_current = a.only, a.override or [], not a.no_build
 
 
 # ------------------------------------------------------------------------------------------------ measuring
 def build(ctx, src, build_dir):
     """Configures (when new) and builds exp_track of the tree at `src` in `build_dir`."""
-    if ctx.hook:
-        return
-    if not (build_dir / "CMakeCache.txt").exists():
+    if not ctx.hook:
+        cmake_build(src, build_dir, "exp_track", ctx.jobs)
+
+
+def cmake_build(src, build_dir, target, jobs):
+    """Configures `build_dir` as a Release build of `src` when it is new (else refuses another build type) and
+    builds `target` there."""
+    if (build_dir / "CMakeCache.txt").exists():
+        check_release(build_dir)
+    else:
         log(f"configuring {build_dir}")
-        launcher = ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"] if sh(["which", "ccache"], check=False).returncode == 0 else []
+        ccache = sh(["which", "ccache"], check=False).returncode == 0
+        launcher = ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"] if ccache else []
         sh(["cmake", "-S", str(src), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release", *launcher])
-    log(f"building exp_track in {build_dir}")
-    p = sh(["cmake", "--build", str(build_dir), "-j", ctx.jobs, "--target", "exp_track"], check=False)
+    log(f"building {target} in {build_dir}")
+    p = sh(["cmake", "--build", str(build_dir), "-j", jobs, "--target", target], check=False)
     if p.returncode != 0:
         tail = "\n".join((p.stdout + p.stderr).strip().splitlines()[-15:])
-        raise Failure(f"build of exp_track in {build_dir} failed:\n{tail}")
+        raise Failure(f"build of {target} in {build_dir} failed:\n{tail}")
+
+
+def check_release(build_dir):
+    """Records are of Release builds only (the gate compares like with like): refuses another build type."""
+    with open(build_dir / "CMakeCache.txt") as f:
+        types = [line.strip().split("=", 1)[1] for line in f if line.startswith("CMAKE_BUILD_TYPE:")]
+    if types != ["Release"]:
+        raise Failure(f"{build_dir} is a {types[0] if types and types[0] else 'default'} build: the tracking suite "
+                      "measures Release builds (cmake -DCMAKE_BUILD_TYPE=Release)")
 
 
 def machine_id(ctx):
@@ -214,13 +234,13 @@ def cells_of(path):
         return {r["cell"] for r in csv.DictReader(f)}
 
 
-def suite_cells(ctx):
-    """The names of the cells the suite runs (with --only), from the driver's --dry-run."""
+def suite_cells(ctx, only):
+    """The names of the cells the suite defines (those --only picks, when given), from the driver's --dry-run."""
     if ctx.hook:
-        out = sh(ctx.hook + ["cells", ctx.only or ""]).stdout
+        out = sh(ctx.hook + ["cells", only or ""]).stdout
     else:
         cmd = [str(ctx.build / "exp_track"), "--config", str(ctx.config), "--data", str(ctx.data), "--dry-run"]
-        out = sh(cmd + (["--only", ctx.only] if ctx.only else [])).stdout
+        out = sh(cmd + (["--only", only] if only else [])).stdout
     return {line.split()[0] for line in out.splitlines() if line.strip()}
 
 
@@ -244,7 +264,8 @@ def choose_baseline(ctx, machine, head, now):
     for pick, why in ((anc, "the newest history of an ancestor commit on this machine"),
                       ([m for m in same if m["reference"]], "this machine's committed reference (not an ancestor)"),
                       ([m for m in clean if m["reference"]],
-                       "a committed reference of another machine: deterministic measures only")):
+                       "a committed reference of another machine (foreign: --allow-foreign gates its deterministic "
+                       "measures)")):
         if pick:
             return newest(pick)["path"], why
     return None, "no history of an ancestor commit on this machine and no committed reference"
@@ -252,7 +273,7 @@ def choose_baseline(ctx, machine, head, now):
 
 def baseline_of_rev(ctx, sha, machine):
     """The newest history of `sha` on this machine, else `sha` built and measured now."""
-    mine = candidates(ctx, machine, sha, suite_cells(ctx))
+    mine = candidates(ctx, machine, sha, suite_cells(ctx, ctx.only))
     if mine:
         return newest(mine)["path"], f"the newest history of {sha[:12]} on this machine"
     log(f"{sha[:12]} has no history on this machine: building it in a worktree")
@@ -260,26 +281,23 @@ def baseline_of_rev(ctx, sha, machine):
 
 
 # ------------------------------------------------------------------------------------------------ gating
-def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=False):
-    """True when NOW passes against BASE (scripts/track_gate.py's rules)."""
+def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=False, suite=None):
+    """gate.py's exit code for NOW against BASE (0 pass, 1 regression, 3 stale, 4 foreign baseline); `suite`: the
+    cells the current suite defines."""
     try:
-        base, now = track_gate.load_history(base_path), track_gate.load_history(now_path)
-    except track_gate.InputError as e:
+        base, now = load_history(base_path), load_history(now_path)
+    except InputError as e:
         raise Failure(str(e))
-    s = track_gate.Settings(threshold=ctx.threshold / 100, alpha=ctx.alpha, cells=tuple(cells),
-                            measures=tuple(measures), gate_wall=ctx.gate_wall, min_delta_s=ctx.min_delta_ms / 1e3)
-    cmps = track_gate.compare(base, now, s)
-    if not quiet:
-        track_gate.print_report(base, now, cmps, s, False)
-    if markdown:
-        track_gate.write_atomically(markdown, track_gate.markdown(base, now, cmps, s))
-    return not any(c.verdict == "FAIL" for c in cmps)
+    a = ctx.args
+    s = track_gate.settings(None, a, cells, measures)
+    return track_gate.gate(base, now, s, suite, a.allow_stale, a.allow_foreign, markdown, quiet)
 
 
 def plots(ctx):
     script = ctx.repo / "plots" / "history.py"
     if script.exists():
-        p = subprocess.run([PY, str(script), "--results", str(ctx.repo / "results"), "--out", str(ctx.repo / "plots")])
+        p = subprocess.run([PY, str(script), "--results", str(ctx.repo / "results"), "--out", str(ctx.repo / "plots")],
+                           env=dict(os.environ, PYTHONPATH=str(PACKAGES)))
         if p.returncode != 0:
             log("plots/history.py failed (the gate's verdict stands)")
 
@@ -299,6 +317,8 @@ def save_reference(ctx, path, machine):
 def cmd_run(ctx, a):
     if ctx.build_current:
         build(ctx, ctx.repo, ctx.build)
+    elif not ctx.hook:
+        check_release(ctx.build)
     machine, head = machine_id(ctx), rev(ctx.repo, "HEAD")
     base, why = None, ""
     if a.baseline:
@@ -310,20 +330,22 @@ def cmd_run(ctx, a):
                   ctx.overrides)
     if base is None:
         base, why = choose_baseline(ctx, machine, head, now)
-    ok = True
+    code = 0
     if base is None:
         nxt = "uncommitted changes: never a baseline" if label.endswith("+dirty") or ctx.overrides else \
             "the baseline of the next run"
         log(f"recorded {now} ({nxt}); {why}: nothing to compare")
     else:
         log(f"baseline: {why}: {base}")
-        ok = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=ctx.report)
-        log(f"report: {ctx.report}")
+        code = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=ctx.report,
+                    suite=suite_cells(ctx, None))
+        if code in (0, 1):
+            log(f"report: {ctx.report}")
     if a.save_reference:
         save_reference(ctx, now, machine)
     if not a.no_plots:
         plots(ctx)
-    return 0 if ok else 1
+    return code
 
 
 # ------------------------------------------------------------------------------------------------ bisect
@@ -351,20 +373,23 @@ def cmd_bisect(ctx, a):
 def bisect(ctx, a, good, bad, machine):
     good_h = measured(ctx, good, machine, a.cell)
     bad_h = measured(ctx, bad, machine, a.cell)
-    if gate(ctx, good_h, bad_h, [a.cell], [a.measure]):
+    code = gate(ctx, good_h, bad_h, [a.cell], [a.measure])
+    if code not in (0, 1):
+        return code
+    if code == 0:
         print(f"{a.bisect[1]} does not regress {a.cell} {a.measure} against {a.bisect[0]}: nothing to bisect")
         return 1
     wt = worktree(ctx, "bisect", bad)
-    step = [PY, str(Path(__file__).resolve()), "--repo", str(ctx.repo), "--work-dir", str(ctx.work),
+    step = [PY, "-m", "dbtools.track", "--repo", str(ctx.repo), "--work-dir", str(ctx.work),
             "--history-dir", str(ctx.history), "--config", str(ctx.config),
-            "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure,
-            "--threshold", str(ctx.threshold), "--alpha", str(ctx.alpha), "--min-delta-ms", str(ctx.min_delta_ms)]
-    step += ["--gate-wall"] if ctx.gate_wall else []
+            "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure, *track_gate.rule_args(a)]
     step += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
+    step += [f for f, on in (("--allow-stale", a.allow_stale), ("--allow-foreign", a.allow_foreign)) if on]
     git(wt, "bisect", "reset", check=False)
     try:
         git(wt, "bisect", "start", bad, good)
-        p = sh(["git", "-C", str(wt), "bisect", "run", *step], check=False)
+        p = sh(["git", "-C", str(wt), "bisect", "run", *step], check=False,
+               env=dict(os.environ, PYTHONPATH=str(PACKAGES)))
         print(p.stdout)
         found = [line for line in p.stdout.splitlines() if line.endswith("is the first bad commit")]
         log_text = git(wt, "bisect", "log", check=False)
@@ -386,12 +411,15 @@ def cmd_bisect_step(ctx, a):
         machine = machine_id(ctx)
         build(ctx, wt, wt / "build")
         now = measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, a.cell, [])
-        h = track_gate.load_history(now)
+        h = load_history(now)
         if a.cell in h.failed:
             log(f"{sha[:12]}: the cell failed ({h.failed[a.cell]}): skipped")
             return 125
-        return 0 if gate(ctx, a.bisect_step, now, [a.cell], [a.measure]) else 1
-    except Failure as e:
+        code = gate(ctx, a.bisect_step, now, [a.cell], [a.measure])
+        if code not in (0, 1):
+            log(f"{sha[:12]}: its history cannot be gated against GOOD's (exit {code}): skipped")
+        return code if code in (0, 1) else 125
+    except (Failure, InputError) as e:
         log(f"{sha[:12]}: {e}: skipped")
         return 125
 
@@ -412,12 +440,8 @@ def parse_args(argv):
     ap.add_argument("--only", help="only cells matching these globs (comma-separated)")
     ap.add_argument("--override", action="append", help="a rule 'key=value ...: key=value ...' changing the cells "
                     "it matches (e.g. 'kind=deform method=tf: ordering=natural'); such a run is never a baseline")
-    ap.add_argument("--threshold", type=float, default=15, help="CPU time: allowed slowdown, percent (15)")
-    ap.add_argument("--alpha", type=float, default=0.01, help="CPU time: significance of the U test (0.01)")
-    ap.add_argument("--min-delta-ms", type=float, default=3, help="time: a slowdown under this many ms is recorded "
-                    "only, never failed (3)")
-    ap.add_argument("--gate-wall", action="store_true", help="gate wall times too (normalized by the machine "
-                    "rates): for a quiet machine")
+    track_gate.add_rule_options(ap)
+    track_gate.add_baseline_options(ap)
     ap.add_argument("--config", help="the suite (default data/experiments/track.toml)")
     ap.add_argument("--save-reference", action="store_true", help="make this run the machine's committed reference")
     ap.add_argument("--no-plots", action="store_true", help="skip plots/history.py")
@@ -434,8 +458,7 @@ def parse_args(argv):
         ap.error("--bisect, --baseline and --baseline-file do not go together")
     if a.repeats is not None and a.repeats < 1:
         ap.error("--repeats must be >= 1")
-    if a.min_delta_ms < 0:
-        ap.error("--min-delta-ms must be >= 0")
+    track_gate.settings(ap, a)  # usage errors in the gate's options now, not after the run
     return a
 
 

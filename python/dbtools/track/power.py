@@ -1,8 +1,7 @@
-#!/usr/bin/python3
-"""The tracking gate's false alarms and power on this machine's own noise: runs of ONE commit (history files of
-experiments/track.cpp), gated pair by pair with scripts/track_gate.py's rules.
+"""The gate's false alarms and power on this machine's own noise: runs of ONE commit (records: history files of
+experiments/track.cpp or bench_phases JSONs), gated pair by pair with gate.py's rules.
 
-  track_gate_power.py RUN.csv RUN.csv [RUN.csv ...] [--slowdown F] [--pool K] [gate options: --alpha P ...]
+  python3 -m dbtools.track.power RUN RUN [RUN ...] [--slowdown F] [--pool K] [gate options: --alpha P ...]
 
 false alarms: every ordered pair (A, B) of the runs gated as they are: any FAIL is one (the runs are of one
   commit). --pool K joins K runs into one side (their rounds renumbered), disjoint sets of K against K, to see
@@ -12,15 +11,12 @@ power: for each such pair and each CPU-time measure the gate tests, that measure
   50 ms) and in all.
 Exit: 0 (a measurement, not a gate), 1 usage, 2 unreadable history. Run with Debian's /usr/bin/python3.
 """
-import argparse
 import copy
 import itertools
 import statistics
 import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import track_gate as g  # noqa: E402
+from . import gate as g
 
 
 def pooled(hs):
@@ -48,21 +44,19 @@ def planted(h, key, factor):
 
 
 def main(argv=None):
-    ap = g.UsageParser(prog="track_gate_power", description=__doc__.split("\n")[0], allow_abbrev=False)
+    ap = g.UsageParser(prog="python3 -m dbtools.track.power", description=__doc__.split("\n")[0], allow_abbrev=False)
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--slowdown", type=float, default=1.3, help="the planted slowdown factor (1.3)")
     ap.add_argument("--pool", type=int, default=1, help="runs joined into one side (1)")
-    ap.add_argument("--alpha", type=float, default=g.Settings.alpha)
-    ap.add_argument("--threshold", type=float, default=g.Settings.threshold * 100)
-    ap.add_argument("--min-delta-ms", type=float, default=g.Settings.min_delta_s * 1e3)
+    g.add_rule_options(ap)
     a = ap.parse_args(sys.argv[1:] if argv is None else argv)
     if a.pool < 1 or len(a.runs) < 2 * a.pool or a.slowdown <= 0:
         ap.error("needs at least 2 x --pool runs, --pool >= 1, --slowdown > 0")
-    s = g.Settings(threshold=a.threshold / 100, alpha=a.alpha, min_delta_s=a.min_delta_ms / 1e3)
+    s = g.settings(ap, a)
     try:
         hs = [g.load_history(p) for p in a.runs]
     except g.InputError as e:
-        print(f"track_gate_power: error: {e}", file=sys.stderr)
+        print(f"power: error: {e}", file=sys.stderr)
         return 2
     caught = {"under 50 ms": [], "50 ms and over": []}
     alarms = 0
