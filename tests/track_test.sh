@@ -96,12 +96,12 @@ expect "CPU time: a slower init fails" 1 \
 
 # The trend view of these histories: the run with overrides is left out, the other gives every figure.
 expect "trend view" 0 "1 run\(s\) of machine [0-9a-f]{12} -> $T/plots/history_\*.png" -- \
-  /usr/bin/python3 "$SRC/plots/history.py" --results "$T" --out "$T/plots"
+  env PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -m dbtools.plots.history --results "$T" --out "$T/plots"
 for f in init frame factor_bytes peak_rss; do
   [ -s "$T/plots/history_$f.png" ] && ok "history_$f.png" || fail "no history_$f.png"
 done
 expect "trend view: unknown machine" 1 "no history of machine nosuch" -- \
-  /usr/bin/python3 "$SRC/plots/history.py" --results "$T" --out "$T/plots" --machine nosuch
+  env PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -m dbtools.plots.history --results "$T" --out "$T/plots" --machine nosuch
 expect "trend view: no history" 0 "no history under" -- \
   /usr/bin/python3 "$SRC/plots/history.py" --results "$T/none" --out "$T/plots"
 

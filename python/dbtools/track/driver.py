@@ -8,7 +8,7 @@
 run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
 new history file results/history/runs/<UTC>_<commit>_<machine>.csv, picks a baseline history and gates the run
 against it (gate.py: the cells that ran; a stale or foreign baseline is refused, exit 3 / 4), writing
-results/track.md and the trend figures (plots/history.py, when present). The build must be a Release build.
+results/track.md and the trend figures (dbtools.plots.history, into results/figures/). The build must be a Release build.
   baseline: --baseline REV: the newest history of REV on this machine, else REV built in a git worktree
             (WORK/rev-<sha>) and measured now; default: the newest history of an ancestor commit (HEAD included)
             on this machine id, clean and without overrides, in results/history/runs or results/history/reference;
@@ -294,12 +294,12 @@ def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=F
 
 
 def plots(ctx):
-    script = ctx.repo / "plots" / "history.py"
-    if script.exists():
-        p = subprocess.run([PY, str(script), "--results", str(ctx.repo / "results"), "--out", str(ctx.repo / "plots")],
-                           env=dict(os.environ, PYTHONPATH=str(PACKAGES)))
-        if p.returncode != 0:
-            log("plots/history.py failed (the gate's verdict stands)")
+    """The trend figures (dbtools.plots.history) into results/figures/; their failure leaves the verdict alone."""
+    results = ctx.repo / "results"
+    p = subprocess.run([PY, "-m", "dbtools.plots.history", "--results", str(results), "--out", str(results / "figures")],
+                       env=dict(os.environ, PYTHONPATH=str(PACKAGES), PYTHONDONTWRITEBYTECODE="1"))
+    if p.returncode != 0:
+        log("dbtools.plots.history failed (the gate's verdict stands)")
 
 
 def save_reference(ctx, path, machine):
@@ -444,7 +444,7 @@ def parse_args(argv):
     track_gate.add_baseline_options(ap)
     ap.add_argument("--config", help="the suite (default data/experiments/track.toml)")
     ap.add_argument("--save-reference", action="store_true", help="make this run the machine's committed reference")
-    ap.add_argument("--no-plots", action="store_true", help="skip plots/history.py")
+    ap.add_argument("--no-plots", action="store_true", help="skip the trend figures (dbtools.plots.history)")
     ap.add_argument("--no-build", action="store_true", help="use the existing build of this tree")
     ap.add_argument("--history-dir", help="histories: runs/ and reference/ (default results/history)")
     ap.add_argument("--report", help="the Markdown report of the comparison (default results/track.md)")
