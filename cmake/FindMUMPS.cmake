@@ -1,8 +1,16 @@
 # MUMPS (double real, MPI build) as Debian ships it: libmumps-dev (PORD and MUMPS's own AMD/AMF/QAMD orderings)
 # and, preferred when installed, libmumps-ptscotch-dev (the same MPI build linked with SCOTCH and PT-SCOTCH).
-# Debian ships no CMake config for either. Defines MUMPS::DMUMPS (headers, libraries, MPI::MPI_C) and
+# Debian ships no CMake config for either. Defines MUMPS::DMUMPS (headers, libraries, MPI::MPI_C or MPI::MPI_CXX) and
 # MUMPS_WITH_SCOTCH (ON for the ptscotch flavour; compile definition DB_MUMPS_SCOTCH=1 on the target).
-find_package(MPI QUIET COMPONENTS C)
+# MPI's C library through whichever language the including project enabled (a C++-only consumer of the installed
+# package has no C compiler enabled, and FindMPI's C component needs one).
+get_property(_mumps_languages GLOBAL PROPERTY ENABLED_LANGUAGES)
+if("C" IN_LIST _mumps_languages)
+  set(_mumps_mpi_lang C)
+else()
+  set(_mumps_mpi_lang CXX)
+endif()
+find_package(MPI QUIET COMPONENTS ${_mumps_mpi_lang})
 find_path(MUMPS_INCLUDE_DIR dmumps_c.h)
 
 find_library(MUMPS_DMUMPS_PTSCOTCH dmumps_ptscotch)
@@ -24,13 +32,13 @@ elseif(MUMPS_DMUMPS_PLAIN AND MUMPS_COMMON_PLAIN)
 endif()
 
 include(FindPackageHandleStandardArgs)
-find_package_handle_standard_args(MUMPS REQUIRED_VARS MUMPS_INCLUDE_DIR MUMPS_LIBRARIES MPI_C_FOUND)
+find_package_handle_standard_args(MUMPS REQUIRED_VARS MUMPS_INCLUDE_DIR MUMPS_LIBRARIES MPI_${_mumps_mpi_lang}_FOUND)
 
 if(MUMPS_FOUND AND NOT TARGET MUMPS::DMUMPS)
   add_library(MUMPS::DMUMPS INTERFACE IMPORTED)
   set_target_properties(MUMPS::DMUMPS PROPERTIES
     INTERFACE_INCLUDE_DIRECTORIES "${MUMPS_INCLUDE_DIR}"
-    INTERFACE_LINK_LIBRARIES "${MUMPS_LIBRARIES};MPI::MPI_C"
+    INTERFACE_LINK_LIBRARIES "${MUMPS_LIBRARIES};MPI::MPI_${_mumps_mpi_lang}"
     # mpi.h from C++ would pull in the deprecated C++ bindings (and need libmpi_cxx); only the C API is used.
     INTERFACE_COMPILE_DEFINITIONS "OMPI_SKIP_MPICXX=1;MPICH_SKIP_MPICXX=1")
   if(MUMPS_WITH_SCOTCH)
