@@ -1,6 +1,7 @@
 #pragma once
-//! Mesh files: OFF, PLY (ASCII and binary little-endian) and OBJ. Reading is strict: a malformed file is
-//! an InputError naming the file, the line or element and the problem, never a partially filled mesh.
+//! Mesh files: OFF, PLY (ASCII and binary little-endian) and OBJ, one reader and writer per format under mesh/io/.
+//! Reading is strict: a malformed file is an InputError naming the file, the line or element and the problem, never
+//! a partially filled mesh.
 #include <string>
 
 #include "mesh/mesh.h"
