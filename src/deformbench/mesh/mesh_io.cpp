@@ -8,6 +8,7 @@
 #include "mesh/io/obj.h"
 #include "mesh/io/off.h"
 #include "mesh/io/ply.h"
+#include "mesh/io/stl.h"
 
 namespace db {
 
@@ -18,20 +19,26 @@ std::string extension_of(const std::string& path) {
 }
 
 [[noreturn]] void unknown_extension(const std::string& path, const std::string& ext) {
-  throw InputError(path + ": unknown mesh extension '" + ext + "' (expected .off, .ply or .obj)");
+  throw InputError(path + ": unknown mesh extension '" + ext + "' (expected .off, .ply, .obj or .stl)");
 }
 
 }  // namespace
+
+const std::vector<std::string>& mesh_extensions() {
+  static const std::vector<std::string> extensions = {".off", ".ply", ".obj", ".stl"};
+  return extensions;
+}
 
 Mesh read_mesh(const std::string& path) {
   const std::string ext = extension_of(path);
   if (ext == ".off") return io::read_off(path, io::read_text(path));
   if (ext == ".ply") return io::read_ply(path, io::read_text(path));
   if (ext == ".obj") return io::read_obj(path, io::read_text(path));
+  if (ext == ".stl") return io::read_stl(path);
   unknown_extension(path, ext);
 }
 
-void write_mesh(const std::string& path, const Mesh& mesh) {
+void write_mesh(const std::string& path, const Mesh& mesh, const MeshWriteOptions& options) {
   const std::string ext = extension_of(path);
   if (ext == ".off") {
     write_atomically(path, [&](std::ostream& os) { io::write_off(os, mesh); });
@@ -39,6 +46,9 @@ void write_mesh(const std::string& path, const Mesh& mesh) {
     write_atomically(path, [&](std::ostream& os) { io::write_obj(os, mesh); });
   } else if (ext == ".ply") {
     write_atomically(path, [&](std::ostream& os) { io::write_ply(os, mesh); }, true);
+  } else if (ext == ".stl") {
+    io::check_stl_writable(path, mesh, options.stl);
+    write_atomically(path, [&](std::ostream& os) { io::write_stl(os, mesh, options.stl); }, true);
   } else {
     unknown_extension(path, ext);
   }
