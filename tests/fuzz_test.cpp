@@ -1,8 +1,8 @@
 // Fuzzing the readers (issue 13, item 8): small OFF, PLY (ASCII, binary, triangle strips), OBJ and STL (ASCII,
-// binary with a header that begins with "solid") files written here, the bundled Botsch-Sorkine cylinder (.off/.sel/.def) and the .edit files of data/edits are mutated with a
-// fixed seed (byte flips, truncations, count changes, swapped numbers, lines dropped or repeated, junk inserted)
-// and loaded in process. Each case must load or throw db::InputError: no other exception, no crash, no hang,
-// no NaN coordinate, no index out of range.
+// binary with a header that begins with "solid") files written here, the bundled Botsch-Sorkine cylinder
+// (.off/.sel/.def) and the .edit files of data/edits are mutated with a fixed seed (byte flips, truncations, count
+// changes, swapped numbers, lines dropped or repeated, junk inserted) and loaded in process. Each case must load
+// or throw db::InputError: no other exception, no crash, no hang, no NaN coordinate, no index out of range.
 //
 // Environment: DEFORMBENCH_FUZZ_CASES (default 3000), DEFORMBENCH_FUZZ_CASE=i runs case i alone (each case draws
 // from its own generator seeded with its number, so a failure replays alone), DEFORMBENCH_FUZZ_VERBOSE=1 prints
@@ -122,7 +122,8 @@ std::string ascii_stl() {
 std::string binary_stl() {
   std::string s = "solid exported by a CAD tool";
   s.resize(80, ' ');
-  const float tris[3][9] = {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 0, 0, 0, 1, 0, 0.5f, 0.5f, 1}};
+  const float tris[3][9] = {
+      {0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 0, 0, 0, 1, 0, 0.5f, 0.5f, 1}};
   put<std::uint32_t>(s, 3);
   for (const auto& t : tris) {
     for (float n : {0.f, 0.f, 1.f}) put(s, n);

@@ -568,26 +568,29 @@ TEST_F(MeshIo, StlWriterRefusesWhatItsReaderWouldRefuse) {
   Mesh m = make_cylinder(2, 3, 1, 1);
   Mesh empty = m;
   empty.F.resize(0, 3);
-  expect_input_error([&] { write_mesh(path("e.stl"), empty); }, "e.stl: STL holds triangles only, and the mesh has no face");
+  expect_input_error([&] { write_mesh(path("e.stl"), empty); },
+                     "cannot write " + path("e.stl") + ": STL holds triangles only, and the mesh has no face");
   Mesh repeated = m;
   repeated.F(1, 2) = repeated.F(1, 0);
-  expect_input_error([&] { write_mesh(path("r.stl"), repeated); }, "r.stl: face 1: corners 0 and 2 are the same point");
+  expect_input_error([&] { write_mesh(path("r.stl"), repeated); },
+                     "cannot write " + path("r.stl") + ": face 1: corners 0 and 2 are the same point");
   // Distinct doubles one float apart at most collapse in binary only.
   Mesh close = m;
   close.V.row(close.F(0, 1)) = close.V.row(close.F(0, 0));
   close.V(close.F(0, 1), 0) = std::nextafter(close.V(close.F(0, 0), 0), 10.0);
   EXPECT_NO_THROW(write_mesh(path("ok.stl"), close));
   expect_input_error([&] { write_mesh(path("c.stl"), close, {StlEncoding::Binary}); },
-                     "c.stl: face 0: corners 0 and 1 are the same point");
+                     "cannot write " + path("c.stl") + ": face 0: corners 0 and 1 are the same point");
   expect_input_error([&] { write_mesh(path("c.stl"), close, {StlEncoding::Binary}); }, "once rounded to 32-bit floats");
   Mesh huge = m;
   huge.V(2, 1) = 1e300;
   EXPECT_NO_THROW(write_mesh(path("h_ascii.stl"), huge));
   expect_input_error([&] { write_mesh(path("h.stl"), huge, {StlEncoding::Binary}); },
-                     "h.stl: vertex 2: coordinate 1e+300 is beyond binary STL's 32-bit floats");
+                     "cannot write " + path("h.stl") + ": vertex 2: coordinate 1e+300 is beyond binary STL's 32-bit "
+                     "floats");
   Mesh nan = m;
   nan.V(0, 0) = std::numeric_limits<double>::quiet_NaN();
-  expect_input_error([&] { write_mesh(path("n.stl"), nan); }, "n.stl: ");
+  expect_input_error([&] { write_mesh(path("n.stl"), nan); }, "cannot write " + path("n.stl") + ": ");
   // Refused before a file is opened: nothing is left, not even a temporary.
   for (const auto& e : fs::directory_iterator(dir_)) {
     const std::string name = e.path().filename().string();

@@ -329,24 +329,25 @@ Mesh read_stl(const std::string& path) {
 }
 
 void check_stl_writable(const std::string& path, const Mesh& mesh, StlEncoding encoding) {
-  if (mesh.num_faces() == 0) throw InputError(path + ": STL holds triangles only, and the mesh has no face");
+  if (mesh.num_faces() == 0)
+    throw InputError("cannot write " + path + ": STL holds triangles only, and the mesh has no face");
   try {
     check_arrays(mesh);
   } catch (const InputError& e) {
-    throw InputError(path + ": " + e.what());
+    throw InputError("cannot write " + path + ": " + e.what());
   }
   const bool binary = encoding == StlEncoding::Binary;
   if (binary)
     for (int v = 0; v < mesh.num_vertices(); ++v)
       for (int j = 0; j < 3; ++j)
         if (std::abs(mesh.V(v, j)) > FLT_MAX)
-          throw InputError(fmt::format("{}: vertex {}: coordinate {} is beyond binary STL's 32-bit floats (ASCII STL "
-                                       "keeps doubles)",
+          throw InputError(fmt::format("cannot write {}: vertex {}: coordinate {} is beyond binary STL's 32-bit "
+                                       "floats (ASCII STL keeps doubles)",
                                        path, v, mesh.V(v, j)));
   for (int f = 0; f < mesh.num_faces(); ++f)
     if (const Refusal r = check_triangle(corners_as_written(mesh, f, encoding)); r.corner >= 0)
-      throw InputError(fmt::format("{}: face {}: {}{}; STL cannot hold it (its reader refuses one)", path, f, r.why,
-                                   binary ? " once rounded to 32-bit floats" : ""));
+      throw InputError(fmt::format("cannot write {}: face {}: {}{}; STL cannot hold it (its reader refuses one)",
+                                   path, f, r.why, binary ? " once rounded to 32-bit floats" : ""));
 }
 
 void write_stl(std::ostream& os, const Mesh& mesh, StlEncoding encoding) {

@@ -37,7 +37,7 @@ Mesh read_stl(const std::string& path);
 //! Checks that `mesh` can be written as STL with `encoding` and read back: at least one face, face indices in range
 //! and coordinates finite (check_arrays), no face with two corners at the same point as written (binary: after
 //! rounding to 32-bit floats), and for binary every coordinate within float range.
-//! \throw InputError "PATH: ..." naming the face or vertex, before any file is opened.
+//! \throw InputError "cannot write PATH: ..." naming the face or vertex, before any file is opened.
 void check_stl_writable(const std::string& path, const Mesh& mesh, StlEncoding encoding);
 
 //! Writes every face as a facet, in order, with its unit normal ((b - a) x (c - a), 0 0 0 for a zero area).
