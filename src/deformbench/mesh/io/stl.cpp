@@ -2,15 +2,18 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -97,11 +100,18 @@ std::uint32_t declared_triangles(const std::string& head) { return load<std::uin
 
 std::uint64_t binary_size(std::uint32_t n) { return kHeaderBytes + kRecordBytes * static_cast<std::uint64_t>(n); }
 
+// Whether token t is keyword k (k in lower case, t in any case).
+bool is_keyword(std::string_view t, std::string_view k) {
+  if (t.size() != k.size()) return false;
+  for (std::size_t i = 0; i < k.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(t[i])) != k[i]) return false;
+  return true;
+}
+
 // ASCII STL begins with the keyword "solid" (after blanks; any case), then a blank or the end of the line.
 bool begins_with_solid(std::string_view head) {
   const std::size_t b = head.find_first_not_of(" \t\r\n\f\v");
-  if (b == std::string_view::npos || head.size() - b < 5) return false;
-  if (lower(std::string(head.substr(b, 5))) != "solid") return false;
+  if (b == std::string_view::npos || head.size() - b < 5 || !is_keyword(head.substr(b, 5), "solid")) return false;
   return head.size() == b + 5 || std::string_view(" \t\r\n\f\v").find(head[b + 5]) != std::string_view::npos;
 }
 
@@ -128,9 +138,9 @@ Mesh read_binary(const std::string& path, const std::string& data) {
     Corners c;
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 3; ++j) c[k][j] = load<float>(corners + 4 * (3 * k + j));
-    const std::string where = fmt::format("{}: triangle {} (byte {})", path, i, at);
-    if (const Refusal r = check_triangle(c); r.corner >= 0) throw InputError(where + ": " + r.why);
-    if (!welder.add(c)) too_many(where);
+    auto where = [&] { return fmt::format("{}: triangle {} (byte {})", path, i, at); };
+    if (const Refusal r = check_triangle(c); r.corner >= 0) throw InputError(where() + ": " + r.why);
+    if (!welder.add(c)) too_many(where());
   }
   return welder.mesh(path);
 }
@@ -151,22 +161,21 @@ class StlText {
     split(line, t_);
     return true;
   }
-  //! Moves to the next statement, which must exist. \throw InputError "file ends inside ...".
-  void next_in(const std::string& what, const std::string& form) {
-    if (!next()) fail(path_, lines_.line(), fmt::format("file ends inside {} (expected '{}')", what, form));
+  //! Moves to the next statement of facet i, which must exist. \throw InputError "file ends inside facet i".
+  void next_in(std::size_t i, const char* form) {
+    if (!next()) fail(path_, lines_.line(), fmt::format("file ends inside facet {} (expected '{}')", i, form));
   }
   //! Whether the statement's first token is keyword `k` (lower case; the file's may be any case).
-  bool is(std::string_view k) const { return lower(std::string(t_[0])) == k; }
-  //! The statement must be the keywords of `form` followed by `n` numbers, read into out.
-  void expect(std::string_view form, std::size_t n = 0, double* out = nullptr) {
-    split(form, f_);
-    const std::string shape = std::string(form) + (n == 3 ? " x y z" : "");
-    bool ok = t_.size() == f_.size() + n;
-    for (std::size_t k = 0; ok && k < f_.size(); ++k) ok = lower(std::string(t_[k])) == f_[k];
-    if (!ok) fail(path_, line(), fmt::format("expected '{}', got {}", shape, quote(line_)));
+  bool is(std::string_view k) const { return is_keyword(t_[0], k); }
+  //! The statement must be the keywords `words` followed by `n` numbers, read into out.
+  void expect(std::initializer_list<std::string_view> words, std::size_t n = 0, double* out = nullptr) {
+    auto shape = [&] { return fmt::format("{}{}", fmt::join(words, " "), n == 3 ? " x y z" : ""); };
+    bool ok = t_.size() == words.size() + n;
+    for (std::size_t k = 0; ok && k < words.size(); ++k) ok = is_keyword(t_[k], words.begin()[k]);
+    if (!ok) fail(path_, line(), fmt::format("expected '{}', got {}", shape(), quote(line_)));
     for (std::size_t k = 0; k < n; ++k)
-      if (!parse_double(t_[f_.size() + k], out[k]))
-        fail(path_, line(), fmt::format("bad number {} in '{}'", quote(t_[f_.size() + k]), shape));
+      if (!parse_double(t_[words.size() + k], out[k]))
+        fail(path_, line(), fmt::format("bad number {} in '{}'", quote(t_[words.size() + k]), shape()));
   }
   int line() const { return lines_.line(); }
   std::string_view text() const { return line_; }
@@ -176,30 +185,30 @@ class StlText {
   Lines lines_;
   std::string hint_;
   std::string_view line_;
-  std::vector<std::string_view> t_, f_;
+  std::vector<std::string_view> t_;
 };
 
 // facet normal nx ny nz / outer loop / vertex x y z (3 times) / endloop / endfacet, the first line read already.
 void read_facet(StlText& in, const std::string& path, std::size_t i, Welder& welder) {
-  const std::string what = fmt::format("facet {}", i);
   double normal[3];
-  in.expect("facet normal", 3, normal);  // read past: see stl.h
-  in.next_in(what, "outer loop");
-  in.expect("outer loop");
+  in.expect({"facet", "normal"}, 3, normal);  // read past: see stl.h
+  in.next_in(i, "outer loop");
+  in.expect({"outer", "loop"});
   Corners c;
   int line[3];
   for (int k = 0; k < 3; ++k) {
-    in.next_in(what, "vertex x y z");
-    if (k > 0 && in.is("endloop")) fail(path, in.line(), fmt::format("{}: {} corners (a facet has 3)", what, k));
-    in.expect("vertex", 3, c[k].data());
+    in.next_in(i, "vertex x y z");
+    if (k > 0 && in.is("endloop")) fail(path, in.line(), fmt::format("facet {}: {} corners (a facet has 3)", i, k));
+    in.expect({"vertex"}, 3, c[k].data());
     line[k] = in.line();
   }
-  in.next_in(what, "endloop");
-  if (in.is("vertex")) fail(path, in.line(), fmt::format("{}: more than 3 corners (a facet has 3)", what));
-  in.expect("endloop");
-  in.next_in(what, "endfacet");
-  in.expect("endfacet");
-  if (const Refusal r = check_triangle(c); r.corner >= 0) fail(path, line[r.corner], what + ": " + r.why);
+  in.next_in(i, "endloop");
+  if (in.is("vertex")) fail(path, in.line(), fmt::format("facet {}: more than 3 corners (a facet has 3)", i));
+  in.expect({"endloop"});
+  in.next_in(i, "endfacet");
+  in.expect({"endfacet"});
+  if (const Refusal r = check_triangle(c); r.corner >= 0)
+    fail(path, line[r.corner], fmt::format("facet {}: {}", i, r.why));
   if (!welder.add(c)) too_many(fmt::format("{}: line {}", path, in.line()));
 }
 
