@@ -31,9 +31,9 @@ const std::vector<std::string>& mesh_extensions() {
 
 Mesh read_mesh(const std::string& path) {
   const std::string ext = extension_of(path);
-  if (ext == ".off") return io::read_off(path, io::read_text(path));
-  if (ext == ".ply") return io::read_ply(path, io::read_text(path));
-  if (ext == ".obj") return io::read_obj(path, io::read_text(path));
+  if (ext == ".off") return io::read_off(path, io::read_file(path));
+  if (ext == ".ply") return io::read_ply(path, io::read_file(path));
+  if (ext == ".obj") return io::read_obj(path, io::read_file(path));
   if (ext == ".stl") return io::read_stl(path);
   unknown_extension(path, ext);
 }

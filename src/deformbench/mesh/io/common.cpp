@@ -13,12 +13,12 @@
 
 namespace db::io {
 
-std::string read_text(const std::string& path) {
+std::string read_file(const std::string& path) {
   InputFile in(path, "mesh");
-  return read_text(in, path, {});
+  return read_file(in, path, {});
 }
 
-std::string read_text(InputFile& in, const std::string& path, std::string head) {
+std::string read_file(InputFile& in, const std::string& path, std::string head) {
   const std::size_t first = static_cast<std::size_t>(std::min<std::uint64_t>(in.size(), kMaxFirstLine));
   if (head.size() < first) {
     const std::size_t had = head.size();

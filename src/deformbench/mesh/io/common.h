@@ -19,16 +19,16 @@ class InputFile;
 
 namespace db::io {
 
-//! Every text format starts with a short line (OFF, ply, solid, an OBJ statement or comment): a file whose first
-//! kMaxFirstLine bytes hold no line end is not a mesh file.
+//! Every file read with read_file starts with a short text line (OFF, PLY's "ply", ASCII STL's "solid", an OBJ
+//! statement or comment): a file whose first kMaxFirstLine bytes hold no line end is not a mesh file.
 constexpr std::size_t kMaxFirstLine = 64 << 10;
 
 //! The whole file, read only once its first line has ended within kMaxFirstLine bytes: a large file that is no
 //! mesh (a sparse file of zeros) is refused after those bytes, not after reading it all.
 //! \throw InputError unreadable file, or no line end in the first kMaxFirstLine bytes.
-std::string read_text(const std::string& path);
+std::string read_file(const std::string& path);
 //! The same, for a file already open of which `head` has been read.
-std::string read_text(InputFile& in, const std::string& path, std::string head);
+std::string read_file(InputFile& in, const std::string& path, std::string head);
 
 //! \throw InputError "PATH: line LINE: MSG".
 [[noreturn]] void fail(const std::string& path, int line, const std::string& msg);

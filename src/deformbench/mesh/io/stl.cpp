@@ -213,7 +213,7 @@ void read_facet(StlText& in, const std::string& path, std::size_t i, Welder& wel
 }
 
 // solid NAME, facets, endsolid [NAME]; several solids are read one after the other.
-Mesh read_text_stl(const std::string& path, const std::string& data, std::string binary_hint) {
+Mesh read_ascii(const std::string& path, const std::string& data, std::string binary_hint) {
   StlText in(path, data, std::move(binary_hint));
   Welder welder(0);
   bool inside = false;
@@ -273,7 +273,7 @@ std::string solid_name(const std::string& name) {
   return s.empty() ? "mesh" : s;
 }
 
-void write_text_stl(std::ostream& os, const Mesh& m) {
+void write_ascii(std::ostream& os, const Mesh& m) {
   TextOut out(os);
   const std::string name = solid_name(m.name);
   out.put("solid {}\n", name);
@@ -287,7 +287,7 @@ void write_text_stl(std::ostream& os, const Mesh& m) {
   out.put("endsolid {}\n", name);
 }
 
-void write_binary_stl(std::ostream& os, const Mesh& m) {
+void write_binary(std::ostream& os, const Mesh& m) {
   // Not "solid ...": readers that look at the header alone would take the file for ASCII.
   char header[kHeaderBytes] = "binary STL written by deformbench";
   const auto n = static_cast<std::uint32_t>(m.num_faces());
@@ -327,7 +327,7 @@ Mesh read_stl(const std::string& path) {
             ? " (or a binary STL whose header begins with 'solid', but " +
                   size_disagreement(declared_triangles(head), size) + ")"
             : "";
-    return read_text_stl(path, read_text(in, path, head), hint);
+    return read_ascii(path, read_file(in, path, head), hint);
   }
   if (head.size() < kHeaderBytes)
     throw InputError(fmt::format("{}: {} bytes, too short for a binary STL (84 bytes at least) and not an ASCII STL "
@@ -360,8 +360,8 @@ void check_stl_writable(const std::string& path, const Mesh& mesh, StlEncoding e
 }
 
 void write_stl(std::ostream& os, const Mesh& mesh, StlEncoding encoding) {
-  if (encoding == StlEncoding::Binary) write_binary_stl(os, mesh);
-  else write_text_stl(os, mesh);
+  if (encoding == StlEncoding::Binary) write_binary(os, mesh);
+  else write_ascii(os, mesh);
 }
 
 }  // namespace db::io
