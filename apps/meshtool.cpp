@@ -1,7 +1,7 @@
 // meshtool: mesh utilities for the data step (scripts/data.sh), for inspecting inputs and for preparing
 // real-world meshes (`meshtool --help`; README "meshtool").
 //   meshtool info FILE [--validate]          name, #V, #F, a content checksum and the topology
-//   meshtool convert IN OUT                  re-write in the format given by OUT's extension
+//   meshtool convert IN OUT [--stl binary]   re-write in the format given by OUT's extension
 //   meshtool repair IN OUT [--max-list N]    split non-manifold vertices and edges, drop degenerate and duplicate
 //                                            faces, remove isolated vertices; reports each change
 //   meshtool subdivide IN OUT LEVELS         Loop subdivision (OpenMesh)
@@ -30,8 +30,6 @@
 namespace {
 
 using namespace db;
-
-const std::vector<std::string> kMeshExtensions = {".off", ".ply", ".obj"};
 
 // FNV-1a over the raw vertex doubles and face ints: identifies the geometry independently of the file format.
 std::uint64_t checksum(const Mesh& m) {
@@ -194,7 +192,7 @@ int info(const std::string& file, bool validate) {
 }
 
 int repair(const std::string& in, const std::string& out, std::size_t max_list) {
-  cli::check_output("OUT", out, kMeshExtensions, {in});
+  cli::check_output("OUT", out, mesh_extensions(), {in});
   const Mesh m = read_mesh(in);
   RepairReport report;
   const Mesh fixed = repair_mesh(m, report);
@@ -208,7 +206,7 @@ int repair(const std::string& in, const std::string& out, std::size_t max_list) 
 }
 
 int subdivide(const std::string& in, const std::string& out, int levels, std::size_t budget) {
-  cli::check_output("OUT", out, kMeshExtensions, {in});
+  cli::check_output("OUT", out, mesh_extensions(), {in});
   const Mesh m = read_mesh(in);
   validate_mesh(m);  // OpenMesh needs an oriented 2-manifold
   const Prediction p = predict_subdivision(m, levels);
@@ -221,7 +219,7 @@ int subdivide(const std::string& in, const std::string& out, int levels, std::si
 
 int generate(const std::string& shape, const std::string& out, const std::vector<std::string>& args,
              std::size_t budget) {
-  cli::check_output("OUT", out, kMeshExtensions);
+  cli::check_output("OUT", out, mesh_extensions());
   const auto values = shape_values(shape, args);
   const Prediction p = predict_shape(shape, values);
   check_budget(p, budget, fmt::format("the generated {}", shape));
@@ -235,11 +233,12 @@ int generate(const std::string& shape, const std::string& out, const std::vector
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Mesh utilities: inspect, convert, repair, subdivide and generate triangle meshes (.off, .ply, .obj).\n"
+  CLI::App app{"Mesh utilities: inspect, convert, repair, subdivide and generate triangle meshes (.off, .ply, .obj, "
+               ".stl).\n"
                "Exit codes: 0 ok, 1 usage, 2 bad input, 4 over the memory budget.",
                "meshtool"};
   app.require_subcommand(0, 1);  // none given: checked below, so that a misspelled one is named
-  std::string in, out, shape;
+  std::string in, out, shape, stl = "ascii";
   bool validate = false;
   int levels = 0;
   long long budget_mb = static_cast<long long>(physical_memory_bytes() / 2 / (1024 * 1024));
@@ -258,14 +257,18 @@ int main(int argc, char** argv) {
 
   CLI::App* convert_cmd = app.add_subcommand("convert", "re-write IN in the format of OUT's extension");
   convert_cmd->add_option("IN", in, "input mesh")->required();
-  convert_cmd->add_option("OUT", out, "output mesh (.off, .ply binary, .obj)")->required();
+  convert_cmd->add_option("OUT", out, "output mesh (.off, .ply binary, .obj, .stl)")->required();
+  convert_cmd
+      ->add_option("--stl", stl, "an .stl OUT as ascii (exact doubles) or binary (coordinates rounded to floats)")
+      ->check(cli::OneOf({"ascii", "binary"}))
+      ->capture_default_str();
 
   CLI::App* repair_cmd = app.add_subcommand(
       "repair",
       "make a mesh manifold for cotan weights and LRI: drop degenerate and duplicate faces, split non-manifold "
       "vertices and edges, remove isolated vertices; prints each change");
   repair_cmd->add_option("IN", in, "input mesh")->required();
-  repair_cmd->add_option("OUT", out, "output mesh (.off, .ply, .obj)")->required();
+  repair_cmd->add_option("OUT", out, "output mesh (.off, .ply, .obj, .stl)")->required();
   repair_cmd->add_option("--max-list", max_list, "changes listed per kind (0: all)")
       ->transform(cli::Integer(0, 1ll << 40))
       ->capture_default_str();
@@ -293,8 +296,8 @@ int main(int argc, char** argv) {
     if (generate_cmd->parsed()) return generate(shape, out, params, budget);
     if (!convert_cmd->parsed())
       throw UsageError("a subcommand is required: info, convert, repair, subdivide or generate");
-    cli::check_output("OUT", out, kMeshExtensions, {in});
-    write_mesh(out, read_mesh(in));
+    cli::check_output("OUT", out, mesh_extensions(), {in});
+    write_mesh(out, read_mesh(in), {stl == "binary" ? StlEncoding::Binary : StlEncoding::Ascii});
     return 0;
   });
 }

@@ -1,8 +1,8 @@
-// Fuzzing the readers (issue 13, item 8): small OFF, PLY (ASCII, binary, triangle strips) and OBJ files written
-// here, the bundled Botsch-Sorkine cylinder (.off/.sel/.def) and the .edit files of data/edits are mutated with a
-// fixed seed (byte flips, truncations, count changes, swapped numbers, lines dropped or repeated, junk inserted)
-// and loaded in process. Each case must load or throw db::InputError: no other exception, no crash, no hang,
-// no NaN coordinate, no index out of range.
+// Fuzzing the readers (issue 13, item 8): small OFF, PLY (ASCII, binary, triangle strips), OBJ and STL (ASCII,
+// binary with a header that begins with "solid") files written here, the bundled Botsch-Sorkine cylinder
+// (.off/.sel/.def) and the .edit files of data/edits are mutated with a fixed seed (byte flips, truncations, count
+// changes, swapped numbers, lines dropped or repeated, junk inserted) and loaded in process. Each case must load
+// or throw db::InputError: no other exception, no crash, no hang, no NaN coordinate, no index out of range.
 //
 // Environment: DEFORMBENCH_FUZZ_CASES (default 3000), DEFORMBENCH_FUZZ_CASE=i runs case i alone (each case draws
 // from its own generator seeded with its number, so a failure replays alone), DEFORMBENCH_FUZZ_VERBOSE=1 prints
@@ -106,6 +106,31 @@ std::string binary_ply() {
 std::string quad_obj() {
   return "# quads\nmtllib x.mtl\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0 0.2 0.3 0.4\nv 0 1 0\nv 0.5 0.5 1.0 1.0\nvt 0 0\n"
          "vn 0 0 1\ng g1\ns 1\nusemtl m\nf 1/1/1 2/1/1 3/1/1 4/1/1\nf -5//1 -4//1 -1//1\nf 2 3 5\n";
+}
+
+// Two solids, keywords in mixed case, the same corner spelled "1" and "1.0" (one vertex once welded).
+std::string ascii_stl() {
+  auto facet = [](const char* a, const char* b, const char* c) {
+    return std::string("  facet normal 0 0 1\n    outer loop\n      vertex ") + a + "\n      vertex " + b +
+           "\n      vertex " + c + "\n    endloop\n  endfacet\n";
+  };
+  return "solid first\n" + facet("0 0 0", "1 0 0", "0 1 0") + facet("1.0 0 0", "1 1 0", "0 1 0") +
+         "endsolid first\nSOLID second\n" + facet("0 0 0", "0 1 0", "0.5 0.5 1e0") + "ENDSOLID\n";
+}
+
+// Binary, its header beginning with "solid" as many exporters write it: the size decides that it is binary.
+std::string binary_stl() {
+  std::string s = "solid exported by a CAD tool";
+  s.resize(80, ' ');
+  const float tris[3][9] = {
+      {0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 0, 0, 0, 1, 0, 0.5f, 0.5f, 1}};
+  put<std::uint32_t>(s, 3);
+  for (const auto& t : tris) {
+    for (float n : {0.f, 0.f, 1.f}) put(s, n);
+    for (float c : t) put(s, c);
+    put<std::uint16_t>(s, 0);
+  }
+  return s;
 }
 
 // ---------------------------------------------------------------- mutations
@@ -261,6 +286,8 @@ class Fuzz : public ::testing::Test {
     mesh_target("strips.ply", ascii_ply());
     mesh_target("binary.ply", binary_ply());
     mesh_target("quad.obj", quad_obj());
+    mesh_target("text.stl", ascii_stl());
+    mesh_target("binary.stl", binary_stl());
     write_mesh((dir_ / "m" / "tube.off").string(), make_cylinder(5, 6, 1.0, 2.0));
     mesh_target("tube.off", slurp(dir_ / "m" / "tube.off"));
     // The bundled BS08 cylinder: its .sel, .def and .off in turn, loaded as a stem.

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -11,6 +12,9 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "solvers/base/error.h"
 #include "mesh/mesh.h"
@@ -66,7 +70,7 @@ TEST_F(MeshIo, RoundTripIsExactInEveryFormat) {
 
 TEST_F(MeshIo, WriterIsDeterministicAndLeavesNoTemporary) {
   const Mesh m = awkward_mesh();
-  for (const char* ext : {".off", ".ply", ".obj"}) {
+  for (const char* ext : {".off", ".ply", ".obj", ".stl"}) {
     write_mesh(path(std::string("a") + ext), m);
     write_mesh(path(std::string("b") + ext), m);
     EXPECT_EQ(slurp(path(std::string("a") + ext)), slurp(path(std::string("b") + ext))) << ext;
@@ -219,8 +223,8 @@ TEST_F(MeshIo, ObjMalformed) {
 TEST_F(MeshIo, UnreadableOrUnknown) {
   expect_input_error([&] { read_mesh(path("missing.off")); }, "cannot open mesh file: " + path("missing.off"));
   expect_input_error([&] { read_mesh(dir_.string() + "/sub.off"); }, "cannot open mesh file");
-  expect_input_error([&] { read_mesh(write("a.stl", "solid")); }, "unknown mesh extension '.stl'");
-  expect_input_error([&] { write_mesh(path("a.stl"), make_cylinder(2, 3, 1, 1)); }, "unknown mesh extension");
+  expect_input_error([&] { read_mesh(write("a.stp", "solid")); }, "unknown mesh extension '.stp'");
+  expect_input_error([&] { write_mesh(path("a.stp"), make_cylinder(2, 3, 1, 1)); }, "unknown mesh extension");
   fs::create_directories(dir_ / "sub.off");
   expect_input_error([&] { read_mesh(path("sub.off")); }, "cannot open mesh file");
 }
@@ -365,6 +369,233 @@ TEST_F(MeshIo, DevicesAreNotRead) {
   // /dev/zero would otherwise be read without end.
   fs::create_symlink("/dev/zero", dir_ / "zero.off");
   expect_input_error([&] { read_mesh(path("zero.off")); }, "not a regular file");
+}
+
+// ---------------------------------------------------------------- STL
+// STL keeps corners, not vertices: a mesh comes back with its vertices in order of first use by the faces. The
+// reference renumbering is written here independently of the reader's welding.
+Mesh first_use_order(const Mesh& m) {
+  std::vector<int> id(m.num_vertices(), -1);
+  std::vector<int> order;
+  Mesh r = m;
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      int& v = id[m.F(f, k)];
+      if (v < 0) v = static_cast<int>(order.size()), order.push_back(m.F(f, k));
+      r.F(f, k) = v;
+    }
+  r.V.resize(static_cast<Eigen::Index>(order.size()), 3);
+  for (std::size_t i = 0; i < order.size(); ++i) r.V.row(static_cast<Eigen::Index>(i)) = m.V.row(order[i]);
+  return r;
+}
+
+// Each coordinate rounded to the nearest float, as binary STL stores it.
+Mesh rounded_to_float(Mesh m) {
+  for (Eigen::Index i = 0; i < m.V.size(); ++i) m.V.data()[i] = static_cast<float>(m.V.data()[i]);
+  return m;
+}
+
+// A binary STL: the 80-byte header (padded with zero bytes), the count, then per triangle a zero normal, the nine
+// corner coordinates and a zero attribute. `count` overrides the declared count.
+std::string binary_stl(const std::string& header, const std::vector<std::array<float, 9>>& tris, long long count = -1) {
+  std::string s = header.substr(0, 80);
+  s.resize(80, '\0');
+  const auto n = static_cast<std::uint32_t>(count >= 0 ? count : static_cast<long long>(tris.size()));
+  s.append(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : tris) {
+    s.append(12, '\0');
+    s.append(reinterpret_cast<const char*>(t.data()), sizeof(t));
+    s.append(2, '\0');
+  }
+  return s;
+}
+
+// Two triangles on a unit square sharing the edge (1 0 0)-(0 1 0).
+const std::vector<std::array<float, 9>> kSquare = {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}};
+
+std::string ascii_facet(const std::string& a, const std::string& b, const std::string& c) {
+  return "facet normal 0 0 1\nouter loop\nvertex " + a + "\nvertex " + b + "\nvertex " + c + "\nendloop\nendfacet\n";
+}
+
+TEST_F(MeshIo, StlAsciiRoundTripIsExact) {
+  const Mesh m = first_use_order(awkward_mesh());
+  write_mesh(path("rt.stl"), m);  // ASCII by default
+  EXPECT_EQ(slurp(path("rt.stl")).rfind("solid " + m.name + "\n", 0), 0u);  // the mesh's name, not the file's
+  const Mesh r = read_mesh(path("rt.stl"));
+  expect_same(m, r);
+  EXPECT_EQ(r.name, "rt");
+  write_mesh(path("again.stl"), r, {StlEncoding::Ascii});
+  expect_same(m, read_mesh(path("again.stl")));
+}
+
+TEST_F(MeshIo, StlBinaryRoundTripIsExactForFloatsAndRoundsDoubles) {
+  const Mesh m = first_use_order(awkward_mesh());
+  const MeshWriteOptions binary{StlEncoding::Binary};
+  write_mesh(path("b.stl"), m, binary);
+  const std::string bytes = slurp(path("b.stl"));
+  ASSERT_EQ(bytes.size(), 84u + 50u * static_cast<std::size_t>(m.num_faces()));
+  EXPECT_NE(bytes.substr(0, 5), "solid");  // readers that look at the header alone would take it for ASCII
+  // Doubles become their nearest floats (1e-300 becomes 0) and nothing else changes.
+  const Mesh r = read_mesh(path("b.stl"));
+  expect_same(rounded_to_float(m), r);
+  // A mesh of floats comes back bit for bit.
+  write_mesh(path("c.stl"), r, binary);
+  expect_same(r, read_mesh(path("c.stl")));
+  EXPECT_EQ(slurp(path("c.stl")), bytes);
+}
+
+TEST_F(MeshIo, StlWritesUnitNormalsAndKeepsFaceOrder) {
+  Mesh m;
+  m.V.resize(4, 3);
+  m.V << 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 3;
+  m.F.resize(2, 3);
+  m.F << 0, 1, 2, 0, 3, 1;
+  m.name = "two";
+  write_mesh(path("n.stl"), m);
+  const std::string s = slurp(path("n.stl"));
+  EXPECT_NE(s.find("facet normal 0 0 1\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("facet normal 0 1 0\n"), std::string::npos) << s;  // (0 0 3) x (2 0 0) points along +y
+  EXPECT_LT(s.find("vertex 0 0 3"), s.find("endsolid two"));
+  expect_same(m, read_mesh(path("n.stl")));  // already in first-use order
+}
+
+TEST_F(MeshIo, StlWeldsCornersWithBitwiseEqualCoordinatesOnly) {
+  // "1", "1.0", "1e0" and "+1" are the same double: one vertex. -0 and 0 are different bits: two vertices.
+  // 0.1 and the next double after it: two vertices.
+  const std::string tenth = fmt::format("{}", std::nextafter(0.1, 1.0));
+  const std::string ascii = "solid w\n" + ascii_facet("0 0 0", "1 0 0", "0 1 0") +
+                            ascii_facet("1.0 0 0", "1e0 1 0", "0 +1 0") + ascii_facet("0 -0 0", "1 0 0", "0 1 0") +
+                            ascii_facet("0.1 5 0", tenth + " 5 0", "0 1 0") + "endsolid w\n";
+  const Mesh m = read_mesh(write("w.stl", ascii));
+  ASSERT_EQ(m.num_faces(), 4);
+  ASSERT_EQ(m.num_vertices(), 7);
+  EXPECT_EQ(m.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(m.F.row(1), Eigen::RowVector3i(1, 3, 2));
+  EXPECT_EQ(m.F.row(2), Eigen::RowVector3i(4, 1, 2));
+  EXPECT_TRUE(std::signbit(m.V(4, 1)));
+  EXPECT_EQ(m.F.row(3), Eigen::RowVector3i(5, 6, 2));
+  // Binary: the shared edge's corners become the same two vertices, in order of first appearance.
+  const Mesh b = read_mesh(write("w2.stl", binary_stl("", kSquare)));
+  ASSERT_EQ(b.num_vertices(), 4);
+  EXPECT_EQ(b.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(b.F.row(1), Eigen::RowVector3i(1, 3, 2));
+  EXPECT_EQ(b.V.row(3), Eigen::RowVector3d(1, 1, 0));
+  // Vertices no face uses are not in a written STL; vertices at the same position come back as one.
+  Mesh u = make_cylinder(2, 3, 1, 1);
+  u.V.conservativeResize(u.num_vertices() + 1, 3);
+  u.V.row(u.num_vertices() - 1) << 9, 9, 9;
+  write_mesh(path("u.stl"), u);
+  expect_same(first_use_order(make_cylinder(2, 3, 1, 1)), read_mesh(path("u.stl")));
+}
+
+TEST_F(MeshIo, StlBinaryIsDecidedBySizeNotByTheWordSolid) {
+  // Many binary writers begin the header with "solid": the size 84 + 50 n decides.
+  const Mesh m = read_mesh(write("s.stl", binary_stl("solid exported by a CAD tool", kSquare)));
+  EXPECT_EQ(m.num_faces(), 2);
+  EXPECT_EQ(m.num_vertices(), 4);
+  // Cut short, the same file is neither: the message gives both readings.
+  const std::string cut = binary_stl("solid exported by a CAD tool", kSquare).substr(0, 150);
+  expect_input_error([&] { read_mesh(write("c.stl", cut)); },
+                     "line 1: binary data in an ASCII STL (or a binary STL whose header begins with 'solid', but the "
+                     "binary header declares 2 triangles, which take 84 + 50 * 2 = 184 bytes, but the file has 150 "
+                     "bytes (a truncated file or a wrong count))");
+  // ASCII with leading blanks, keywords in upper case and two solids.
+  const std::string two = "  SOLID a\n" + ascii_facet("0 0 0", "1 0 0", "0 1 0") + "ENDSOLID a\nsolid b\n" +
+                          ascii_facet("1 0 0", "1 1 0", "0 1 0") + "endsolid\n";
+  const Mesh a = read_mesh(write("a.STL", two));
+  EXPECT_EQ(a.num_faces(), 2);
+  EXPECT_EQ(a.num_vertices(), 4);
+}
+
+TEST_F(MeshIo, StlBinaryMalformed) {
+  const std::string good = binary_stl("", kSquare);
+  expect_input_error([&] { read_mesh(write("t.stl", good.substr(0, 183))); },
+                     "t.stl: not an ASCII STL (it does not begin with 'solid'), and the binary header declares 2 "
+                     "triangles, which take 84 + 50 * 2 = 184 bytes, but the file has 183 bytes");
+  expect_input_error([&] { read_mesh(write("x.stl", good + "x")); }, "but the file has 185 bytes");
+  // A count of 2^32 - 1 in a small file is refused on the size, before anything is allocated.
+  expect_input_error([&] { read_mesh(write("h.stl", binary_stl("", kSquare, 0xffffffffLL))); },
+                     "declares 4294967295 triangles, which take 84 + 50 * 4294967295 = 214748364834 bytes");
+  expect_input_error([&] { read_mesh(write("s.stl", "x y z")); },
+                     "s.stl: 5 bytes, too short for a binary STL (84 bytes at least) and not an ASCII STL");
+  expect_input_error([&] { read_mesh(write("z.stl", "")); }, "0 bytes, too short");
+  expect_input_error([&] { read_mesh(write("e.stl", binary_stl("", {}))); }, "binary STL with 0 triangles");
+  auto bad = kSquare;
+  bad[1][4] = std::numeric_limits<float>::infinity();
+  expect_input_error([&] { read_mesh(write("i.stl", binary_stl("", bad))); },
+                     "i.stl: triangle 1 (byte 134): corner 1: non-finite coordinate inf");
+  bad = kSquare;
+  bad[0][6] = 0, bad[0][7] = 0;  // corner 2 on corner 0
+  expect_input_error([&] { read_mesh(write("d.stl", binary_stl("", bad))); },
+                     "d.stl: triangle 0 (byte 84): corners 0 and 2 are the same point (0, 0, 0): a degenerate "
+                     "triangle");
+}
+
+TEST_F(MeshIo, StlAsciiMalformed) {
+  const std::string f0 = ascii_facet("0 0 0", "1 0 0", "0 1 0");  // lines 2-8 after "solid s"
+  auto stl = [&](const std::string& body) { return "solid s\n" + body; };
+  expect_input_error([&] { read_mesh(write("a.stl", stl(f0))); },
+                     "a.stl: line 8: file ends after 1 facets without 'endsolid'");
+  expect_input_error([&] { read_mesh(write("b.stl", stl(f0.substr(0, 30)))); },
+                     "b.stl: line 3: file ends inside facet 0 (expected 'vertex x y z')");
+  expect_input_error([&] { read_mesh(write("c.stl", stl(ascii_facet("0 0 0", "1 zz 0", "0 1 0")))); },
+                     "line 5: bad number 'zz' in 'vertex x y z'");
+  expect_input_error([&] { read_mesh(write("d.stl", stl(ascii_facet("0 0 0", "1 0", "0 1 0")))); },
+                     "line 5: expected 'vertex x y z', got 'vertex 1 0'");
+  expect_input_error([&] { read_mesh(write("e.stl", stl(ascii_facet("0 0 0", "1 0 0", "0 1 0\nvertex 1 1 0")))); },
+                     "line 7: facet 0: more than 3 corners (a facet has 3)");
+  expect_input_error(
+      [&] { read_mesh(write("f.stl", stl("facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n"))); },
+      "line 6: facet 0: 2 corners (a facet has 3)");
+  expect_input_error([&] { read_mesh(write("g.stl", stl(f0 + "facet normal 0 0\n"))); },
+                     "line 9: expected 'facet normal x y z', got 'facet normal 0 0'");
+  expect_input_error([&] { read_mesh(write("h.stl", stl(f0 + "vertex 0 0 0\n"))); },
+                     "line 9: expected 'facet normal nx ny nz' or 'endsolid', got 'vertex 0 0 0'");
+  expect_input_error([&] { read_mesh(write("i.stl", stl(f0 + ascii_facet("0 0 0", "nan 0 0", "0 1 0")))); },
+                     "line 12: facet 1: corner 1: non-finite coordinate nan");
+  expect_input_error([&] { read_mesh(write("j.stl", stl(f0 + ascii_facet("0 0 0", "1 0 0", "1.0 0 0")))); },
+                     "line 13: facet 1: corners 1 and 2 are the same point (1, 0, 0): a degenerate triangle");
+  expect_input_error([&] { read_mesh(write("k.stl", stl("endsolid s\n"))); }, "line 2: no facets (an empty mesh)");
+  expect_input_error([&] { read_mesh(write("l.stl", stl(f0 + "endsolid s\nfacet normal 0 0 1\n"))); },
+                     "line 10: expected 'solid NAME', got 'facet normal 0 0 1'");
+  expect_input_error([&] { read_mesh(write("m.stl", "solidify\n" + f0 + "endsolid\n")); },
+                     "m.stl: not an ASCII STL (it does not begin with 'solid')");
+  expect_input_error([&] { read_mesh(write("n.stl", stl(ascii_facet("0 0 0", "1 0 0", "0 1e400 0")))); },
+                     "bad number '1e400'");
+}
+
+TEST_F(MeshIo, StlWriterRefusesWhatItsReaderWouldRefuse) {
+  Mesh m = make_cylinder(2, 3, 1, 1);
+  Mesh empty = m;
+  empty.F.resize(0, 3);
+  expect_input_error([&] { write_mesh(path("e.stl"), empty); },
+                     "cannot write " + path("e.stl") + ": STL holds triangles only, and the mesh has no face");
+  Mesh repeated = m;
+  repeated.F(1, 2) = repeated.F(1, 0);
+  expect_input_error([&] { write_mesh(path("r.stl"), repeated); },
+                     "cannot write " + path("r.stl") + ": face 1: corners 0 and 2 are the same point");
+  // Distinct doubles one float apart at most collapse in binary only.
+  Mesh close = m;
+  close.V.row(close.F(0, 1)) = close.V.row(close.F(0, 0));
+  close.V(close.F(0, 1), 0) = std::nextafter(close.V(close.F(0, 0), 0), 10.0);
+  EXPECT_NO_THROW(write_mesh(path("ok.stl"), close));
+  expect_input_error([&] { write_mesh(path("c.stl"), close, {StlEncoding::Binary}); },
+                     "cannot write " + path("c.stl") + ": face 0: corners 0 and 1 are the same point");
+  expect_input_error([&] { write_mesh(path("c.stl"), close, {StlEncoding::Binary}); }, "once rounded to 32-bit floats");
+  Mesh huge = m;
+  huge.V(2, 1) = 1e300;
+  EXPECT_NO_THROW(write_mesh(path("h_ascii.stl"), huge));
+  expect_input_error([&] { write_mesh(path("h.stl"), huge, {StlEncoding::Binary}); },
+                     "cannot write " + path("h.stl") + ": vertex 2: coordinate 1e+300 is beyond binary STL's 32-bit "
+                     "floats");
+  Mesh nan = m;
+  nan.V(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  expect_input_error([&] { write_mesh(path("n.stl"), nan); }, "cannot write " + path("n.stl") + ": ");
+  // Refused before a file is opened: nothing is left, not even a temporary.
+  for (const auto& e : fs::directory_iterator(dir_)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_TRUE(name == "ok.stl" || name == "h_ascii.stl") << name;
+  }
 }
 
 }  // namespace

@@ -13,6 +13,7 @@ write_off "$T/fin.off" 7 10 "$octa_v
 3 0 6 2
 3 0 2 4"
 printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n' >"$T/flat.off"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n' >"$T/repeated.off"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nelement junk 1000000000000\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/huge.ply"
 
 # Usage (1): the parser's and the validators' messages.
@@ -31,7 +32,8 @@ expect nan_parameter 1 "radius: nan is not a finite number" -- generate cylinder
 expect twice 1 "given twice" -- generate bar "$T/out.off" nx=2 nx=3
 expect not_key_value 1 "expected key=value" -- generate bar "$T/out.off" 3
 # Outputs are checked before any input is read.
-expect out_extension 1 "unsupported extension '.stl'" -- convert "$T/good.off" "$T/out.stl"
+expect out_extension 1 "unsupported extension '.stp'" -- convert "$T/good.off" "$T/out.stp"
+expect stl_encoding 1 "--stl: .*not one of" -- convert "$T/good.off" "$T/out.stl" --stl float
 expect out_missing_dir 1 "does not exist" -- repair "$T/good.off" "$T/no/dir/out.off"
 expect out_is_input 1 "is an input file" -- repair "$T/good.off" "$T/good.off"
 expect out_is_input_spelled 1 "is an input file" -- subdivide "$T/good.off" "$T/./good.off" 1
@@ -45,6 +47,13 @@ expect huge_element 2 "element 'junk' declares 1000000000000 entries" -- info "$
 expect validate_non_manifold 2 "non-manifold edge \(0, 2\).*meshtool repair" -- info "$T/fin.off" --validate
 expect subdivide_non_manifold 2 "meshtool repair" -- subdivide "$T/fin.off" "$T/out.off" 1
 expect repair_nothing_left 2 "no face is left" -- repair "$T/flat.off" "$T/out.off"
+# STL: a face STL cannot hold is refused before the file is opened; a binary STL cut short is named as such.
+expect stl_degenerate_face 2 "cannot write .*out.stl: face 0: corners 1 and 2 are the same point" \
+  -- convert "$T/repeated.off" "$T/out.stl"
+"$BIN" convert "$T/good.off" "$T/good_bin.stl" --stl binary >/dev/null
+head -c 300 "$T/good_bin.stl" >"$T/cut.stl"
+expect stl_truncated 2 "cut.stl: not an ASCII STL.*declares 8 triangles, which take 84 \+ 50 \* 8 = 484 bytes, but the \
+file has 300" -- info "$T/cut.stl"
 
 # Over the memory budget (4), at once.
 expect subdivide_20_levels 4 "subdivided 20 times would have .* vertices" -- subdivide "$T/good.off" "$T/out.off" 20
@@ -64,6 +73,16 @@ expect repair_detaches 0 "detached a piece of 1 faces from component 0 \(which k
 expect repair_clean 0 "no change.*components: 1 before, 1 after" -- repair "$T/good.off" "$T/out.ply"
 expect generate_plane 0 "wrote .*out.off \(121 vertices, 200 faces\); peak memory predicted 16.* MB, peak RSS" -- generate plane "$T/out.off" nx=10 ny=10
 expect subdivide 0 "wrote .*out.obj \(18 vertices, 32 faces\)" -- subdivide "$T/good.off" "$T/out.obj" 1
+# STL both ways: ASCII by default, binary 84 + 50 * 8 bytes; the octahedron's 24 corners weld back into its 6
+# vertices, the same (checksum) from either encoding since its coordinates are floats.
+"$BIN" convert "$T/good.off" "$T/good.stl"
+head -n 1 "$T/good.stl" | grep -q '^solid good$' || { echo "FAIL convert_stl: not ASCII"; fails=$((fails + 1)); }
+[ "$(stat -c %s "$T/good_bin.stl")" -eq 484 ] || { echo "FAIL convert_stl_binary: size"; fails=$((fails + 1)); }
+expect info_stl_ascii 0 "name=good vertices=6 faces=8 checksum=.*topology: manifold" -- info "$T/good.stl" --validate
+ascii_sum=$(grep -o 'checksum=[0-9a-f]*' "$T/message")
+expect info_stl_binary 0 "name=good_bin vertices=6 faces=8 $ascii_sum topology: manifold" \
+  -- info "$T/good_bin.stl" --validate
+expect repair_stl 0 "no change.*wrote .*out.ply \(6 vertices, 8 faces\)" -- repair "$T/good_bin.stl" "$T/out.ply"
 expect help 0 "repair" -- --help
 expect subcommand_help 0 "--memory-budget-mb" -- generate --help
 
