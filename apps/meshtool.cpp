@@ -1,5 +1,5 @@
 // meshtool: mesh utilities for the data step (scripts/data.sh), for inspecting inputs and for preparing
-// real-world meshes (`meshtool --help`; README "meshtool").
+// real-world meshes (`meshtool --help`; docs/cli.md "meshtool").
 //   meshtool info FILE [--validate]          name, #V, #F, a content checksum and the topology
 //   meshtool convert IN OUT [--stl binary]   re-write in the format given by OUT's extension
 //   meshtool repair IN OUT [--max-list N]    split non-manifold vertices and edges, drop degenerate and duplicate

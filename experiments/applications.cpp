@@ -5,7 +5,7 @@
 // per case: sizes, phase times, detail preservation, boundary continuity (applications/application_measures.h)
 // and the cell's peak RSS; each case is a cell (kind "application") in a fresh child process. With --meshes the
 // cells write CASE__{source,target,result}.ply and CASE__{source_patch,patch,result_patch}.txt (the vertex ids of
-// the source and target patches, and of the transferred or grafted part of the result) for plots/render_app.py.
+// the source and target patches, and of the transferred or grafted part of the result) for python/dbtools/plots/applications.py.
 //
 // Cases, "NAME: APP key=value ..." with APP coat or transplant; keys source=, target= (a mesh path relative to
 // --data, or plane:NX:NY:SIZE:HEIGHT:BUMPS), source_region=, target_region= (the selection forms of .edit files,

@@ -145,7 +145,7 @@ DenseMat run_distributed(const Options& o, ThesisSystem& t, Index n, Row& row) {
   so.ordering = o.ordering;
   so.block_size = o.system == "tf" ? 3 : 1;
   so.factor_dir = o.factor_dir;
-  so.pivot_singularity_test = false;  // as the deformers: the structure decides singularity (README)
+  so.pivot_singularity_test = false;  // as the deformers: the structure decides singularity (docs/numerics.md)
   DistributedMumps dm(so);
   std::vector<int> rows, cols;
   std::vector<double> vals;

@@ -12,7 +12,7 @@
 // supernodal / default-ordering cell of the same tier and system, after the cells have run.
 //
 // Writes --out (default RESULTS/solvers.csv, long: one row per cell x measure; the provenance columns record the
-// BLAS core of this run). results/solvers.md is the report step's (experiments/reports/). Options: --help.
+// BLAS core of this run). results/solvers.md is the report step's (python/dbtools/). Options: --help.
 // Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing every row.
 #include <unistd.h>
 

@@ -6,7 +6,7 @@
 //
 // Writes RESULTS/table_2_1.csv (long: one row per model x system x build x measure), table_2_1_thesis.csv,
 // scaling.csv, scaling_fits.csv and table_2_1_settings.csv; per-cell raw child lines go to
-// RESULTS/cells/table_2_1/. results/table_2_1.md is the report step's (experiments/reports/). Options: --help.
+// RESULTS/cells/table_2_1/. results/table_2_1.md is the report step's (python/dbtools/). Options: --help.
 // Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing every row.
 #include <algorithm>
 #include <cmath>
@@ -50,7 +50,7 @@ struct Options {
   bool full = false, scaling = true, out_of_core = true, dry_run = false;
   double memory_budget_mb = physical_memory_bytes() / 2.0 / kMiB, time_budget_s = 0, cell_timeout_s = 0;
   int frames = 20, repeats = 3;
-  // Single runs of a cell's init vary by tens of percent within a day on a shared box (README), hence the median
+  // Single runs of a cell's init vary by tens of percent within a day on a shared box (docs/experiments.md), hence the median
   // of fresh children; cells predicted to take longer than repeat_max_s (the --full scaling tiers) run once.
   double repeat_max_s = 40;
   std::vector<std::string> tiers, meshes, only, systems = {"lap", "tf"}, builds = {"dense", "naive", "structured"};

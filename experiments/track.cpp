@@ -9,7 +9,7 @@
 // Writes one tidy history file (--out, or HISTORY_DIR/<UTC>_<commit>_<machine>.csv): a row per (cell, measure,
 // repeat) with the commit, date, machine id, the measure's class (deterministic: compared exactly; memory: peak
 // RSS; cpu: CPU time; time: wall time, normalized by `rate`; info) and the rates around that run. Deterministic
-// measures are recorded once. scripts/track.py runs this, picks a baseline history and gates. Options: --help.
+// measures are recorded once. python/dbtools/track/driver.py (./run track) runs this, picks a baseline history and gates. Options: --help.
 // Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing the history.
 #include <fnmatch.h>
 #include <unistd.h>
@@ -259,7 +259,7 @@ struct Run {
   int unstable = 0;
 };
 
-// The spec as the history keeps it: a path under the working directory (the repository, where scripts/track.py
+// The spec as the history keeps it: a path under the working directory (the repository, where ./run track
 // runs this) relative to it, so that histories read the same in every clone.
 std::string history_spec(const CellSpec& s) {
   const fs::path cwd = fs::current_path();

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# mpirun on one machine, as the tests and the examples in the README use it:
+# mpirun on one machine, as the tests and the examples of docs/mpi.md use it:
 #   scripts/mpirun.sh N PROGRAM [ARGS...]
 # N ranks, oversubscribed (more ranks than cores is fine for correctness), not bound to cores (a rank's BLAS threads
 # may use every core; set OPENBLAS_NUM_THREADS to share them), and Open MPI's refusal to run as root lifted when

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The MUMPS-on-ranks measurements of results/mpi/ (build/exp_mumps_ranks; experiments/mumps_ranks.cpp).
+# The MUMPS-on-ranks measurements of results/records/2026-11-24-mumps-ranks/ (build/exp_mumps_ranks; experiments/mumps_ranks.cpp).
 #   scripts/mumps_ranks.sh solve MESH OUT.csv [ROUNDS]     multifrontal, mumps on 1 rank, mumps on 2 ranks,
 #                                                           interleaved, ROUNDS times (default 2)
 #   scripts/mumps_ranks.sh analysis MESH OUT.csv ["NP..."]  MUMPS's analysis only on each NP ranks (default

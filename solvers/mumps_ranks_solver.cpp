@@ -10,7 +10,7 @@
 //! summed on rank 0 (the extended residual in double-double, rounded once there) and broadcast, the
 //! preconditioner is MUMPS's collective solve; so every rank holds bitwise the same vectors and takes the same
 //! steps. Why: at 416k TF the plain distributed solve was 1.6e-2 of the bounding-box diagonal from the exact
-//! solution (results/mpi/README.md), and a residual computed in double cannot see that error (refinement.h).
+//! solution (results/records/2026-11-24-mumps-ranks/), and a residual computed in double cannot see that error (refinement.h).
 #include <cstdint>
 #include <memory>
 #include <vector>

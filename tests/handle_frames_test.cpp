@@ -1,7 +1,7 @@
 // Handle-mode frames (issue 16, systems/handle_response.h) and full-mode frames: the same positions for every
 // method, constraint mode, build and a few backends, both the exact deformation up to the rounding the systems'
 // conditioning allows (exact_deformation.h). The BS08 edits and the 104k tier are checked by
-// scripts/handle_frames.sh, which records the differences (results/handle_frames.csv).
+// experiments/handle_frames.py, which records the differences (its handle_frames.csv).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -103,7 +103,7 @@ done
 expect "trend view: unknown machine" 1 "no history of machine nosuch" -- \
   env PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -m dbtools.plots.history --results "$T" --out "$T/plots" --machine nosuch
 expect "trend view: no history" 0 "no history under" -- \
-  /usr/bin/python3 "$SRC/plots/history.py" --results "$T/none" --out "$T/plots"
+  env PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -m dbtools.plots.history --results "$T/none" --out "$T/plots"
 
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi
 echo "all passed"

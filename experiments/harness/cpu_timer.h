@@ -1,7 +1,7 @@
 #pragma once
 //! CPU-time stopwatch of this process (all its threads): what a phase cost in work, which time-slicing by other
 //! processes on a shared machine does not lengthen (wall time does). The tracking suite gates on it
-//! (experiments/track.cpp, scripts/track_gate.py); cells run single-threaded there, so it is the phase's own work.
+//! (experiments/track.cpp, python/dbtools/track/gate.py); cells run single-threaded there, so it is the phase's own work.
 #include <ctime>
 
 namespace db::harness {

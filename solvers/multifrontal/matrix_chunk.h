@@ -6,7 +6,7 @@
 //! of its front. Read per front, every front row costs a visit (and a search) of one scattered column of A,
 //! most of which hold no entry for that front: the small fronts' matrix pass took longer than their dense
 //! kernels. A whole transposed copy reads A once but is new memory as large as A, whose first touch cost as much
-//! (solvers/LEVERS.md). Here the rows a run of fronts needs are visited once per run, and the buffer is faulted
+//! (results/records/2026-11-24-tf-init-levers/). Here the rows a run of fronts needs are visited once per run, and the buffer is faulted
 //! once per thread.
 #include <vector>
 

@@ -2,7 +2,7 @@
 //!
 //! Why a backend of our own next to CHOLMOD: on the large TF systems CHOLMOD's left-looking supernodal
 //! factorization ran far below the BLAS's dgemm rate, and its symbolic analysis ran on the 3n-unknown matrix
-//! (the solver study, experiments/solvers.cpp, compares the two; the README quotes the rates). Here
+//! (the solver study, experiments/solvers.cpp, compares the two; its report gives the rates). Here
 //!  - the symbolic analysis is CHOLMOD's, run on the compressed block graph and expanded (symbolic.h);
 //!  - the numeric phase is multifrontal: each supernode assembles a dense front from the matrix and its
 //!    children's update matrices, then dpotrf, dtrsm and dsyrk/dgemm on column panels (front.h);

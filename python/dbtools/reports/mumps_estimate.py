@@ -1,6 +1,6 @@
 """MUMPS's analysis-only estimates (rows of `scripts/mumps_ranks.sh estimate`) as machines of a given memory.
 
-    python3 -m dbtools.reports.mumps_estimate results/mpi/estimate.csv [--machine-mb 20000] [--levels 4,5]
+    python3 -m dbtools.reports.mumps_estimate results/records/2026-11-24-mumps-ranks/estimate.csv [--machine-mb 20000] [--levels 4,5]
 
 Prints Markdown (from the rows of analyses only, `phases=analysis`): the estimates per mesh and number of ranks; how many machines they need, in core
 (INFO(15) per rank, INFOG(16)/(17)) and out of core (INFO(17), INFOG(26)/(27)), packing each rank's estimate

@@ -313,7 +313,7 @@ def mixed_precision(run):
                        f"{fmt(value(x, 'error_vs_double'), '{:.1e}')} | {fmt(value(x, 'error_vs_refined'), '{:.1e}')} | "
                        f"{'ok' if x.ok() else x.message} |")
     note = ("\nThe double solve is not the exact one: on the TF systems it lies ~cond(K) eps from it, and the refined "
-            "solves (double-double residuals) are the exact solution to their tolerance (`solvers/LEVERS.md`): "
+            "solves (double-double residuals) are the exact solution to their tolerance (`results/records/2026-11-24-tf-init-levers/`): "
             "mixed vs refined is what the float factor leaves.\n")
     return "\n".join(out) + "\n" + note if any_ else ""
 

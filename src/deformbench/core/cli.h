@@ -3,7 +3,7 @@
 //! policy, numbers checked as numbers, misspelled options named with the nearest valid one, and output paths
 //! checked before any work.
 //!
-//! Exit codes (README): 0 ok, 1 usage (unknown or misspelled option, a value out of range, options that do not
+//! Exit codes (docs/cli.md): 0 ok, 1 usage (unknown or misspelled option, a value out of range, options that do not
 //! go together), 2 bad input (a file or an edit), 3 solver failure, 4 over a memory or time budget.
 #include <functional>
 #include <string>

@@ -29,7 +29,7 @@ void order_unknowns(const InteractionPattern& pattern, Unknowns& unk, const std:
 //! LAP system's): the ordering on a second thread while this one builds in `unk`'s present numbering, both
 //! from one interaction pattern; then the system is renumbered into the ordering's (renumber_unknowns) and so
 //! is `unk`. Why: the serial AMD and the scalar LAP build take comparable time, and the renumbering
-//! costs less than either (README, "Performance knobs", has the measurement). K is held twice while it is renumbered ("K_upper_renumbering" in
+//! costs less than either (docs/solvers.md; the measurement: results/records/2026-11-24-readme-figures/). K is held twice while it is renumbered ("K_upper_renumbering" in
 //! held_bytes).
 //! `ordering_seconds`: the ordering thread's own time. Checks as build_normal_system (check_build).
 NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,
