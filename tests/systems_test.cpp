@@ -137,7 +137,7 @@ TEST(MinQuadWithFixed, DenseBuildHonoursTheSolver) {
   const Mat4 T = rotation_about_axis(Vec3(0, 1, 0), 40.0, Vec3(0, 0, 3));
   for (const char* method : {"lap", "tf"}) {
     DeformOptions o;
-    o.method = method;
+    o.method = parse_enum<Method>(method);
     const Points ref = make_deformer(m, e, exact_options(o))->deform(T);
     const double tol = exact::solve_bound(system_condition(m, e, o));
     o.build = Build::Dense;

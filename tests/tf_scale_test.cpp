@@ -20,8 +20,8 @@ namespace {
 
 DeformOptions tf(bool normalized, Build build = Build::Structured) {
   DeformOptions o;
-  o.method = "tf";
-  o.tf_normalize_scale = normalized;
+  o.method = Method::Tf;
+  o.tf_scale = normalized ? TfScale::Normalized : TfScale::Free;
   o.build = build;
   return o;
 }
@@ -144,7 +144,7 @@ TEST(TfScale, OtherMethodsRefuseIt) {
   const Edit e = tube_edit(m);
   for (const char* method : {"lap", "lri"}) {
     DeformOptions o = tf(true);
-    o.method = method;
+    o.method = parse_enum<Method>(method);
     EXPECT_THROW(make_deformer(m, e, o), InputError) << method;
   }
 }
