@@ -108,7 +108,7 @@ TEST(DeformOptions, TextIsCheckedAsOnTheCommandLine) {
   EXPECT_EQ(message("method", "nope"), "--method: 'nope' is not one of: lap, tf, lri");
   EXPECT_EQ(message("methd", "tf"), "unknown deform option 'methd'");
   EXPECT_EQ(message("refine_max_iterations", "1e3"), "");  // numbers as the command line takes them
-  EXPECT_EQ(o.refine_max_iterations, 1000);
+  EXPECT_EQ(o.solver_options.max_iterations, 1000);
 }
 
 TEST(DeformOptions, TheSolverIsResolvedOnce) {
@@ -118,11 +118,14 @@ TEST(DeformOptions, TheSolverIsResolvedOnce) {
   EXPECT_EQ(resolve_options(o).solver, "dense_llt");
   o = DeformOptions{};
   o.precision = Precision::Mixed;
-  o.refine_tolerance = 1e-12;
-  const DeformOptions r = resolve_options(o);
+  set_deform_option(o, "refine_tolerance", "1e-12");
+  const DeformOptions r = resolve_options(o, {"precision", "refine_tolerance"});
   EXPECT_EQ(r.solver, kMixedBackend);
   EXPECT_EQ(r.solver_options.tolerance, 1e-12);  // the refinement's settings reach the backend that refines
   EXPECT_EQ(resolve_options(r).solver, kMixedBackend);  // resolving again changes nothing
+  o.solver = "cholmod_supernodal";
+  EXPECT_EQ(usage_error(o, {}), "--precision mixed is the multifrontal backend's (multifrontal_mixed), not "
+                                "cholmod_supernodal");
   o = DeformOptions{};
   o.soft_weight = 0;  // set in code: checked as its text would be
   EXPECT_EQ(usage_error(o, {}), "--soft-weight: 0 is outside [1e-08, 1e+08]");
@@ -146,4 +149,7 @@ TEST(DeformOptions, AGivenOptionTheOthersLeaveUnusedIsRefused) {
   o.build = Build::Dense;
   o.method = Method::Lri;
   EXPECT_EQ(usage_error(o, {}), "--build dense: lri offers the structured and naive builds only");
+  o = DeformOptions{};
+  o.tf_scale = TfScale::Normalized;  // set in code, not given: still refused with a method that has no TF scale
+  EXPECT_EQ(usage_error(o, {}), "--tf-scale normalized is for --method tf only, not lap");
 }

@@ -274,7 +274,7 @@ TEST(Lri, BadInput) {
   EXPECT_THROW(make_lri_deformer(m, e, lri("", "polar")), InputError);
   DeformOptions dense = lri("first", "polar");
   dense.build = Build::Dense;
-  EXPECT_THROW(make_deformer(m, e, dense), InputError);
+  EXPECT_THROW(make_deformer(m, e, dense), UsageError);  // options that do not go together
   // A free region that touches no constraint is singular in both systems.
   Edit floating = e;
   for (auto& r : floating.roles) r = Role::Free;

@@ -145,7 +145,7 @@ TEST(TfScale, OtherMethodsRefuseIt) {
   for (const char* method : {"lap", "lri"}) {
     DeformOptions o = tf(true);
     o.method = parse_enum<Method>(method);
-    EXPECT_THROW(make_deformer(m, e, o), InputError) << method;
+    EXPECT_THROW(make_deformer(m, e, o), UsageError) << method;  // options that do not go together
   }
 }
 
@@ -155,7 +155,7 @@ TEST(TfScale, HandleFramesRefuseIt) {
   const Edit e = tube_edit(m);
   DeformOptions o = tf(true);
   o.frame_mode = FrameMode::Handle;
-  EXPECT_THROW(make_deformer(m, e, o), InputError);
+  EXPECT_THROW(make_deformer(m, e, o), UsageError);
   EXPECT_THROW(make_deformer(m, e, tf(true))->precompute_handle_frames(), InputError);
 }
 

@@ -107,10 +107,24 @@ DeformOptionDef enum_row(const std::string& key, const std::string& group, const
       [field](const DeformOptions& o) { return to_string(o.*field); });
 }
 
-// A number field: checked as the command line checks numbers (core/cli.h), in [min, max].
+// The field a row sets: one of DeformOptions, or one of its SolverOptions.
 template <class T>
+T& field_of(DeformOptions& o, T DeformOptions::*field) {
+  return o.*field;
+}
+template <class T>
+T& field_of(DeformOptions& o, T SolverOptions::*field) {
+  return o.solver_options.*field;
+}
+template <class T, class S>
+const T& field_of(const DeformOptions& o, T S::*field) {
+  return field_of(const_cast<DeformOptions&>(o), field);
+}
+
+// A number field: checked as the command line checks numbers (core/cli.h), in [min, max].
+template <class T, class S>
 DeformOptionDef number_row(const std::string& key, const std::string& group, const std::string& value_name,
-                           const std::string& help, T DeformOptions::*field, double min, double max) {
+                           const std::string& help, T S::*field, double min, double max) {
   DeformOptionDef d = row(key, group, help);
   d.value_name = value_name;
   d.range = fmt::format("[{:.10g}, {:.10g}]", min, max);
@@ -118,12 +132,12 @@ DeformOptionDef number_row(const std::string& key, const std::string& group, con
     d.check = cli::Integer(static_cast<long long>(min), static_cast<long long>(max));
   else
     d.check = cli::Real(min, max);
-  d.set = [field](DeformOptions& o, const std::string& s) { o.*field = static_cast<T>(std::stod(s)); };
+  d.set = [field](DeformOptions& o, const std::string& s) { field_of(o, field) = static_cast<T>(std::stod(s)); };
   d.get = [field](const DeformOptions& o) {
     if constexpr (std::is_integral_v<T>)
-      return std::to_string(o.*field);
+      return std::to_string(field_of(o, field));
     else
-      return num(o.*field);
+      return num(field_of(o, field));
   };
   return d;
 }
@@ -246,9 +260,9 @@ std::vector<DeformOptionDef> make_defs() {
                        &DeformOptions::precision));
   t.push_back(number_row("refine_tolerance", kPrecision, "T",
                          "mixed: refine each solve until a correction is below T of x (max-norms; not reached: exit 3)",
-                         &DeformOptions::refine_tolerance, 1e-16, 1e-2));
+                         &SolverOptions::tolerance, 1e-16, 1e-2));
   t.push_back(number_row("refine_max_iterations", kPrecision, "N", "mixed: the refinement's iteration cap (exit 3)",
-                         &DeformOptions::refine_max_iterations, 0, 100000));
+                         &SolverOptions::max_iterations, 0, 100000));
   for (auto it = t.end() - 2; it != t.end(); ++it)
     it->unused = [](const DeformOptions& o) {
       return refines(o.solver) ? std::string()
@@ -259,11 +273,8 @@ std::vector<DeformOptionDef> make_defs() {
   return t;
 }
 
-// Options that do not go together, and a backend that cannot take the build, the ordering or the precision.
-void check_combinations(const DeformOptions& o, const std::vector<std::string>& given) {
-  if (o.tf_scale == TfScale::Normalized && o.frame_mode == FrameMode::Handle)
-    throw UsageError("--frame-mode handle with --tf-scale normalized: its second pass rotates by the fitted "
-                     "rotations, so a frame is not affine in the handle map (use --frame-mode full)");
+// A backend that cannot take the precision or the build: before the solver is resolved.
+void check_backend(const DeformOptions& o) {
   if (o.precision == Precision::Mixed && !o.solver.empty() && o.solver != "multifrontal" && o.solver != kMixedBackend)
     throw UsageError(fmt::format("--precision mixed is the multifrontal backend's ({}), not {}", kMixedBackend,
                                  o.solver));
@@ -272,6 +283,15 @@ void check_combinations(const DeformOptions& o, const std::vector<std::string>& 
   if (o.build == Build::Dense && !o.solver.empty() && solver_info(o.solver).family != "dense")
     throw UsageError(fmt::format("--solver {} takes sparse input only; --build dense needs a dense backend ({})",
                                  o.solver, solver_info(o.solver).family));
+}
+
+// Options that do not go together, whether given or set in code.
+void check_combinations(const DeformOptions& o) {
+  if (o.tf_scale == TfScale::Normalized && o.method != Method::Tf)
+    throw UsageError(fmt::format("--tf-scale normalized is for --method tf only, not {}", to_string(o.method)));
+  if (o.tf_scale == TfScale::Normalized && o.frame_mode == FrameMode::Handle)
+    throw UsageError("--frame-mode handle with --tf-scale normalized: its second pass rotates by the fitted "
+                     "rotations, so a frame is not affine in the handle map (use --frame-mode full)");
 }
 
 // The orderings mirror LaplacianDeformer: the structured LAP / TF build orders the vertex graph itself when the
@@ -319,17 +339,14 @@ DeformOptions resolve_options(DeformOptions o, const std::vector<std::string>& g
     if (value.empty() || d.is_switch) continue;
     if (const std::string why = d.check(value); !why.empty()) throw UsageError(fmt::format("{}: {}", d.flag, why));
   }
-  check_combinations(o, given);
+  check_backend(o);
   if (o.precision == Precision::Mixed) o.solver = kMixedBackend;
   o.solver = resolve_solver(o.solver, o.build);
   for (const std::string& key : given)
     if (const std::string why = deform_option_def(key).unused(o); !why.empty())
       throw UsageError(deform_option_def(key).flag + why);
+  check_combinations(o);
   if (contains(given, "ordering")) check_ordering(o);
-  if (refines(o.solver)) {
-    o.solver_options.tolerance = o.refine_tolerance;
-    o.solver_options.max_iterations = o.refine_max_iterations;
-  }
   return o;
 }
 

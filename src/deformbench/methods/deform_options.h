@@ -75,11 +75,9 @@ struct DeformOptions {
   //! ones included (they expand K: small systems only).
   std::string solver;
   //! Ordering ("default": the backend's own, or the vertex graph's with the structured lap/tf build), the
-  //! out-of-core directory, and (refining backends) the refinement's settings, copied in by resolve_options.
+  //! out-of-core directory and, for refining backends, the refinement's tolerance and iteration cap.
   SolverOptions solver_options;
   Precision precision = Precision::Double;
-  double refine_tolerance = 1e-10;    //!< refining backends: the relative correction a solve must fall below
-  int refine_max_iterations = 1000;   //!< refining backends: the CG iterations of one solve at most
   std::size_t memory_budget = 0;      //!< bytes; 0 = unlimited. Checked on predictions before allocating.
   FrameMode frame_mode = FrameMode::Full;
   //! Handle mode with per-vertex targets (Edit::targets): the responses grow with the handle (3h columns), so a
@@ -127,9 +125,9 @@ std::vector<std::pair<std::string, std::string>> deform_option_items(const Defor
                                                                     const DeformOptions& base = {});
 
 //! The options checked together and the solver resolved, once, before any mesh is read: the backend named (the
-//! build's default, or kMixedBackend for Precision::Mixed), the refinement's settings copied in where it refines.
-//! `given`: the keys set explicitly (command line, spec), each refused when the others leave it unused.
-//! \throw UsageError for options that do not go together, naming them by their flags.
+//! build's default, or kMixedBackend for Precision::Mixed). `given`: the keys set explicitly (command line,
+//! spec), each refused when the others leave it unused. make_deformer calls it too (library callers), with none.
+//! \throw UsageError for a value out of range or options that do not go together, naming them by their flags.
 DeformOptions resolve_options(DeformOptions o, const std::vector<std::string>& given = {});
 
 //! The table as a Markdown list for the reference (docs/cli.md; `deformbench deform-options`).
