@@ -243,6 +243,14 @@ std::vector<DeformOptionDef> make_defs() {
                              fmt::join(out_of_core_backends(), ", "));
   };
   t.push_back(dir);
+  t.push_back(number_row("cg_tolerance", kSystem, "T",
+                         "iterative backends: solve until the relative residual is below T", &DeformOptions::cg_tolerance,
+                         1e-16, 1e-2));
+  t.back().unused = [](const DeformOptions& o) {
+    return !o.solver.empty() && solver_info(o.solver).family == "iterative"
+               ? std::string()
+               : std::string(" is for the iterative backends only (cg_jacobi, cg_ichol)");
+  };
   DeformOptionDef budget = row("memory_budget_mb", kSystem, "refuse builds predicted above MB megabytes (exit 4)");
   budget.value_name = "MB";
   budget.range = "[1, 1000000000]";
@@ -347,6 +355,7 @@ DeformOptions resolve_options(DeformOptions o, const std::vector<std::string>& g
       throw UsageError(deform_option_def(key).flag + why);
   check_combinations(o);
   if (contains(given, "ordering")) check_ordering(o);
+  if (contains(given, "cg_tolerance")) o.solver_options.tolerance = o.cg_tolerance;
   return o;
 }
 

@@ -78,6 +78,9 @@ struct DeformOptions {
   //! out-of-core directory and, for refining backends, the refinement's tolerance and iteration cap.
   SolverOptions solver_options;
   Precision precision = Precision::Double;
+  //! Iterative backends (cg_jacobi, cg_ichol): the relative residual each solve must reach (resolve_options
+  //! hands it to the backend when given).
+  double cg_tolerance = 1e-10;
   std::size_t memory_budget = 0;      //!< bytes; 0 = unlimited. Checked on predictions before allocating.
   FrameMode frame_mode = FrameMode::Full;
   //! Handle mode with per-vertex targets (Edit::targets): the responses grow with the handle (3h columns), so a
