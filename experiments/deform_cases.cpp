@@ -40,7 +40,7 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--meshes", o.meshes, "write each case's last frame here (CASE_METHOD.ply)");
   app.add_option("--case", o.cases, "a case: NAME=EDIT (a .edit file or a Botsch-Sorkine stem, relative to --data)")
       ->delimiter(',');
-  app.add_option("--methods", o.methods, "methods")->delimiter(',')->check(cli::OneOf({"lap", "tf", "lri"}))
+  app.add_option("--methods", o.methods, "methods")->delimiter(',')->check(cli::OneOf(enum_names<Method>()))
       ->capture_default_str();
   app.add_option("--frames", o.frames, "frames of the drag")->transform(cli::Integer(1, 100000))->capture_default_str();
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))
@@ -56,12 +56,12 @@ bool edit_exists(const std::string& path) {
 void add_row(CsvTable& csv, const DeformCell& c, const CellResult& r) {
   auto count = [&](const char* m) { return num(r.get(m)); };
   CsvTable::Row row = {{"case", c.model},
-           {"mesh", r.text("mesh_name")},
+           {"mesh", r.text("mesh")},
            {"vertices", count("vertices")},
            {"faces", count("faces")},
            {"handle", count("handle")},
            {"fixed", count("fixed")},
-           {"method", c.method},
+           {"method", c.method()},
            {"constraints", r.text("constraints")},
            {"build", r.text("build")},
            {"backend", r.text("backend")},
@@ -72,7 +72,7 @@ void add_row(CsvTable& csv, const DeformCell& c, const CellResult& r) {
            {"frames", count("frames")}};
   // Each timing with its spread: the phases of init over the one run, the frame over the frames of the drag.
   for (const char* m : {"build_s", "analyze_s", "factorize_s", "init_s", "frame_s"}) {
-    row.emplace_back(std::string(m) == "frame_s" ? "frame_median_s" : m, num(r.get(m)));
+    row.emplace_back(m, num(r.get(m)));
     add_spread_columns(row, r, m);
   }
   row.insert(row.end(), {{"matrix_bytes", count("matrix_bytes")},
@@ -89,11 +89,11 @@ CellResult run_one(const Options& o, const DeformCell& c, FailedCells& failed) {
   CellResult r = run_cell(self_executable(), c.to_spec(), ro);
   failed.note(c.to_spec().text(), r);
   if (!r.ok()) {
-    std::cerr << fmt::format("[deform_cases] {} {}: {}: {} ({})\n", c.model, c.method, r.status, r.message, r.exit);
+    std::cerr << fmt::format("[deform_cases] {} {}: {}: {} ({})\n", c.model, c.method(), r.status, r.message, r.exit);
     return r;
   }
   std::cerr << fmt::format("[deform_cases] {:14s} {:3s} n={:6.0f} init {:.3f} s  frame {:.4f} s  peak {:.1f} MiB\n",
-                           c.model, c.method, r.get("n"), r.get("init_s"), r.get("frame_s"),
+                           c.model, c.method(), r.get("n"), r.get("init_s"), r.get("frame_s"),
                            r.get("peak_rss_bytes") / 1048576.0);
   return r;
 }
@@ -114,7 +114,7 @@ int run(Options& o) {
       DeformCell c;
       c.model = s.label;
       c.edit = s.path;
-      c.method = method;
+      set_deform_option(c.options, "method", method);
       c.frames = o.frames;
       if (!o.meshes.empty()) c.out_mesh = (fs::path(o.meshes) / fmt::format("{}_{}.ply", s.label, method)).string();
       grid.push_back(c);

@@ -277,16 +277,23 @@ Points repeated_deform(Deformer& d, const Mat4& transform, int repeats, Run& r) 
   return V;
 }
 
-Run run_config(const Case& c, const Config& cfg, unsigned seed, int repeats) {
+// A configuration of the study as deform options (methods/deform_options.h keys).
+DeformOptions options_of(const Config& cfg, unsigned seed) {
+  std::vector<std::pair<std::string, std::string>> items = {{"method", cfg.method}};
+  if (cfg.method == "tf-normalized")  // TF's rotations without its scale (issue 17)
+    items = {{"method", "tf"}, {"tf_scale", "normalized"}};
+  if (cfg.method == "lri-uncoordinated")  // handle frames left at rest (thesis fig. 3-4)
+    items = {{"method", "lri"}, {"lri_frame_control", "uncoordinated"}};
+  if (cfg.method == "lri")
+    items.insert(items.end(), {{"lri_frames", cfg.frames}, {"lri_orthonormalize", cfg.ortho},
+                               {"lri_seed", std::to_string(seed)}});
   DeformOptions o;
-  o.method = cfg.method == "tf-normalized" ? "tf" : cfg.method == "lri-uncoordinated" ? "lri" : cfg.method;
-  o.tf_normalize_scale = cfg.method == "tf-normalized";  // TF's rotations without its scale (issue 17)
-  o.lri_uncoordinated = cfg.method == "lri-uncoordinated";  // handle frames left at rest (thesis fig. 3-4)
-  if (cfg.method == "lri") {
-    o.lri_frames = cfg.frames;
-    o.lri_orthonormalize = cfg.ortho;
-    o.lri_seed = seed;
-  }
+  for (const auto& [key, value] : items) set_deform_option(o, key, value);
+  return o;
+}
+
+Run run_config(const Case& c, const Config& cfg, unsigned seed, int repeats) {
+  const DeformOptions o = options_of(cfg, seed);
   Run r;
   if (c.chain.empty()) {
     auto d = make_deformer(c.mesh, c.edit, o);
@@ -373,8 +380,8 @@ struct Options {
   std::string only;
   unsigned seed = 1;
   std::vector<std::string> cases, methods = {"lap", "tf", "tf-normalized", "lri", "lri-uncoordinated"},
-                                  lri_frames = {"first", "random", "height_angle", "curvature"},
-                                  lri_ortho = {"gram_schmidt", "polar"};
+                                  lri_frames = enum_names<FrameStrategy>(),
+                                  lri_ortho = enum_names<Orthonormalization>();
 };
 
 void define_options(CLI::App& app, Options& o) {
@@ -393,9 +400,9 @@ void define_options(CLI::App& app, Options& o) {
       ->check(cli::OneOf({"lap", "tf", "tf-normalized", "lri", "lri-uncoordinated"}))
       ->capture_default_str();
   app.add_option("--lri-frames", o.lri_frames, "LRI frame strategies")->delimiter(',')
-      ->check(cli::OneOf({"first", "random", "height_angle", "curvature"}))->capture_default_str();
+      ->check(cli::OneOf(enum_names<FrameStrategy>()))->capture_default_str();
   app.add_option("--lri-orthonormalize", o.lri_ortho, "LRI orthonormalizations")->delimiter(',')
-      ->check(cli::OneOf({"gram_schmidt", "polar"}))->capture_default_str();
+      ->check(cli::OneOf(enum_names<Orthonormalization>()))->capture_default_str();
   app.add_option("--twist-step", o.twist_step, "degrees per edit of a chained twist")->check(cli::Real(1e-3, 180))
       ->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the random frame strategy")->transform(cli::Integer(0, 4294967295LL))

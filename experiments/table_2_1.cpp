@@ -182,11 +182,12 @@ DeformCell cell_for(const Options& o, const MeshSource& src, const std::string& 
   DeformCell c;
   c.model = src.label;
   c.mesh = src.levels ? fmt::format("{}+loop{}", src.path, src.levels) : src.path;
-  c.method = system;
-  c.build = build;
-  c.backend = build == "dense" ? o.dense_backend : o.backend;
-  c.ordering = o.ordering;
-  c.constraints = "soft";  // thesis eq. 2-4: handle and anchors stay unknowns, K is #V x #V or 3#V x 3#V
+  set_deform_option(c.options, "method", system);
+  set_deform_option(c.options, "build", build);
+  set_deform_option(c.options, "backend", build == "dense" ? o.dense_backend : o.backend);
+  if (build != "dense") set_deform_option(c.options, "ordering", o.ordering);  // the dense build orders nothing
+  // thesis eq. 2-4: handle and anchors stay unknowns, K is #V x #V or 3#V x 3#V
+  set_deform_option(c.options, "constraints", "soft");
   c.frames = o.frames;
   c.memory_budget_bytes = static_cast<std::size_t>(o.memory_budget_mb * kMiB);
   c.handle_frames = true;  // the handle-mode frame and precompute beside the thesis' frame (issue 16)
@@ -247,11 +248,12 @@ Record TableRunner::run(const Planned& p) {
   Record rec{p.src.label, p.src.series, p.src.levels, mesh_ ? double(mesh_->num_vertices()) : std::nan(""), p.cell, {}};
   rec.cell.mesh = path_;
   // Keyed without the label: a tier and a series level may be the same file and the same cell.
-  const std::string key = fmt::format("{}|{}|{}|{}|{}", path_, rec.cell.method, rec.cell.build, rec.cell.backend,
-                                      rec.cell.ordering);
+  const std::string key = fmt::format("{}|{}|{}|{}|{}", path_, rec.cell.method(), rec.cell.build(), rec.cell.backend(),
+                                      rec.cell.options.solver_options.ordering);
   if (auto it = done_.find(key); it != done_.end() && !path_.empty()) {
     rec.res = it->second.res;
-    rec.cell.factor_dir = it->second.cell.factor_dir;  // where its factor was kept
+    rec.cell.options.solver_options.factor_dir = it->second.cell.options.solver_options.factor_dir;  // where its
+                                                                                                     // factor was kept
     return rec;
   }
   if (!load_error_.empty()) {
@@ -270,11 +272,11 @@ Record TableRunner::run(const Planned& p) {
 // it is (and will be #over).
 void TableRunner::place_factor(DeformCell& c) const {
   const double budget = o_.memory_budget_mb * kMiB;
-  if (!o_.out_of_core || c.build == "dense" || !solver_info(c.backend).out_of_core) return;
+  if (!o_.out_of_core || c.options.build == Build::Dense || !solver_info(c.backend()).out_of_core) return;
   try {
     if (predictor_->predict(c).total_bytes <= budget) return;
     DeformCell d = c;
-    d.factor_dir = o_.scratch;
+    d.options.solver_options.factor_dir = o_.scratch;
     const DeformPrediction q = predictor_->predict(d);
     const double free_bytes = static_cast<double>(fs::space(o_.scratch).available);
     if (q.total_bytes > budget || free_bytes < 1.05 * q.factor_bytes) {
@@ -302,7 +304,7 @@ CellResult TableRunner::run_one(const DeformCell& c) const {
   // killer (others share it). Virtual reservations (thread stacks, malloc arenas) need the slack; an out-of-core
   // factor's file mapping is address space too.
   ro.address_space_bytes = static_cast<std::size_t>(std::max(1.5 * budget, budget + 4.0 * (1 << 30)) +
-                                                    (c.factor_dir.empty() ? 0.0 : p.factor_bytes));
+                                                    (c.factor_storage() == "memory" ? 0.0 : p.factor_bytes));
   ro.repeats = o_.repeats;
   ro.repeat_max_s = o_.repeat_max_s;
   ro.machine_rates = true;
@@ -347,9 +349,9 @@ void add_long_rows(CsvTable& csv, const Record& rec, bool with_series) {
   if (with_series) key.insert(key.end(), {{"series", rec.series}, {"level", std::to_string(rec.level)}});
   key.insert(key.end(), {{"model", rec.model},
                          {"vertices", std::isnan(rec.vertices) ? "" : fmt::format("{}", rec.vertices)},
-                         {"system", rec.cell.method},
-                         {"build", rec.cell.build},
-                         {"backend", rec.cell.backend},
+                         {"system", rec.cell.method()},
+                         {"build", rec.cell.build()},
+                         {"backend", rec.cell.backend()},
                          {"factor_storage", rec.cell.factor_storage()},
                          {"ordering_used", rec.res.text("ordering_used")}});
   add_measure_rows(csv, key, rec.res, table_measures());
@@ -392,7 +394,7 @@ std::optional<FitRow> fit_one(const std::vector<Record>& recs, const std::string
   // frame time are not the same quantities, so only in-memory cells enter their fits.
   const bool in_memory_only = m == "peak_rss_bytes" || m == "frame_s";
   for (const auto& r : recs)
-    if ((series == "all" || r.series == series) && r.cell.method == system && r.res.ok() &&
+    if ((series == "all" || r.series == series) && r.cell.method() == system && r.res.ok() &&
         !(in_memory_only && r.cell.factor_storage() == "disk") &&
         std::find(x.begin(), x.end(), r.vertices) == x.end()) {  // "all" would count shared cells twice
       x.push_back(r.vertices);
@@ -481,7 +483,7 @@ void run_grid(const Options& o, const std::vector<Planned>& grid, TableRunner& r
   }
   if (!o.scaling) return;
   for (const auto& r : table)
-    if (r.cell.build == "structured") {
+    if (r.cell.options.build == Build::Structured) {
       Record x = r;
       x.series = "tiers";
       scaling.push_back(x);
@@ -509,9 +511,9 @@ std::vector<Record> scaling_records(const std::string& path) {
       r.series = row.at("series");
       r.model = row.at("model");
       r.vertices = row.at("vertices").empty() ? std::nan("") : std::stod(row.at("vertices"));
-      r.cell.method = row.at("system");
-      r.cell.build = row.at("build");
-      if (row.at("factor_storage") == "disk") r.cell.factor_dir = "disk";
+      set_deform_option(r.cell.options, "method", row.at("system"));
+      set_deform_option(r.cell.options, "build", row.at("build"));
+      if (row.at("factor_storage") == "disk") r.cell.options.solver_options.factor_dir = "disk";
       r.res.status = row.at("status");
       recs.push_back(std::move(r));
       last = key;

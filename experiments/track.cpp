@@ -137,7 +137,7 @@ std::map<std::string, std::string> tier_paths(const Options& o) {
 std::string cell_name(const CellSpec& s) {
   if (s.kind() == "deform") {
     const DeformCell c = DeformCell::from_spec(s);
-    solver_info(c.backend);
+    solver_info(c.backend());
     return "deform/" + c.key();
   }
   if (s.kind() == "solve") {
@@ -194,7 +194,7 @@ void predict(std::vector<Planned>& suite) {
   for (Planned& p : suite) {
     if (p.spec.kind() != "deform") continue;
     const DeformCell c = DeformCell::from_spec(p.spec);
-    if (c.method == "lri" || c.mesh.empty()) continue;  // the predictor knows the lap and tf systems
+    if (c.options.method == Method::Lri || c.mesh.empty()) continue;  // the predictor knows the lap and tf systems
     const std::string key = fmt::format("{}|{}|{}|{}", c.mesh, c.thesis.handle_count, c.thesis.anchor_count,
                                         c.thesis.drag_fraction);
     if (!predictors.count(key)) {

@@ -78,6 +78,14 @@ expect_ok drag_handle out.ply -- deform "$T/drag.edit" --method tf --frame-mode 
 expect_ok budget_scientific out.ply -- deform "$G" --memory-budget-mb 1e3 --out "$OUT"  # 1000 MB (issue 28)
 expect_ok frames_scientific out.ply -- deform "$G" --frames 2.5e1 --out "$OUT"
 expect_ok mixed_precision "out.ply r.csv" -- deform "$G" --precision mixed --vs-double --out "$OUT" --csv "$O/r.csv"
+expect_ok cg_tolerance out.ply -- deform "$G" --solver cg_jacobi --cg-tolerance 1e-12 --out "$OUT"
+# The reference listing (`deformbench deform-options`, derived from the options' table) has every option of the
+# table that `deform --help` shows; the command's own options (edit, outputs, frames, transform) are not in it.
+listing=$("$BIN" deform-options)
+for f in $("$BIN" deform --help | grep -oE '^  --[a-z-]+'); do
+  case $f in --help | --out | --csv | --frames | --transform | --vs-double) continue ;; esac
+  if grep -qF -- "\`$f\`" <<<"$listing"; then passes=$((passes + 1)); else fails=$((fails + 1)); echo "FAIL deform-options lacks $f"; fi
+done
 for k in 1e200 1e-300; do
   scaled_octa "$T/s$k" "$k"
   for m in lap tf; do expect_ok "scaled_${k}_$m" out.ply -- deform "$T/s$k" --method "$m" --out "$OUT"; done
@@ -116,6 +124,8 @@ expect lri_frame_control_not_lri 1 "--lri-frame-control is for --method lri only
 expect lri_frame_control_bad 1 "lri-frame-control" -- deform "$G" --method lri --lri-frame-control sideways --out "$OUT"
 expect soft_weight_with_hard 1 "--soft-weight .*needs --constraints soft" -- deform "$G" --soft-weight 2 --out "$OUT"
 expect factor_dir_with_umfpack 1 "--factor-dir: umfpack cannot keep its factor out of core" -- deform "$G" --solver umfpack --factor-dir "$T" --out "$OUT"
+expect cg_tolerance_not_iterative 1 "--cg-tolerance is for the iterative backends only" -- deform "$G" --cg-tolerance 1e-8 --out "$OUT"
+expect cg_tolerance_range 1 "--cg-tolerance: 1 is outside" -- deform "$G" --solver cg_jacobi --cg-tolerance 1 --out "$OUT"
 expect ordering_not_accepted 1 "--ordering nesdis is not accepted by umfpack" -- deform "$G" --solver umfpack --build naive --ordering nesdis --out "$OUT"
 expect ordering_with_dense 1 "--ordering does not apply to --build dense" -- deform "$G" --build dense --ordering amd --out "$OUT"
 expect dense_with_sparse_solver 1 "--build dense needs a dense backend" -- deform "$G" --build dense --solver cholmod_supernodal --out "$OUT"

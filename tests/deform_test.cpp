@@ -24,7 +24,7 @@ namespace {
 
 DeformOptions opts(const std::string& method, ConstraintMode mode = ConstraintMode::Hard, double w = 1.0) {
   DeformOptions o;
-  o.method = method;
+  o.method = parse_enum<Method>(method);
   o.constraints = mode;
   o.soft_weight = w;
   return o;

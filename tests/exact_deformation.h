@@ -20,14 +20,14 @@ inline DeformOptions exact_options(DeformOptions o) {
 }
 
 //! cond_2 of the normal matrix K a lap or tf deformer with options `o` factors (normalized coordinates, as
-//! LaplacianDeformer builds it; tf_normalize_scale's second system is not included).
+//! LaplacianDeformer builds it; TfScale::Normalized's second system is not included).
 inline double system_condition(const Mesh& m, const Edit& e, const DeformOptions& o) {
   const Points Vn = (o.normalize ? Normalization::fit(m.V) : Normalization::identity()).apply(m.V);
   EnergyOptions eo;
   eo.weights = o.weights;
   eo.tf_translation = o.tf_translation;
   const Adjacency adj = vertex_adjacency(m);  // the operator keeps a reference
-  const EnergyOperator op(Vn, m.F, adj, o.method == "tf" ? EnergyKind::Tf : EnergyKind::Lap, eo);
+  const EnergyOperator op(Vn, m.F, adj, o.method == Method::Tf ? EnergyKind::Tf : EnergyKind::Lap, eo);
   const Unknowns unk = make_unknowns(classify(e, o.constraints), o.soft_weight);
   return exact::condition_number(build_normal_system(op, unk, Build::Structured).K);
 }
@@ -38,7 +38,7 @@ inline double system_condition(const Mesh& m, const Edit& e, const DeformOptions
 //! solve_bound(cond K_P) + cond(K_P) e_F (first order; the orthonormalization of a frame is as well conditioned as
 //! the frame).
 inline double deformation_bound(const Mesh& m, const Edit& e, const DeformOptions& o) {
-  if (o.method != "lri") return exact::solve_bound(system_condition(m, e, o));
+  if (o.method != Method::Lri) return exact::solve_bound(system_condition(m, e, o));
   const LriDeformer d(m, e, o);
   const double frames = exact::solve_bound(exact::condition_number(d.frame_system().K));
   const double positions = exact::condition_number(d.position_system().K);

@@ -30,11 +30,11 @@ Mat3 rot_z(double a) {
 
 TEST(Frames, ParseNamesRoundTripAndRejectUnknown) {
   for (const char* s : {"first", "random", "height_angle", "curvature"})
-    EXPECT_EQ(to_string(parse_frame_strategy(s)), s);
-  for (const char* s : {"gram_schmidt", "polar"}) EXPECT_EQ(to_string(parse_orthonormalization(s)), s);
-  EXPECT_THROW(parse_frame_strategy("principal"), InputError);
-  EXPECT_THROW(parse_frame_strategy(""), InputError);
-  EXPECT_THROW(parse_orthonormalization("qr"), InputError);
+    EXPECT_EQ(to_string(parse_enum<FrameStrategy>(s)), s);
+  for (const char* s : {"gram_schmidt", "polar"}) EXPECT_EQ(to_string(parse_enum<Orthonormalization>(s)), s);
+  EXPECT_THROW(parse_enum<FrameStrategy>("principal"), InputError);
+  EXPECT_THROW(parse_enum<FrameStrategy>(""), InputError);
+  EXPECT_THROW(parse_enum<Orthonormalization>("qr"), InputError);
 }
 
 TEST(Frames, NormalsOfATubePointOutwards) {
@@ -69,7 +69,7 @@ TEST_P(EveryStrategy, FramesAreOrthonormalWithTheVertexNormal) {
   const Mesh m = tube();
   const Adjacency adj = vertex_adjacency(m);
   const Points N = vertex_normals(m.V, m.F);
-  const FrameField ff = compute_frames(m.V, adj, N, parse_frame_strategy(GetParam()), 7);
+  const FrameField ff = compute_frames(m.V, adj, N, parse_enum<FrameStrategy>(GetParam()), 7);
   ASSERT_EQ(static_cast<int>(ff.F.size()), m.num_vertices());
   for (int v = 0; v < m.num_vertices(); ++v) {
     expect_orthonormal_right_handed(ff.F[v]);
@@ -86,7 +86,7 @@ TEST_P(EveryStrategy, FramesAreOrthonormalWithTheVertexNormal) {
 TEST_P(EveryStrategy, DiscreteFormsAndConnectionReconstructTheMesh) {
   const Mesh m = tube();
   const Adjacency adj = vertex_adjacency(m);
-  const FrameField ff = compute_frames(m.V, adj, vertex_normals(m.V, m.F), parse_frame_strategy(GetParam()), 3);
+  const FrameField ff = compute_frames(m.V, adj, vertex_normals(m.V, m.F), parse_enum<FrameStrategy>(GetParam()), 3);
   const auto d = discrete_forms(m.V, adj, ff.F);
   ASSERT_EQ(d.size(), adj.nbr.size());
   for (int i = 0; i < m.num_vertices(); ++i)

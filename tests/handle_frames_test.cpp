@@ -67,14 +67,14 @@ TEST_P(HandleFrames, EqualFullFramesOnTheTube) {
   const Edit e = tube_edit(m);
   for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
     DeformOptions o;
-    o.method = c.method;
-    o.build = parse_build(c.build);
+    o.method = parse_enum<Method>(c.method);
+    o.build = parse_enum<Build>(c.build);
     o.solver = c.solver;
     o.constraints = mode;
     o.soft_weight = mode == ConstraintMode::Soft ? 3.0 : 1.0;
     EXPECT_WITHIN(handle_and_full_error(m, e, o), deformation_bound(m, e, o)) << to_string(mode);
     if (c.method == "lri") {
-      o.lri_orthonormalize = "polar";
+      o.lri_orthonormalize = Orthonormalization::Polar;
       EXPECT_WITHIN(handle_and_full_error(m, e, o), deformation_bound(m, e, o)) << to_string(mode) << " polar";
       continue;
     }
@@ -101,7 +101,7 @@ TEST(HandleFrames, ThreadedStreamEqualsFullFrames) {
   const Mesh m = make_cylinder(120, 120, 1.0, 4.0);
   const Edit e = tube_edit(m);
   DeformOptions o;
-  o.method = "tf";
+  o.method = Method::Tf;
   o.constraints = ConstraintMode::Soft;
   EXPECT_WITHIN(handle_and_full_error(m, e, o), deformation_bound(m, e, o));
 }
@@ -140,7 +140,7 @@ double drag_handle_and_full_error(const Mesh& m, const Edit& e, DeformOptions o)
   EXPECT_TRUE(handle->frame_mode_note().empty());
   const Eigen::Index h = e.count(Role::Handle);
   // TF: 3h responses and the rest column per coordinate row; LAP: h and 3 rest columns per vertex row.
-  const std::size_t per_row = o.method == "tf" ? 3 * (3 * h + 1) : h + 3;
+  const std::size_t per_row = o.method == Method::Tf ? 3 * (3 * h + 1) : h + 3;
   EXPECT_EQ(handle->response_bytes(), per_row * static_cast<std::size_t>(m.num_vertices()) * sizeof(double));
   double worst = 0;
   for (int f = 0; f < e.target_frames(); ++f) {
@@ -157,7 +157,7 @@ TEST(HandleFrames, PerVertexDragsEqualFullFrames) {
   for (const char* method : {"lap", "tf"})
     for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
       DeformOptions o;
-      o.method = method;
+      o.method = parse_enum<Method>(method);
       o.constraints = mode;
       o.soft_weight = mode == ConstraintMode::Soft ? 3.0 : 1.0;
       EXPECT_WITHIN(drag_handle_and_full_error(m, e, o), deformation_bound(m, e, o))
@@ -177,7 +177,7 @@ TEST(HandleFrames, ThreadedPerVertexDragEqualsFullFrames) {
     if (e.roles[v] == Role::Handle && (m.V(v, 2) < 3.99 || ++kept > 8)) e.roles[v] = Role::Free;
   e.targets = drag_targets(m, e, 2);
   DeformOptions o;
-  o.method = "tf";
+  o.method = Method::Tf;
   o.constraints = ConstraintMode::Soft;
   EXPECT_WITHIN(drag_handle_and_full_error(m, e, o), deformation_bound(m, e, o));
 }
@@ -195,7 +195,7 @@ TEST(HandleFrames, RigidPerVertexDragEqualsTheAffinePath) {
   for (const char* method : {"lap", "tf"})
     for (auto mode : {ConstraintMode::Hard, ConstraintMode::Soft}) {
       DeformOptions o;
-      o.method = method;
+      o.method = parse_enum<Method>(method);
       o.constraints = mode;
       // Each path against the exact deformation under the system's bound (they round differently).
       const Points ref = make_deformer(m, e, exact_options(o))->deform(T);
@@ -212,7 +212,7 @@ TEST(HandleFrames, LargeDragsFallBackToFullFrames) {
   const Mesh m = tube();
   const Edit e = tube_drag(m, 1);
   DeformOptions o;
-  o.method = "tf";
+  o.method = Method::Tf;
   o.frame_mode = FrameMode::Handle;
   o.handle_limit = 1e-3;  // the tube's 32 handle vertices: responses far above a thousandth of the factor
   auto d = make_deformer(m, e, o);
@@ -228,9 +228,9 @@ TEST(HandleFrames, LriRefusesPerVertexTargets) {
   const Mesh m = tube();
   const Edit e = tube_drag(m, 1);
   DeformOptions o;
-  o.method = "lri";
+  o.method = Method::Lri;
   expect_input_error([&] { make_deformer(m, e, o); }, "need --method lap or tf");
-  o.method = "tf";
+  o.method = Method::Tf;
   expect_input_error([&] { make_deformer(m, e, o)->deform_targets(e.targets.topRows(3)); }, "expected 32 finite");
 }
 
@@ -270,10 +270,10 @@ TEST_F(DragFiles, RefusesBadTargets) {
 }
 
 TEST(HandleFrames, ParsesFrameModes) {
-  EXPECT_EQ(parse_frame_mode("full"), FrameMode::Full);
-  EXPECT_EQ(parse_frame_mode("handle"), FrameMode::Handle);
+  EXPECT_EQ(parse_enum<FrameMode>("full"), FrameMode::Full);
+  EXPECT_EQ(parse_enum<FrameMode>("handle"), FrameMode::Handle);
   EXPECT_EQ(to_string(FrameMode::Handle), "handle");
-  expect_input_error([] { parse_frame_mode("fast"); }, "unknown frame mode 'fast'");
+  expect_input_error([] { parse_enum<FrameMode>("fast"); }, "unknown frame mode 'fast'");
 }
 
 }  // namespace

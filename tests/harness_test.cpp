@@ -68,10 +68,10 @@ DeformCell deform_cell(const std::string& method, const std::string& build) {
   DeformCell c;
   c.model = "bar";
   c.mesh = temp().mesh;
-  c.method = method;
-  c.build = build;
-  c.backend = build == "dense" ? "dense_llt" : "multifrontal";
-  c.constraints = "soft";
+  set_deform_option(c.options, "method", method);
+  set_deform_option(c.options, "build", build);
+  set_deform_option(c.options, "backend", build == "dense" ? "dense_llt" : "multifrontal");
+  set_deform_option(c.options, "constraints", "soft");
   c.frames = 5;
   return c;
 }
@@ -405,7 +405,7 @@ TEST(Shards, GroupsGoRoundRobinAndPartitionTheGrid) {
 
 TEST(DeformCell, SpecRoundTripsAndRejectsUnknownKeys) {
   DeformCell c = deform_cell("tf", "structured");
-  c.factor_dir = "/tmp";
+  c.options.solver_options.factor_dir = "/tmp";
   c.out_mesh = "/tmp/x.ply";
   const DeformCell d = DeformCell::from_spec(c.to_spec());
   EXPECT_EQ(d.to_spec().items(), c.to_spec().items());
@@ -449,7 +449,7 @@ TEST(DeformCell, MeasuredInAChild) {
 // two builds, backends or frame modes round differently.
 double cells_apart_bound(const Mesh& rest, const Edit& e, const std::string& method, const Points& P, double diag) {
   DeformOptions o;
-  o.method = method;
+  o.method = parse_enum<Method>(method);
   o.constraints = ConstraintMode::Soft;
   const double relative = 2 * exact::solve_bound(system_condition(rest, e, o));
   return relative * Normalization::fit(rest.V).apply(P).norm() * bbox_diagonal(rest.V) / diag;
@@ -478,7 +478,7 @@ TEST(DeformCell, AnEditFileCellWritesItsMesh) {
   DeformCell c;
   c.model = "bar";
   c.edit = (fs::path(DEFORMBENCH_SOURCE_DIR) / "data" / "bs08" / "bar").string();
-  c.method = "lap";
+  c.options.method = Method::Lap;
   c.frames = 2;
   c.out_mesh = (temp().dir / "bar_lap.ply").string();
   const CellResult r = run_cell(self_executable(), c.to_spec(), RunOptions{});
@@ -514,7 +514,7 @@ TEST(DeformCell, HandleFramesEqualFullFramesForAffineAndPerVertexDrags) {
       for (bool targets : {false, true}) {
         SCOPED_TRACE(backend + " " + method + (targets ? " per-vertex targets" : " affine"));
         DeformCell c = deform_cell(method, "structured");
-        c.backend = backend;
+        c.options.solver = backend;
         c.frames = 3;
         c.handle_frames = true;
         c.out_mesh = (dir / "handle_vs_full.ply").string();
@@ -542,7 +542,7 @@ TEST(DeformCell, HandleFramesEqualFullFramesForAffineAndPerVertexDrags) {
 // checked against leaves the factor's values out while still reporting them.
 TEST(DeformCell, OutOfCoreAgreesAndIsPredictedWithoutTheFactor) {
   DeformCell mem = deform_cell("tf", "structured"), disk = mem;
-  disk.factor_dir = fs::temp_directory_path().string();
+  disk.options.solver_options.factor_dir = fs::temp_directory_path().string();
   disk.out_mesh = (temp().dir / "out_of_core.ply").string();
   const CellResult a = run_cell(self_executable(), mem.to_spec(), RunOptions{});
   const CellResult b = run_cell(self_executable(), disk.to_spec(), RunOptions{});

@@ -197,7 +197,7 @@ Case bend() {
 
 DeformOptions method_options(const std::string& method) {
   DeformOptions o;
-  o.method = method;
+  o.method = parse_enum<Method>(method);
   return o;
 }
 
@@ -263,7 +263,7 @@ TEST(ScaleLimits, ADeformationBeyondTheLargestDoubleIsNamed) {
   c.mesh = scaled(c.mesh, k);
   c.edit.transform = translation(Vec3(0, 0, 1.5e308));  // the handle lands beyond 1.8e308
   DeformOptions o;
-  o.method = "lap";
+  o.method = Method::Lap;
   const auto d = make_deformer(c.mesh, c.edit, o);
   const std::string msg = input_error([&] { d->deform(c.edit.transform); });
   EXPECT_MENTIONS(msg, "deformed vertex");

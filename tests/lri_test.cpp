@@ -24,9 +24,9 @@ constexpr double kPi = 3.14159265358979323846;
 
 DeformOptions lri(const std::string& frames, const std::string& ortho, ConstraintMode mode = ConstraintMode::Hard) {
   DeformOptions o;
-  o.method = "lri";
-  o.lri_frames = frames;
-  o.lri_orthonormalize = ortho;
+  o.method = Method::Lri;
+  o.lri_frames = parse_enum<FrameStrategy>(frames);
+  o.lri_orthonormalize = parse_enum<Orthonormalization>(ortho);
   o.constraints = mode;
   return o;
 }
@@ -77,7 +77,7 @@ TEST_P(EveryConfig, BendKeepsConstraintsAndBeatsLap) {
     }
   }
   DeformOptions lap;
-  lap.method = "lap";
+  lap.method = Method::Lap;
   const Points lap_out = make_deformer(m, e, lap)->deform(T);
   const double diag = bbox_diagonal(m.V);
   EXPECT_LT(distance_between(out, ideal, diag).rms, distance_between(lap_out, ideal, diag).rms);
@@ -239,7 +239,7 @@ TEST(Lri, UncoordinatedControlKeepsTheRestFrames) {
   const Edit e = tube_edit(m);
   const Mat4 T = bend_transform(kPi / 2, 4.0 / 11, 4.0 - 4.0 / 11);
   DeformOptions o = lri("first", "gram_schmidt");
-  o.lri_uncoordinated = true;
+  o.lri_frame_control = FrameControl::Uncoordinated;
   auto d = make_deformer(m, e, o);
   const auto& lri_d = dynamic_cast<const LriDeformer&>(*d);
   const Points out = d->deform(T);
@@ -274,7 +274,7 @@ TEST(Lri, BadInput) {
   EXPECT_THROW(make_lri_deformer(m, e, lri("", "polar")), InputError);
   DeformOptions dense = lri("first", "polar");
   dense.build = Build::Dense;
-  EXPECT_THROW(make_deformer(m, e, dense), InputError);
+  EXPECT_THROW(make_deformer(m, e, dense), UsageError);  // options that do not go together
   // A free region that touches no constraint is singular in both systems.
   Edit floating = e;
   for (auto& r : floating.roles) r = Role::Free;

@@ -19,7 +19,7 @@ namespace {
 DeformOptions opts(const std::string& method, const std::string& solver, ConstraintMode mode,
                    double tolerance = 1e-12) {
   DeformOptions o;
-  o.method = method;
+  o.method = parse_enum<Method>(method);
   o.solver = solver;
   o.constraints = mode;
   o.solver_options.tolerance = tolerance;

@@ -93,7 +93,7 @@ Edit edit_by_x(const Mesh& m) {
 
 DeformOptions method(const std::string& name, Weights w = Weights::Uniform) {
   DeformOptions o;
-  o.method = name;
+  o.method = parse_enum<Method>(name);
   o.weights = w;
   return o;
 }

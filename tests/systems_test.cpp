@@ -137,7 +137,7 @@ TEST(MinQuadWithFixed, DenseBuildHonoursTheSolver) {
   const Mat4 T = rotation_about_axis(Vec3(0, 1, 0), 40.0, Vec3(0, 0, 3));
   for (const char* method : {"lap", "tf"}) {
     DeformOptions o;
-    o.method = method;
+    o.method = parse_enum<Method>(method);
     const Points ref = make_deformer(m, e, exact_options(o))->deform(T);
     const double tol = exact::solve_bound(system_condition(m, e, o));
     o.build = Build::Dense;
@@ -151,7 +151,7 @@ TEST(MinQuadWithFixed, DenseBuildHonoursTheSolver) {
       EXPECT_GT(other->factor_bytes(), 0u) << solver;
     }
     o.solver = "multifrontal";
-    expect_input_error([&] { make_deformer(m, e, o); }, "'multifrontal'");
+    EXPECT_THROW(make_deformer(m, e, o), UsageError);  // options that do not go together (resolve_options)
     o.build = Build::Structured;
     o.solver = "dense_llt";  // a dense backend on a sparse build: allowed
     EXPECT_WITHIN(normalized_rel(m, make_deformer(m, e, o)->deform(T), ref), tol) << method;

@@ -20,8 +20,8 @@ namespace {
 
 DeformOptions tf(bool normalized, Build build = Build::Structured) {
   DeformOptions o;
-  o.method = "tf";
-  o.tf_normalize_scale = normalized;
+  o.method = Method::Tf;
+  o.tf_scale = normalized ? TfScale::Normalized : TfScale::Free;
   o.build = build;
   return o;
 }
@@ -144,8 +144,8 @@ TEST(TfScale, OtherMethodsRefuseIt) {
   const Edit e = tube_edit(m);
   for (const char* method : {"lap", "lri"}) {
     DeformOptions o = tf(true);
-    o.method = method;
-    EXPECT_THROW(make_deformer(m, e, o), InputError) << method;
+    o.method = parse_enum<Method>(method);
+    EXPECT_THROW(make_deformer(m, e, o), UsageError) << method;  // options that do not go together
   }
 }
 
@@ -155,7 +155,7 @@ TEST(TfScale, HandleFramesRefuseIt) {
   const Edit e = tube_edit(m);
   DeformOptions o = tf(true);
   o.frame_mode = FrameMode::Handle;
-  EXPECT_THROW(make_deformer(m, e, o), InputError);
+  EXPECT_THROW(make_deformer(m, e, o), UsageError);
   EXPECT_THROW(make_deformer(m, e, tf(true))->precompute_handle_frames(), InputError);
 }
 

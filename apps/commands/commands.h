@@ -1,5 +1,5 @@
 #pragma once
-// deformbench's application subcommands (coat, transplant), one file each; apps/deformbench.cpp adds them.
+// deformbench's subcommands that do work (deform, coat, transplant), one file each; apps/deformbench.cpp adds them.
 #include <functional>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +12,10 @@ struct Command {
   std::function<int()> run;
 };
 
+//! `deformbench deform EDIT --out FILE ...` (apps/commands/deform.cpp).
+Command add_deform(CLI::App& tool);
+//! `deformbench deform-options`: the deform options' table as Markdown (apps/commands/deform.cpp).
+Command add_deform_options_listing(CLI::App& tool);
 //! `deformbench coat SOURCE TARGET --out FILE ...` (apps/commands/coat.cpp).
 Command add_coat(CLI::App& tool);
 //! `deformbench transplant SOURCE TARGET --out FILE ...` (apps/commands/transplant.cpp).

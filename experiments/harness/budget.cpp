@@ -52,7 +52,7 @@ CellPredictor::~CellPredictor() = default;
 const EnergyOperator& CellPredictor::op(const std::string& system) {
   auto it = ops_.find(system);
   if (it == ops_.end())
-    it = ops_.emplace(system, std::make_unique<EnergyOperator>(Vn_, mesh_.F, adj_, parse_energy(system), EnergyOptions{}))
+    it = ops_.emplace(system, std::make_unique<EnergyOperator>(Vn_, mesh_.F, adj_, parse_enum<EnergyKind>(system), EnergyOptions{}))
              .first;
   return *it->second;
 }
@@ -99,8 +99,8 @@ CellPredictor::VertexFactor CellPredictor::vertex_factor(const std::string& back
 }
 
 DeformPrediction CellPredictor::predict(const DeformCell& spec) {
-  const Build build = parse_build(spec.build);
-  const EnergyOperator& o = op(spec.method);
+  const Build build = spec.options.build;
+  const EnergyOperator& o = op(spec.method());
   const double b = o.block(), r = o.rhs_cols();
   const double nv = mesh_.num_vertices(), nu = b * unk_.num_unknowns(), rows = b * nv;
   DeformPrediction p;
@@ -123,12 +123,12 @@ DeformPrediction CellPredictor::predict(const DeformCell& spec) {
   // the structured build orders the vertex graph itself (default_vertex_ordering); on the 3x3 block graph of TF,
   // i.e. on the vertex graph, CHOLMOD's default starts from AMD and the multifrontal backend runs METIS; LAP
   // leaves the choice to the backend.
-  std::string ordering = spec.ordering;
-  if (spec.ordering == "default")
+  std::string ordering = spec.options.solver_options.ordering;
+  if (ordering == "default")
     ordering = build == Build::Structured ? default_vertex_ordering(b)
-               : b > 1                    ? (spec.backend == "multifrontal" ? "metis" : "amd")
+               : b > 1                    ? (spec.backend() == "multifrontal" ? "metis" : "amd")
                                           : ordering;
-  const VertexFactor vf = vertex_factor(spec.backend, ordering);
+  const VertexFactor vf = vertex_factor(spec.backend(), ordering);
   const double nuv = unk_.num_unknowns();
   // Expand vertex counts to b x b blocks: off-diagonal blocks are full, diagonal blocks lower-triangular.
   p.factor_nnz = b * b * (vf.nnz - nuv) + b * (b + 1) / 2 * nuv;
@@ -137,7 +137,7 @@ DeformPrediction CellPredictor::predict(const DeformCell& spec) {
   // Update matrices grow with the square of the front order: b^2 times the vertex graph's.
   p.workspace_bytes = b * b * vf.workspace_bytes;
   // Out of core the factor's values are not resident (a supernode at a time); its row indices are.
-  const double resident_factor = spec.factor_dir.empty() ? p.factor_bytes : 4 * 6 * nu + 8 * nu;
+  const double resident_factor = spec.factor_storage() == "memory" ? p.factor_bytes : 4 * 6 * nu + 8 * nu;
   p.total_bytes = p.build_bytes + resident_factor + p.workspace_bytes + base;
   const double nnz_k = b * b * (vertex_nnz_upper_ - nuv) + b * (b + 1) / 2 * nuv;
   double stencil = 0;  // sum over row blocks of (#columns)^2: the A^T A product's multiply-adds / b^3

@@ -94,8 +94,8 @@ CellResult decode_result(const std::string& child_stdout);
 
 //! The spread of a timed measure over its repeats (frames of a drag, repetitions of a phase, fresh children of a
 //! cell): "NAME_s" is the median, "NAME_min_s" and "NAME_max_s" the least and largest repeat, "NAME_reps" how many
-//! repeats there were (count). Every CSV uses these names; a wide row whose median column has another name
-//! (`frame_median_s`) still names the spread after the measure (`frame_min_s`). `stat`: "min", "max" or "reps".
+//! repeats there were (count). Every CSV uses these names (the deformation's record, methods/deform_record.h,
+//! too). `stat`: "min", "max" or "reps".
 //! \throw Error for a name that does not end in "_s" or another stat.
 std::string spread_name(const std::string& timed, const std::string& stat);
 //! Sets `name` (a timed measure, "s") to the median of `samples` and its spread measures (spread_name).

@@ -1,5 +1,7 @@
 #include "harness/deform_cell.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
@@ -9,63 +11,19 @@
 #include "harness/machine_rates.h"
 #include "mesh/mesh_io.h"
 #include "methods/deformer.h"
+#include "methods/deform_record.h"
 #include "methods/drag.h"
 
 namespace db::harness {
 namespace {
 
-// The frames of the drag: per-frame phase times (their medians and spread go to the result) and the last frame's
-// positions.
-struct Drag {
-  std::vector<double> frame, frame_cpu, rhs, solve, write, response, ortho;
-  Points V;
-};
-
-// The edit's handle transform interpolated over the frames, or its per-vertex targets frame by frame (cycling, as
-// `deformbench deform` does).
-Drag drag(Deformer& d, const Edit& e, int frames) {
-  Drag g;
-  for (int f = 1; f <= frames; ++f) {
-    const CpuTimer cpu;
-    g.V = deform_frame(d, e, f, frames);
-    g.frame_cpu.push_back(cpu.seconds());
-    const PhaseTimes& t = d.times();
-    g.frame.push_back(t.frame());
-    g.rhs.push_back(t.rhs);
-    g.solve.push_back(t.solve);
-    g.write.push_back(t.write);
-    g.response.push_back(t.response);
-    g.ortho.push_back(t.orthonormalize);
-  }
-  return g;
-}
-
-DeformOptions options_of(const DeformCell& c) {
-  DeformOptions o;
-  o.method = c.method;
-  o.constraints = parse_constraints(c.constraints);
-  o.build = parse_build(c.build);
-  o.solver = c.backend;
-  o.solver_options.ordering = c.ordering;
-  o.solver_options.factor_dir = c.factor_dir;
-  o.memory_budget = c.memory_budget_bytes;
-  return o;
-}
-
-void add_system(CellResult& r, const Deformer& d) {
-  const SystemReport& s = d.systems().front();
-  r.set("n", static_cast<double>(s.n), "count");
-  r.set("nnz", static_cast<double>(s.nnz), "count");
-  r.set("nnz_factor", static_cast<double>(s.factor.nnz_factor), "count");
-  r.set("factor_flops", s.factor.flops, "flop");
-  r.set("min_pivot_ratio", s.factor.min_pivot_ratio, "ratio");
-  r.set_text("ordering_used", s.factor.ordering_used);
-  r.set_text("backend", s.backend);  // what factored it (resolve_solver), not what was asked
-  const PhaseTimes& t = d.times();
-  r.set("build_s", t.build, "s");
-  r.set("analyze_s", t.analyze, "s");
-  r.set("factorize_s", t.factorize, "s");
-  r.set("init_s", t.init(), "s");
+// The deformation's record (methods/deform_record.h) as the cell's measures and strings.
+void add_record(CellResult& r, const DeformRecord& record) {
+  for (const RecordField& f : record)
+    if (f.is_text())
+      r.set_text(f.name, f.text);
+    else
+      r.set(f.name, f.value, f.unit);
 }
 
 void add_memory(CellResult& r, const Deformer& d) {
@@ -95,7 +53,7 @@ void add_handle_frames(CellResult& r, Deformer& d, const Edit& e, int frames, co
   set_spread(r, "response_s", g.response);
   set_spread(r, "handle_rhs_s", g.rhs);  // lri: orthonormalization + position right-hand side
   set_spread(r, "handle_solve_s", g.solve);  // lri: the position solve
-  set_spread(r, "orthonormalize_s", g.ortho);
+  set_spread(r, "orthonormalize_s", g.orthonormalize);
   r.set("fps_handle", 1.0 / r.get("frame_handle_s"), "1/s");
   r.set("response_bytes", static_cast<double>(d.response_bytes()), "bytes");
   r.set("handle_vs_full", (g.V - full).rowwise().norm().maxCoeff() / bbox_diagonal(full), "bbox_diagonal");
@@ -108,15 +66,27 @@ void add_handle_frames(CellResult& r, Deformer& d, const Edit& e, int frames, co
 
 }  // namespace
 
+DeformOptions DeformCell::default_options() {
+  DeformOptions o;
+  o.method = Method::Tf;
+  o.solver = "multifrontal";
+  return o;
+}
+
+namespace {
+const std::vector<std::string> kCellKeys = {"model", "mesh", "edit", "frames", "handle", "anchors", "drag",
+                                            "memory_budget_bytes", "out_mesh", "handle_frames"};
+}  // namespace
+
 CellSpec DeformCell::to_spec() const {
   CellSpec s("deform");
   s.set("model", model);
   if (!mesh.empty()) s.set("mesh", mesh);
   if (!edit.empty()) s.set("edit", edit);
-  s.set("method", method).set("build", build).set("backend", backend).set("ordering", ordering);
-  s.set("constraints", constraints).set("frames", frames);
+  s.set("method", method()).set("build", build()).set("backend", backend());  // the cell's key, always written
+  for (const auto& [key, value] : deform_option_items(options)) s.set(key, value);
+  s.set("frames", frames);
   if (!mesh.empty()) s.set("handle", thesis.handle_count).set("anchors", thesis.anchor_count).set("drag", thesis.drag_fraction);
-  if (!factor_dir.empty()) s.set("factor_dir", factor_dir);
   if (memory_budget_bytes > 0) s.set("memory_budget_bytes", memory_budget_bytes);
   if (!out_mesh.empty()) s.set("out_mesh", out_mesh);
   if (handle_frames) s.set("handle_frames", 1);
@@ -124,19 +94,20 @@ CellSpec DeformCell::to_spec() const {
 }
 
 DeformCell DeformCell::from_spec(const CellSpec& s) {
-  s.check_keys({"model", "mesh", "edit", "method", "build", "backend", "ordering", "constraints", "frames", "handle",
-                "anchors", "drag", "factor_dir", "memory_budget_bytes", "out_mesh", "handle_frames"});
+  std::vector<std::string> known = kCellKeys, given;
+  for (const DeformOptionDef& d : deform_option_defs()) known.push_back(d.key);
+  s.check_keys(known);
   DeformCell c;
   c.mesh = s.get("mesh", "");
   c.edit = s.get("edit", "");
   if (c.mesh.empty() == c.edit.empty()) throw UsageError("deform cell: give exactly one of mesh= and edit=");
   c.model = s.get("model", c.mesh.empty() ? c.edit : c.mesh);
-  c.method = s.get("method", c.method);
-  c.build = s.get("build", c.build);
-  c.backend = s.get("backend", c.backend);
-  c.ordering = s.get("ordering", c.ordering);
-  c.constraints = s.get("constraints", c.constraints);
-  c.factor_dir = s.get("factor_dir", "");
+  for (const auto& [key, value] : s.items())
+    if (key != "kind" && std::find(kCellKeys.begin(), kCellKeys.end(), key) == kCellKeys.end()) {
+      set_deform_option(c.options, key, value);
+      given.push_back(key);
+    }
+  c.options = resolve_options(c.options, given);
   c.out_mesh = s.get("out_mesh", "");
   c.frames = static_cast<int>(s.integer("frames", c.frames, 1, 100000));
   c.thesis.handle_count = static_cast<int>(s.integer("handle", c.thesis.handle_count, 1, 1 << 30));
@@ -147,7 +118,7 @@ DeformCell DeformCell::from_spec(const CellSpec& s) {
   return c;
 }
 
-std::string DeformCell::key() const { return fmt::format("{}/{}/{}/{}", model, method, build, backend); }
+std::string DeformCell::key() const { return fmt::format("{}/{}/{}/{}", model, method(), build(), backend()); }
 
 CellResult measure_deform_cell(const CellSpec& spec) {
   const DeformCell c = DeformCell::from_spec(spec);
@@ -160,28 +131,17 @@ CellResult measure_deform_cell(const CellSpec& spec) {
     ec.edit = make_thesis_edit(ec.mesh, c.thesis);
   }
   CellResult r;
-  r.set("vertices", ec.mesh.num_vertices(), "count");
-  r.set("faces", ec.mesh.num_faces(), "count");
-  r.set("handle", ec.edit.count(Role::Handle), "count");
-  r.set("fixed", ec.edit.count(Role::Fixed), "count");
   r.set("baseline_rss_bytes", static_cast<double>(current_rss_bytes()), "bytes");
-  const DeformOptions o = options_of(c);
-  r.set_text("mesh_name", ec.mesh.name);
-  r.set_text("constraints", to_string(o.constraints));
-  r.set_text("build", to_string(o.build));
+  DeformOptions o = c.options;
+  if (c.memory_budget_bytes > 0) o.memory_budget = c.memory_budget_bytes;
 
   const CpuTimer init_cpu;
   auto d = make_deformer(ec.mesh, ec.edit, o);
   const double init_cpu_s = init_cpu.seconds();
   const Drag g = drag(*d, ec.edit, c.frames);
-  add_system(r, *d);
+  add_record(r, deform_record(ec.mesh, ec.edit, o, *d, g));
   r.set("init_cpu_s", init_cpu_s, "s");  // make_deformer: the init phases (and the input checks) in CPU time
-  r.set("frames", c.frames, "count");
-  set_spread(r, "frame_s", g.frame);
   set_spread(r, "frame_cpu_s", g.frame_cpu);
-  set_spread(r, "rhs_s", g.rhs);
-  set_spread(r, "solve_s", g.solve);
-  set_spread(r, "write_s", g.write);
   r.set("fps", 1.0 / r.get("frame_s"), "1/s");
   add_memory(r, *d);
   r.set("mean_displacement", (g.V - ec.mesh.V).rowwise().norm().mean() / bbox_diagonal(ec.mesh.V), "bbox_diagonal");

@@ -55,7 +55,7 @@ Problem make_problem(const SolverCell& c) {
   const auto kinds = classify(p.edit, ConstraintMode::Soft);
   check_every_component_anchored(p.adj, kinds);
   p.unk = make_unknowns(kinds, 1.0);
-  p.kind = parse_energy(c.system);
+  p.kind = parse_enum<EnergyKind>(c.system);
   p.block = p.kind == EnergyKind::Lap ? 1 : 3;
   if (c.ordering.rfind("vertex-", 0) == 0) {
     const CpuTimer tc;

@@ -6,21 +6,6 @@
 
 namespace db::harness {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
-Spread spread(std::vector<double> v) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
-  if (v.empty()) return {median(v), median(v), median(v), 0};
-  const auto first = v.begin() + (v.size() >= 3 ? 1 : 0);  // past the warm-up repeat
-  const auto [lo, hi] = std::minmax_element(first, v.end());
-  return {*lo, median(v), *hi, static_cast<int>(v.end() - first)};
-}
-
 PowerFit fit_power_law(const std::vector<double>& x, const std::vector<double>& y) {
   std::vector<double> lx, ly;
   for (std::size_t i = 0; i < x.size() && i < y.size(); ++i)

@@ -11,22 +11,6 @@
 
 namespace db {
 
-ConstraintMode parse_constraints(const std::string& s) {
-  if (s == "hard") return ConstraintMode::Hard;
-  if (s == "soft") return ConstraintMode::Soft;
-  throw InputError("unknown constraint mode '" + s + "' (expected hard or soft)");
-}
-
-std::string to_string(ConstraintMode m) { return m == ConstraintMode::Hard ? "hard" : "soft"; }
-
-FrameMode parse_frame_mode(const std::string& s) {
-  if (s == "full") return FrameMode::Full;
-  if (s == "handle") return FrameMode::Handle;
-  throw InputError("unknown frame mode '" + s + "' (expected full or handle)");
-}
-
-std::string to_string(FrameMode m) { return m == FrameMode::Full ? "full" : "handle"; }
-
 namespace {
 [[noreturn]] void refuse_targets() {
   throw InputError("per-vertex handle targets ('targets' in the edit) need --method lap or tf: lri's frames follow "
@@ -75,18 +59,18 @@ bool spans_a_plane(const Points& V, const std::vector<int>& pts) {
 // Uniform LAP and TF are defined on the vertex graph and deform a non-manifold mesh as it is (with a warning);
 // cotan weights and LRI's frames need a manifold 1-ring around every vertex.
 void check_manifold(const Mesh& mesh, const DeformOptions& options) {
-  if (options.method != "lap" && options.method != "tf" && options.method != "lri") return;  // refused below
   const NonManifold nm = find_non_manifold(mesh);
   if (nm.empty()) return;
   const std::string who = mesh.name.empty() ? std::string("mesh") : "mesh '" + mesh.name + "'";
-  if (options.method == "lri" || options.weights == Weights::Cotan)
+  const bool lri = options.method == Method::Lri;
+  if (lri || options.weights == Weights::Cotan)
     throw InputError(fmt::format("{} is not manifold: {}; {} needs a manifold 1-ring around every vertex. Run "
                                  "`meshtool repair IN OUT` to split them (uniform lap and tf take the mesh as it is)",
                                  who, nm.summary(),
-                                 options.method == "lri" ? options.method : options.method + " with cotan weights"));
+                                 lri ? "lri" : to_string(options.method) + " with cotan weights"));
   std::cerr << fmt::format("warning: {} is not manifold: {}; {} with uniform weights works on the vertex graph and "
                            "deforms it as it is (`meshtool repair` splits them)\n",
-                           who, nm.summary(), options.method);
+                           who, nm.summary(), to_string(options.method));
 }
 
 }  // namespace
@@ -137,22 +121,19 @@ void check_every_component_anchored(const Adjacency& adj, const std::vector<Cons
 }
 
 std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
+  const DeformOptions o = resolve_options(options);  // the same check as the command line's, and the backend named
   // Cheap next to any build; library callers may not have loaded through edit_io.
   validate_mesh(mesh, Manifold::Allowed);
   validate_edit(mesh, edit);
-  if (!(options.soft_weight > 0) || !std::isfinite(options.soft_weight))
-    throw InputError(fmt::format("soft weight must be positive and finite, got {}", options.soft_weight));
-  check_manifold(mesh, options);
-  if (!(options.handle_limit > 0) || !std::isfinite(options.handle_limit))
-    throw InputError(fmt::format("the handle limit must be positive and finite, got {}", options.handle_limit));
-  if (options.tf_normalize_scale && options.method != "tf")
-    throw InputError("a normalized TF scale is for the tf method only, not " + options.method);
-  if (options.method == "lap")
-    return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Lap, options);
-  if (options.method == "tf") return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Tf, options);
-  if (options.method == "lri" && edit.targets.rows() > 0) refuse_targets();
-  if (options.method == "lri") return make_lri_deformer(mesh, edit, options);
-  throw InputError("unknown method '" + options.method + "' (expected lap, tf or lri)");
+  check_manifold(mesh, o);
+  switch (o.method) {
+    case Method::Lap: return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Lap, o);
+    case Method::Tf: return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Tf, o);
+    case Method::Lri:
+      if (edit.targets.rows() > 0) refuse_targets();
+      return make_lri_deformer(mesh, edit, o);
+  }
+  throw Error("make_deformer: a method outside the table");
 }
 
 }  // namespace db

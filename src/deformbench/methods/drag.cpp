@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 
+#include "core/timer.h"
+
 namespace db {
 
 Mat4 interpolate_transform(const Mat4& T, double f) {
@@ -23,6 +25,23 @@ Points deform_frame(Deformer& d, const Edit& e, long long f, long long frames) {
     return d.deform(interpolate_transform(e.transform, static_cast<double>(f) / static_cast<double>(frames)));
   const Eigen::Index h = e.count(Role::Handle);
   return d.deform_targets(e.targets.middleRows(((f - 1) % given) * h, h));
+}
+
+Drag drag(Deformer& d, const Edit& e, long long frames) {
+  Drag g;
+  for (long long f = 1; f <= frames; ++f) {
+    const CpuTimer cpu;
+    g.V = deform_frame(d, e, f, frames);
+    g.frame_cpu.push_back(cpu.seconds());
+    const PhaseTimes& t = d.times();
+    g.frame.push_back(t.frame());
+    g.rhs.push_back(t.rhs);
+    g.solve.push_back(t.solve);
+    g.write.push_back(t.write);
+    g.response.push_back(t.response);
+    g.orthonormalize.push_back(t.orthonormalize);
+  }
+  return g;
 }
 
 }  // namespace db

@@ -1,6 +1,10 @@
 #pragma once
 //! A handle drag: the frames of an interactive edit interpolate the identity to the final handle transform, or
-//! (an edit with per-vertex targets) take its target frames in turn.
+//! (an edit with per-vertex targets) take its target frames in turn. drag() runs them and keeps every frame's
+//! phase times: the one loop of the command line and the deform cell.
+#include <vector>
+
+#include "core/spread.h"
 #include "solvers/base/types.h"
 #include "edit/edit.h"
 #include "methods/deformer.h"
@@ -14,5 +18,15 @@ Mat4 interpolate_transform(const Mat4& T, double f);
 //! Frame f (1..frames) of the edit's drag: its per-vertex targets' frame (f - 1) mod their count when it has
 //! targets, else its handle transform interpolated to f / frames.
 Points deform_frame(Deformer& d, const Edit& e, long long f, long long frames);
+
+//! Every frame's phase times (seconds, in frame order; PhaseTimes) and the last frame's positions.
+struct Drag {
+  std::vector<double> frame, rhs, solve, write, response, orthonormalize;
+  std::vector<double> frame_cpu;  //!< CPU seconds of this process per frame (all threads; core/timer.h)
+  Points V;                       //!< the last frame's positions, #V by 3
+};
+
+//! Runs frames 1..frames of the edit's drag (deform_frame) on `d`, in its current frame mode.
+Drag drag(Deformer& d, const Edit& e, long long frames);
 
 }  // namespace db

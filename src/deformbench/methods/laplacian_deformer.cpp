@@ -25,7 +25,7 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
     : edit_(edit), handle_vertices_(edit.vertices(Role::Handle)), handle_index_(edit.roles.size(), -1),
       handle_limit_(options.handle_limit) {
   for (std::size_t k = 0; k < handle_vertices_.size(); ++k) handle_index_[handle_vertices_[k]] = static_cast<int>(k);
-  const std::string solver = resolve_solver(options.solver, options.build);
+  const std::string& solver = options.solver;  // resolved by make_deformer (resolve_options)
   norm_ = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
   Vn_ = norm_.apply(mesh.V);
   Timer t;
@@ -56,11 +56,11 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   times_.analyze = ordering_seconds + mqwf_.analyze_seconds();
   times_.factorize = mqwf_.factorize_seconds();
   if (!vertex_ordering.empty()) mqwf_.report().factor.ordering_used = vertex_ordering + "-vertex-graph";
-  normalize_scale_ = options.tf_normalize_scale;
+  normalize_scale_ = options.tf_scale == TfScale::Normalized;
   if (options.frame_mode == FrameMode::Handle) precompute_handle_frames();
   if (frame_mode_ == FrameMode::Full) set_varying();
   systems_.push_back(mqwf_.report());
-  if (options.tf_normalize_scale) precompute_rescale(mesh.F, options, so);
+  if (normalize_scale_) precompute_rescale(mesh.F, options, so);
 }
 
 void LaplacianDeformer::precompute_rescale(const Faces& F, const DeformOptions& options, const SolverOptions& so) {
@@ -78,7 +78,7 @@ void LaplacianDeformer::precompute_rescale(const Faces& F, const DeformOptions& 
   times_.build += t.seconds();
   SolverOptions lap_so = so;
   lap_so.block_size = 1;
-  rescale_.precompute(std::move(sys), unk_, "lap (tf scale pass)", resolve_solver(options.solver, options.build),
+  rescale_.precompute(std::move(sys), unk_, "lap (tf scale pass)", options.solver,
                       lap_so, /*consume_matrix=*/true);
   times_.analyze += rescale_.analyze_seconds();
   times_.factorize += rescale_.factorize_seconds();

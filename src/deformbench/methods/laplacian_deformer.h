@@ -2,7 +2,7 @@
 //! LAP (uniform/cotan Laplacian editing, thesis eqs. 2-1..2-8) and TF (transform-fitted Laplacian editing,
 //! Sorkine et al. 2004, thesis 2.3): one normal system each, factored once per edit (systems/min_quad_with_fixed.h).
 //!
-//! TF with normalized scale (DeformOptions::tf_normalize_scale): TF's linearized similarities s I + [h]x grow and
+//! TF with normalized scale (DeformOptions::tf_scale normalized): TF's linearized similarities s I + [h]x grow and
 //! shrink the surface under large rotations. A second pass keeps their rotations only (the two-pass remedy of
 //! Lipman et al. 2004 and Sorkine et al. 2004): the rotation R_i of the T_i fitted to the TF result (the polar
 //! factor of s I + [h]x), then min ||L x - R delta||^2 under the same constraints, the LAP system. That needs the
@@ -70,7 +70,7 @@ class LaplacianDeformer : public Deformer {
   bool within_handle_limit(int m);
   //! Fast path: the hard and soft handle vertices are the constraints that move between frames.
   void set_varying();
-  //! Builds and factors the second pass's LAP system on the unknowns of the first (tf_normalize_scale).
+  //! Builds and factors the second pass's LAP system on the unknowns of the first (TfScale::Normalized).
   void precompute_rescale(const Faces& F, const DeformOptions& options, const SolverOptions& so);
   //! The second pass: positions (normalized) from the TF result `Vn1`.
   Points rescale(const Points& Vn1);

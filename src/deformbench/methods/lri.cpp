@@ -9,12 +9,12 @@ namespace db {
 
 LriDeformer::LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options)
     : edit_(edit),
-      strategy_(parse_frame_strategy(options.lri_frames)),
-      ortho_(parse_orthonormalization(options.lri_orthonormalize)),
-      uncoordinated_(options.lri_uncoordinated) {
+      strategy_(options.lri_frames),
+      ortho_(options.lri_orthonormalize),
+      uncoordinated_(options.lri_frame_control == FrameControl::Uncoordinated) {
   if (options.build == Build::Dense)
     throw InputError("LRI: the dense build is not offered (use --build structured or naive)");
-  const std::string solver = resolve_solver(options.solver, options.build);
+  const std::string& solver = options.solver;  // resolved by make_deformer (resolve_options)
   norm_ = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
   Vn_ = norm_.apply(mesh.V);
 

@@ -6,7 +6,7 @@
 //! once; every frame costs two back-substitutions:
 //!
 //!  1. frames (eqs. 3-16, 3-17):  min sum_(i,j) || F'_j - F'_i R_ij ||^2, handle frames = R_h F_i (R_h the
-//!     rotation of the handle transform; F_i with DeformOptions::lri_uncoordinated), fixed frames = F_i. Per world component c the unknown of vertex i is
+//!     rotation of the handle transform; F_i with DeformOptions::lri_frame_control), fixed frames = F_i. Per world component c the unknown of vertex i is
 //!     row c of F'_i, (b1[c], b2[c], N[c]): a 3#V x 3#V system (block size 3) with 3 right-hand sides (x, y, z).
 //!     The solved frames are not orthonormal (least squares averages rotations); they are orthonormalized by
 //!     Gram-Schmidt (b1 first) or the polar decomposition (DeformOptions::lri_orthonormalize).
@@ -32,7 +32,7 @@ namespace db {
 
 class LriDeformer : public Deformer {
  public:
-  //! \throw InputError unknown lri_frames / lri_orthonormalize, dense build, an unanchored free component,
+  //! \throw InputError dense build, an unanchored free component,
   //!        degenerate normals; SolverError failed factorization; BudgetError over options.memory_budget.
   LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
   //! \throw SolverError non-finite result or a degenerate solved frame; InputError a singular handle transform.
@@ -57,7 +57,7 @@ class LriDeformer : public Deformer {
   Edit edit_;
   FrameStrategy strategy_;
   Orthonormalization ortho_;
-  bool uncoordinated_ = false;  //!< DeformOptions::lri_uncoordinated
+  bool uncoordinated_ = false;  //!< DeformOptions::lri_frame_control
   Normalization norm_;
   Points Vn_;
   Adjacency adj_;

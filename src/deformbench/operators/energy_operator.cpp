@@ -50,13 +50,10 @@ Eigen::Matrix<double, 7, C> solve_fit(const Mat7& N, const Eigen::Matrix<double,
 }
 }  // namespace
 
-EnergyKind parse_energy(const std::string& s) {
-  if (s == "lap") return EnergyKind::Lap;
-  if (s == "tf") return EnergyKind::Tf;
-  throw InputError("unknown energy '" + s + "' (expected lap or tf)");
+const EnumText<EnergyKind>& enum_text(EnergyKind) {
+  static const EnumText<EnergyKind> t{"energy", {{EnergyKind::Lap, "lap"}, {EnergyKind::Tf, "tf"}}};
+  return t;
 }
-
-std::string to_string(EnergyKind k) { return k == EnergyKind::Lap ? "lap" : "tf"; }
 
 EnergyOperator::EnergyOperator(const Points& V, const Faces& F, const Adjacency& adj, EnergyKind kind,
                                EnergyOptions opt)

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_text.h"
 #include "solvers/base/types.h"
 #include "mesh/mesh.h"
 #include "operators/laplacian.h"
@@ -57,8 +58,7 @@ class EnergyOperator {
   Points delta_;
 };
 
-//! "lap" | "tf"; InputError otherwise.
-EnergyKind parse_energy(const std::string& s);
-std::string to_string(EnergyKind k);
+//! "lap" | "tf" (core/enum_text.h).
+const EnumText<EnergyKind>& enum_text(EnergyKind);
 
 }  // namespace db

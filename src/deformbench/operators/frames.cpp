@@ -38,31 +38,20 @@ void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
 }
 }  // namespace
 
-FrameStrategy parse_frame_strategy(const std::string& s) {
-  if (s == "first") return FrameStrategy::First;
-  if (s == "random") return FrameStrategy::Random;
-  if (s == "height_angle") return FrameStrategy::HeightAngle;
-  if (s == "curvature") return FrameStrategy::Curvature;
-  throw InputError("unknown LRI frame strategy '" + s + "' (expected first, random, height_angle or curvature)");
+const EnumText<FrameStrategy>& enum_text(FrameStrategy) {
+  static const EnumText<FrameStrategy> t{"LRI frame strategy",
+                                         {{FrameStrategy::First, "first"},
+                                          {FrameStrategy::Random, "random"},
+                                          {FrameStrategy::HeightAngle, "height_angle"},
+                                          {FrameStrategy::Curvature, "curvature"}}};
+  return t;
 }
 
-std::string to_string(FrameStrategy s) {
-  switch (s) {
-    case FrameStrategy::First: return "first";
-    case FrameStrategy::Random: return "random";
-    case FrameStrategy::HeightAngle: return "height_angle";
-    case FrameStrategy::Curvature: return "curvature";
-  }
-  return "?";
+const EnumText<Orthonormalization>& enum_text(Orthonormalization) {
+  static const EnumText<Orthonormalization> t{
+      "LRI orthonormalization", {{Orthonormalization::GramSchmidt, "gram_schmidt"}, {Orthonormalization::Polar, "polar"}}};
+  return t;
 }
-
-Orthonormalization parse_orthonormalization(const std::string& s) {
-  if (s == "gram_schmidt") return Orthonormalization::GramSchmidt;
-  if (s == "polar") return Orthonormalization::Polar;
-  throw InputError("unknown LRI orthonormalization '" + s + "' (expected gram_schmidt or polar)");
-}
-
-std::string to_string(Orthonormalization o) { return o == Orthonormalization::GramSchmidt ? "gram_schmidt" : "polar"; }
 
 Points vertex_normals(const Points& V, const Faces& F) {
   Points N = Points::Zero(V.rows(), 3);

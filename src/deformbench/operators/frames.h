@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_text.h"
 #include "solvers/base/types.h"
 #include "mesh/mesh.h"
 
@@ -23,18 +24,16 @@ enum class FrameStrategy {
   HeightAngle,  //!< the neighbour of largest height angle theta = acos(<e, N>/|e|) - pi/2 (thesis eq. 4-4)
   Curvature     //!< the maximum principal direction of a 1-ring averaged curvature tensor (beyond the thesis)
 };
-//! "first" | "random" | "height_angle" | "curvature". \throw InputError otherwise (listing the valid names).
-FrameStrategy parse_frame_strategy(const std::string& s);
-std::string to_string(FrameStrategy s);
+//! "first" | "random" | "height_angle" | "curvature" (core/enum_text.h).
+const EnumText<FrameStrategy>& enum_text(FrameStrategy);
 
 //! How a solved (non-orthonormal) frame is turned back into a rotation.
 enum class Orthonormalization {
   GramSchmidt,  //!< b1 normalized first, then b2 against b1, then N against both (order matters)
   Polar         //!< the orthogonal polar factor U V^T of F = U S V^T, made proper (nearest rotation)
 };
-//! "gram_schmidt" | "polar". \throw InputError otherwise.
-Orthonormalization parse_orthonormalization(const std::string& s);
-std::string to_string(Orthonormalization o);
+//! "gram_schmidt" | "polar" (core/enum_text.h).
+const EnumText<Orthonormalization>& enum_text(Orthonormalization);
 
 //! Unit area-weighted vertex normals (thesis eq. 3-14: sum of face unit normals weighted by face area, i.e. the
 //! sum of face cross products, normalized). #V by 3. \throw InputError for a vertex whose normal vanishes.

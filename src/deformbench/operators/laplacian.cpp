@@ -9,13 +9,10 @@
 
 namespace db {
 
-Weights parse_weights(const std::string& s) {
-  if (s == "uniform") return Weights::Uniform;
-  if (s == "cotan") return Weights::Cotan;
-  throw InputError("unknown Laplacian weights '" + s + "' (expected uniform or cotan)");
+const EnumText<Weights>& enum_text(Weights) {
+  static const EnumText<Weights> t{"Laplacian weights", {{Weights::Uniform, "uniform"}, {Weights::Cotan, "cotan"}}};
+  return t;
 }
-
-std::string to_string(Weights w) { return w == Weights::Uniform ? "uniform" : "cotan"; }
 
 namespace {
 int slot(const Adjacency& adj, int i, int j) {

@@ -4,14 +4,14 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_text.h"
 #include "solvers/base/types.h"
 #include "mesh/mesh.h"
 
 namespace db {
 
 enum class Weights { Uniform, Cotan };
-Weights parse_weights(const std::string& s);  //!< "uniform" | "cotan"; InputError otherwise
-std::string to_string(Weights w);
+const EnumText<Weights>& enum_text(Weights);  //!< "uniform" | "cotan" (core/enum_text.h)
 
 //! w_ij aligned with adj.nbr (entry off[i]+t is the weight of the t-th neighbour of i); rows sum to 1.
 //! \throw InputError when a cotangent row sums to (almost) zero or is not finite (degenerate 1-ring).

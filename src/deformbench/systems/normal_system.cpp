@@ -11,20 +11,9 @@
 
 namespace db {
 
-Build parse_build(const std::string& s) {
-  if (s == "dense") return Build::Dense;
-  if (s == "naive") return Build::Naive;
-  if (s == "structured") return Build::Structured;
-  throw InputError("unknown build '" + s + "' (expected dense, naive or structured)");
-}
-
-std::string to_string(Build b) {
-  switch (b) {
-    case Build::Dense: return "dense";
-    case Build::Naive: return "naive";
-    case Build::Structured: return "structured";
-  }
-  return "?";
+const EnumText<Build>& enum_text(Build) {
+  static const EnumText<Build> t{"build", {{Build::Dense, "dense"}, {Build::Naive, "naive"}, {Build::Structured, "structured"}}};
+  return t;
 }
 
 Unknowns make_unknowns(const std::vector<Constraint>& kind, double soft_weight) {

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/enum_text.h"
 #include "solvers/base/types.h"
 #include "mesh/mesh.h"
 #include "operators/energy_operator.h"
@@ -25,8 +26,7 @@
 namespace db {
 
 enum class Build { Dense, Naive, Structured };
-Build parse_build(const std::string& s);  //!< "dense" | "naive" | "structured"
-std::string to_string(Build b);
+const EnumText<Build>& enum_text(Build);  //!< "dense" | "naive" | "structured" (core/enum_text.h)
 
 //! How each vertex enters the system.
 enum class Constraint : unsigned char { Free, Hard, Soft };
