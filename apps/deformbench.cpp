@@ -1,4 +1,4 @@
-// deformbench: command-line front end (`deformbench --help`; README "One deformation from the command line").
+// deformbench: command-line front end (`deformbench --help`; docs/cli.md).
 //   deformbench deform <edit> --out FILE [options]   one edit, its phase times and bytes
 //   deformbench solvers                              the linear-solver backends, with what each accepts
 //   deformbench provenance                           what result rows record about this machine and build

@@ -13,6 +13,7 @@
 #include "core/csv.h"
 #include "solvers/base/error.h"
 #include "core/provenance.h"
+#include "mesh/mesh_io.h"
 #include "harness/deform_cell.h"
 #include "harness/driver.h"
 #include "harness/mesh_source.h"
@@ -50,7 +51,10 @@ void define_options(CLI::App& app, Options& o) {
 
 // An edit is there when its .edit file or its stem's mesh is.
 bool edit_exists(const std::string& path) {
-  return fs::exists(path) || fs::exists(path + ".off") || fs::exists(path + ".ply") || fs::exists(path + ".obj");
+  if (fs::exists(path)) return true;
+  for (const std::string& ext : mesh_extensions())
+    if (fs::exists(path + ext)) return true;
+  return false;
 }
 
 void add_row(CsvTable& csv, const DeformCell& c, const CellResult& r) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Bad input through `deformbench deform`: each case gets its documented exit code (README "Exit codes": 1 usage,
+# Bad input through `deformbench deform`: each case gets its documented exit code (docs/cli.md "Exit codes": 1 usage,
 # 2 bad input, 3 solver failure, 4 over budget), a message naming the cause, returns within seconds, and leaves
 # no file behind (the output directory stays empty; inputs are unchanged).
 # usage: cli_bad_input.sh PATH/TO/deformbench [SOURCE_DIR]
@@ -64,6 +64,7 @@ OUT=$O/out.ply
 echo "== runs that must succeed"
 expect_ok valid_stem out.ply -- deform "$G" --out "$OUT"
 expect_ok valid_with_csv "out.ply r.csv" -- deform "$G" --out "$OUT" --csv "$O/r.csv"
+expect_ok valid_stl out.stl -- deform "$G" --out "$O/out.stl"  # every format write_mesh knows, STL included
 printf '2 3 4\n' >"$T/roi_tf.txt"
 write_edit "$T/good.edit" indices:roi_tf.txt indices:handle.txt
 expect_ok valid_edit_file out.ply -- deform "$T/good.edit" --method tf --frames 3 --out "$OUT"
@@ -139,7 +140,7 @@ expect transform_with_targets 1 "--transform replaces the handle transform, but 
 echo "== 1 usage: outputs, checked before any mesh is read"
 expect out_missing_dir 1 "directory .* does not exist" -- deform "$G" --out "$O/no/such/dir/out.ply"
 expect out_before_input 1 "directory .* does not exist" -- deform "$T/nothere" --out "$O/no/out.ply"
-expect out_bad_extension 1 "unsupported extension '.stl'" -- deform "$G" --out "$O/out.stl"
+expect out_bad_extension 1 "unsupported extension '.vtk'" -- deform "$G" --out "$O/out.vtk"
 mkdir -p "$T/dir.ply"
 expect out_is_a_directory 1 "is a directory" -- deform "$G" --out "$T/dir.ply"
 expect out_is_the_input 1 "is an input file" -- deform "$G" --out "$G.off"

@@ -31,8 +31,6 @@
 namespace db::commands {
 namespace {
 
-const std::vector<std::string> kMeshExtensions = {".off", ".ply", ".obj"};  // what write_mesh writes
-
 // What the command takes besides the deform options: the edit, its outputs and the drag.
 struct DeformArgs {
   std::string edit, out, csv, transform;
@@ -265,7 +263,7 @@ int run_deform(const CLI::App& d, const DeformArgs& a) {
   }
   // Outputs before any mesh is read: a run that could not write its results fails at once, not after the solve.
   const std::vector<std::string> inputs = edit_case_files(a.edit);
-  cli::check_output("--out", a.out, kMeshExtensions, inputs);
+  cli::check_output("--out", a.out, mesh_extensions(), inputs);
   if (d.count("--csv") > 0) cli::check_output("--csv", a.csv, {".csv"}, inputs);
   if (d.count("--factor-dir") > 0) cli::check_directory("--factor-dir", o.solver_options.factor_dir);
   check_input_budget(a, o, inputs);

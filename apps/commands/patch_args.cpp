@@ -13,7 +13,6 @@
 namespace db::commands {
 namespace {
 
-const std::vector<std::string> kMeshExtensions = {".off", ".ply", ".obj"};
 const char* kRegionForms = "all | sphere:cx,cy,cz,r | box:x0,y0,z0,x1,y1,z1 | kring:v,k | nearest:x,y,z,count | "
                            "indices:FILE";
 
@@ -54,7 +53,7 @@ PatchInputs load_patch_inputs(const CLI::App& app, const PatchArgs& a) {
   std::vector<std::string> inputs = {a.source, a.target};
   add_region_file(a.source_region, inputs);
   add_region_file(a.target_region, inputs);
-  cli::check_output("--out", a.out, kMeshExtensions, inputs);
+  cli::check_output("--out", a.out, mesh_extensions(), inputs);
   if (app.count("--csv") > 0) cli::check_output("--csv", a.csv, {".csv"}, inputs);
   PatchInputs in;
   in.source = load(a.source);

@@ -92,9 +92,9 @@ auto prefixed(const std::string& prefix, F&& f) -> decltype(f()) {
   }
 }
 
-// The stem's mesh as load_stem reads it: the first of STEM.off, .ply, .obj that exists ("" if none).
+// The stem's mesh as load_stem reads it: the first of STEM.off, .ply, .obj, .stl that exists ("" if none).
 std::string stem_mesh(const std::string& stem) {
-  for (const char* ext : {".off", ".ply", ".obj"})
+  for (const std::string& ext : mesh_extensions())
     if (exists(stem + ext)) return stem + ext;
   return {};
 }
@@ -102,7 +102,8 @@ std::string stem_mesh(const std::string& stem) {
 // "data/bs08/bar.off" and "data/bs08/bar" name the same stem.
 std::string stem_of(const std::string& spec) {
   const std::string ext = fs::path(spec).extension().string();
-  if (ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".sel" || ext == ".def")
+  const auto& meshes = mesh_extensions();
+  if (std::find(meshes.begin(), meshes.end(), ext) != meshes.end() || ext == ".sel" || ext == ".def")
     return spec.substr(0, spec.size() - ext.size());
   return spec;
 }

@@ -168,7 +168,7 @@ std::vector<DeformOptionDef> make_defs() {
                        &DeformOptions::frame_mode));
   t.push_back(number_row("handle_limit", kGeneral, "R",
                          "--frame-mode handle with per-vertex targets: keep full frames when the responses would "
-                         "exceed R times the factor's bytes (measured: results/handle_drags.md)",
+                         "exceed R times the factor's bytes (measured: results/records/2026-11-24-handle-frames/)",
                          &DeformOptions::handle_limit, 1e-6, 1e6));
   t.back().unused = [](const DeformOptions& o) {
     return o.frame_mode == FrameMode::Handle ? "" : " bounds handle-mode responses; it needs --frame-mode handle";

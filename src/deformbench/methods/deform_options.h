@@ -85,7 +85,7 @@ struct DeformOptions {
   FrameMode frame_mode = FrameMode::Full;
   //! Handle mode with per-vertex targets (Edit::targets): the responses grow with the handle (3h columns), so a
   //! handle frame stops paying once it streams more than this many times the factor's bytes; beyond, the deformer
-  //! keeps full frames and says so (Deformer::frame_mode_note). The default is measured (results/handle_drags.md).
+  //! keeps full frames and says so (Deformer::frame_mode_note). The default is measured (results/records/2026-11-24-handle-frames/).
   double handle_limit = kDefaultHandleLimit;
   static constexpr double kDefaultHandleLimit = 1.0;
   //! This process is rank `rank` of `ranks` > 1 (a launcher's; solver "mumps"): lap and tf with the structured
