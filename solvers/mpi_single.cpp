@@ -1,6 +1,6 @@
 //! solvers/mumps_mpi.h for a build without MUMPS and MPI (CMakeLists.txt: DEFORMBENCH_HAVE_MUMPS off): one
-//! process is the whole world. A process a launcher started as one of several ranks is refused by name, since
-//! every rank would otherwise run the whole job on its own and write the same outputs.
+//! process is the whole world. A process a launcher started as one of several ranks is refused by name (rank()
+//! throws), since every rank would otherwise run the whole job on its own and write the same outputs.
 #include <cstdlib>
 
 #include "solvers/base/error.h"
@@ -24,10 +24,8 @@ int rank() {
   ensure_initialized();
   return 0;
 }
-int size() {
-  ensure_initialized();
-  return 1;
-}
+//! The launcher's world, so that callers see they were started on several ranks; rank() then refuses.
+int size() { return world_size_from_launcher(); }
 std::vector<double> gather_to_root(double value) { return {value}; }
 void sum_to_root(double*, std::size_t) {}
 void sum_double_double_to_root(double*, double*, std::size_t) {}
