@@ -1,7 +1,7 @@
 // Deforms the edit cases of a config (data/experiments/deform_cases.toml: the BS08 survey cases, the bundled CGAL
 // cactus edit) with each method and writes one tidy row per (case, method): sizes, phase times, median frame time
 // over a handle drag, bytes, and the peak RSS of the cell, which runs in a fresh child process (harness/
-// deform_cell.h with the library's default options). Every timing has its spread (harness/cell.h spread_name); a
+// deform_cell.h with the library's default options). Every timing has its spread (core/spread.h spread_name); a
 // failed cell is a row with its status, and the driver then exits with kCellsFailedExit (harness/driver.h). Options:
 // --help.
 #include <filesystem>

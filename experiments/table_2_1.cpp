@@ -318,7 +318,7 @@ CellResult TableRunner::run_one(const DeformCell& c) const {
 
 // ------------------------------------------------------------------------------------------------ CSV
 // The schema of table_2_1.csv and scaling.csv: every cell keeps the Always rows, so every (model, system, build)
-// has the same rows whether it ran or not; each timing is followed by its spread (harness/cell.h spread_name).
+// has the same rows whether it ran or not; each timing is followed by its spread (core/spread.h spread_name).
 const std::vector<MeasureDef>& table_measures() {
   static const std::vector<MeasureDef> d = {
       {"vertices", "count"}, {"n", "count"}, {"nnz", "count"}, {"nnz_factor", "count"}, {"factor_flops", "flop"},

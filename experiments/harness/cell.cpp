@@ -193,14 +193,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 }  // namespace
 
-std::string spread_name(const std::string& timed, const std::string& stat) {
-  if (!ends_with(timed, "_s")) throw Error("spread_name: '" + timed + "' is not a timed measure");
-  const std::string base = timed.substr(0, timed.size() - 2);
-  if (stat == "min" || stat == "max") return base + "_" + stat + "_s";
-  if (stat == "reps") return base + "_reps";
-  throw Error("spread_name: unknown statistic '" + stat + "'");
-}
-
 namespace {
 
 void set_spread(CellResult& r, const std::string& name, const Spread& s) {

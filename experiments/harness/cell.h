@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/spread.h"
+
 namespace db::harness {
 
 //! What to measure: ordered, unique keys. Values are strings; the accessors check numbers as the command
@@ -92,12 +94,6 @@ std::string encode_result(const CellResult& r);
 //! Parses the last "DBCELL " line of a child's stdout. \throw Error when there is none or it is malformed.
 CellResult decode_result(const std::string& child_stdout);
 
-//! The spread of a timed measure over its repeats (frames of a drag, repetitions of a phase, fresh children of a
-//! cell): "NAME_s" is the median, "NAME_min_s" and "NAME_max_s" the least and largest repeat, "NAME_reps" how many
-//! repeats there were (count). Every CSV uses these names (the deformation's record, methods/deform_record.h,
-//! too). `stat`: "min", "max" or "reps".
-//! \throw Error for a name that does not end in "_s" or another stat.
-std::string spread_name(const std::string& timed, const std::string& stat);
 //! Sets `name` (a timed measure, "s") to the median of `samples` and its spread measures (spread_name).
 void set_spread(CellResult& r, const std::string& name, const std::vector<double>& samples);
 //! Whether `name` is the spread measure of a timed measure `r` has ("frame_min_s" when "frame_s" is there).

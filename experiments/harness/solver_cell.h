@@ -7,7 +7,7 @@
 //! Right-hand sides: the deformation's own (the full drag of the handle) and a synthetic b = K x_ref for a
 //! seeded random x_ref, whose exact solution is known. Measures: vertices, n, nnz, rhs_cols, build_s, order_s,
 //! analyze_s, factorize_s and solve_s (medians over the repetitions, with their spread: factorize_min_s,
-//! factorize_max_s, factorize_reps, ...; harness/cell.h spread_name), nnz_factor,
+//! factorize_max_s, factorize_reps, ...; core/spread.h spread_name), nnz_factor,
 //! factor_flops, gflops, matrix_bytes, factor_bytes, baseline_rss_bytes, peak_rss_bytes, iterations (iterative
 //! backends), residual (||K x - b|| / ||b||), residual_synthetic, error_exact (||x - x_ref|| / ||x_ref||).
 //! build_cpu_s, analyze_cpu_s, factorize_cpu_s, solve_cpu_s: the same phases in CPU time of this process

@@ -1,6 +1,7 @@
 #pragma once
 //! A timing's repeats summarized: its median with the least and largest repeat (frames of a drag, repetitions of a
 //! phase). Used by the drag loop (methods/drag.h), the command line's report and every result table.
+#include <string>
 #include <vector>
 
 namespace db {
@@ -23,5 +24,12 @@ Spread spread(std::vector<double> v);
 //! thread waited on a descheduled worker or the machine was busy, and the median may be unreliable.
 constexpr double kSpreadFlagRatio = 2.0;
 inline bool spread_flagged(const Spread& s) { return s.count > 1 && s.max > kSpreadFlagRatio * s.min; }
+
+//! The spread of a timed measure over its repeats (frames of a drag, repetitions of a phase, fresh children of a
+//! cell): "NAME_s" is the median, "NAME_min_s" and "NAME_max_s" the least and largest repeat, "NAME_reps" how many
+//! repeats there were (count). Every CSV uses these names (the deformation's record, methods/deform_record.h,
+//! too). `stat`: "min", "max" or "reps".
+//! \throw Error for a name that does not end in "_s" or another stat.
+std::string spread_name(const std::string& timed, const std::string& stat);
 
 }  // namespace db

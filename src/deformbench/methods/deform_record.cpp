@@ -12,11 +12,10 @@ void add_text(DeformRecord& r, const std::string& name, const std::string& text)
 
 void add_spread(DeformRecord& r, const std::string& name, const std::vector<double>& samples) {
   const Spread s = spread(samples);
-  const std::string base = name.substr(0, name.size() - 2);  // "frame" of "frame_s"
   add_number(r, name, s.median, "s");
-  add_number(r, base + "_min_s", s.min, "s");
-  add_number(r, base + "_max_s", s.max, "s");
-  add_number(r, base + "_reps", s.count > 0 ? s.count : std::numeric_limits<double>::quiet_NaN(), "count");
+  add_number(r, spread_name(name, "min"), s.min, "s");
+  add_number(r, spread_name(name, "max"), s.max, "s");
+  add_number(r, spread_name(name, "reps"), s.count > 0 ? s.count : std::numeric_limits<double>::quiet_NaN(), "count");
 }
 
 DeformRecord deform_record(const Mesh& mesh, const Edit& edit, const DeformOptions& o, const Deformer& d,
