@@ -35,6 +35,22 @@ for d in table_2_1 solvers frames deform_cases; do
   expect "$d unknown config key" 1 "bogus" -- "$exe" --config "$T/bad.toml" --dry-run
   expect "$d missing config file" 1 "not readable|missing" -- "$exe" --config "$T/none.toml" --dry-run
 done
+# Configs are strict TOML (harness/toml_config.h), every error with file:line:column: a list left unclosed before
+# the next key (CLI11's reader built the list from that line), a list open at the end of the file, a key given
+# twice, a key that is no option, a table. Each exits 1, nothing run.
+printf 'case = ["bs08_bar=bs08/bar", "bs08_plane=bs08/plane"\nframes = 3\n' >"$T/unclosed.toml"
+printf 'frames = 3\ncase = ["bs08_bar=bs08/bar",\n' >"$T/open_end.toml"
+printf 'frames = 3\nframes = 4\n' >"$T/twice.toml"
+printf 'frames = 3\nframez = 3\n' >"$T/unknown.toml"
+printf 'frames = 3\n[deform]\nmethods = ["lap"]\n' >"$T/table.toml"
+DC="$BIN/exp_deform_cases"
+expect "config: list unclosed before the next key" 1 "unclosed.toml:2:1: .*expected comma or closing" -- "$DC" --config "$T/unclosed.toml" --dry-run
+expect "config: list open at the end" 1 "open_end.toml:2:[0-9]+: .*end-of-file" -- "$DC" --config "$T/open_end.toml" --dry-run
+expect "config: key given twice" 1 "twice.toml:2:[0-9]+: .*redefine.*frames" -- "$DC" --config "$T/twice.toml" --dry-run
+expect "config: key that is no option" 1 "unknown.toml:2:[0-9]+: 'framez' is no option of exp_deform_cases" -- "$DC" --config "$T/unknown.toml" --dry-run
+expect "config: a table" 1 "table.toml:[0-9]+:[0-9]+: 'deform'" -- "$DC" --config "$T/table.toml" --dry-run
+printf 'case = ["bs08_bar=bs08/bar"]\nmethods = ["tf"]\nframes = 3\n' >"$T/good.toml"
+expect "config: a strict file is applied" 0 "^kind=deform model=bs08_bar .*method=tf .*frames=3" -- "$DC" --config "$T/good.toml" --dry-run
 expect "table_2_1 frames out of range" 1 "frames" -- "$BIN/exp_table_2_1" --frames 0 --dry-run
 expect "table_2_1 frames not whole" 1 "whole number" -- "$BIN/exp_table_2_1" --frames 2.5 --dry-run
 expect "table_2_1 unknown tier" 1 "no such tier" -- "$BIN/exp_table_2_1" --only plank --dry-run
@@ -51,7 +67,8 @@ expect "applications --help" 0 "Usage: exp_applications" -- "$BIN/exp_applicatio
 expect "applications config parses, grid listed" 0 "^kind=application" -- "$BIN/exp_applications" --dry-run
 expect "applications malformed case" 1 "not coat or transplant" -- "$BIN/exp_applications" --case "x: cot source=a target=b" --dry-run
 expect "applications unknown case key" 1 "unknown key zon" -- "$BIN/exp_applications" --case "x: transplant source=bs08/plane.off target=bs08/plane.off zon=1" --dry-run
-[ -z "$(ls "$T" | grep -v -e stdout -e stderr -e bad.toml -e afile)" ] && ok "nothing written by the failures" || fail "files left: $(ls "$T")"
+[ -z "$(ls "$T" | grep -v -e stdout -e stderr -e '\.toml$' -e afile)" ] && ok "nothing written by the failures" ||
+  fail "files left: $(ls "$T")"
 
 # ---------------------------------------------------------------- tiny runs and the report step
 R="$T/results"

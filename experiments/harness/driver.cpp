@@ -10,16 +10,19 @@
 
 #include "core/csv.h"
 #include "solvers/base/error.h"
+#include "harness/toml_config.h"
 
 namespace db::harness {
 
 namespace fs = std::filesystem;
 
 void add_config_option(CLI::App& app, const std::string& default_file) {
-  app.set_config("--config", default_file,
-                 fmt::format("options file (TOML/INI: `option = value`, lists as [\"a\", \"b\"]); the command line "
-                             "wins over it (default {}, when it exists)",
-                             default_file));
+  const CLI::Option* config =
+      app.set_config("--config", default_file,
+                     fmt::format("options file (strict TOML: `option = value`, lists as [\"a\", \"b\"]); the command "
+                                 "line wins over it (default {}, when it exists)",
+                                 default_file));
+  app.config_formatter(strict_toml_config(app, config));
   app.allow_config_extras(CLI::config_extras_mode::error);
 }
 
