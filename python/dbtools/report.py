@@ -7,7 +7,9 @@ editing its code without rerunning a cell.
 Per experiment (EXPERIMENTS below, named after its driver): its figures go to RESULTS/figures/ (dbtools/plots/NAME.py
 and friends), then its reports to RESULTS/NAME.md (dbtools/reports/NAME.py and friends), each only when its CSV
 exists. The figures are all drawn before the first report, since reports cite them and say which are missing. A
-figure module that fails does not stop the others or the reports; the step then exits 1, naming it.
+figure module that fails does not stop the others or the reports; the step then exits 1, naming it. Last, the static
+site RESULTS/site/index.html (dbtools/site/) shows the reports, their figures, the tracking history and the
+deformed meshes in a browser.
 """
 import argparse
 import importlib
@@ -75,8 +77,14 @@ def main(argv=None):
         return 1
     failed = draw_figures(a.results, names)
     write_reports(a.results, names)
+    try:
+        from . import site
+        site.write(a.results)
+    except Exception:  # noqa: BLE001 - the reports stand without the site; the step then fails, naming it
+        traceback.print_exc()
+        failed.append("site")
     if failed:
-        log(f"error: figures failed: {', '.join(failed)} (the reports say which figures are missing)")
+        log(f"error: failed: {', '.join(failed)} (the reports say which figures are missing)")
         return 1
     return 0
 

@@ -1,0 +1,105 @@
+"""A page per Markdown report of the report step (RESULTS/NAME.md), followed by its figures, and the index."""
+import fnmatch
+import os
+import re
+
+import markdown
+
+from .layout import Page, esc
+
+# report -> (page title, its figures: globs under RESULTS/figures/, in order). A report that is not there has no page.
+REPORTS = {
+    "table_2_1": ("Table 2-1 vs the thesis", ["table_2_1_*.png", "scaling*.png"]),
+    "solvers": ("Solver verdict", ["solvers_*.png"]),
+    "frames": ("Frames study", ["frames_*.png"]),
+    "figures": ("Frames renders", ["render_*.png"]),
+    "applications": ("Applications", ["render_app_*.png"]),
+    "handle_frames": ("Handle frames", []),
+    "handle_drags": ("Handle drags", []),
+}
+# figures.md shows the frames study's renders; the applications' renders are the applications page's.
+EXCLUDE = {"figures": ["render_app_*.png"]}
+CITED = re.compile(r"`figures/([A-Za-z0-9_.\-]+\.png)`")
+LINK = re.compile(r'(href|src)="([^"#:]+)(#[^"]*)?"')
+
+
+def figure_names(results, name, globs):
+    try:
+        files = sorted(os.listdir(os.path.join(results, "figures")))
+    except OSError:
+        return []
+    out = []
+    for g in globs:
+        out += [f for f in files if fnmatch.fnmatch(f, g) and f not in out and
+                not any(fnmatch.fnmatch(f, x) for x in EXCLUDE.get(name, []))]
+    return out
+
+
+def relink(results, html_text):
+    """Links of a report are relative to RESULTS: to another report's page when it has one, else ../PATH when the
+    target exists, else plain text (a page never links to nothing)."""
+    def sub(m):
+        attr, target, frag = m.group(1), m.group(2), m.group(3) or ""
+        stem, ext = os.path.splitext(os.path.basename(target))
+        if ext == ".md" and os.path.dirname(target) == "" and stem in REPORTS and \
+                os.path.exists(os.path.join(results, target)):
+            return f'{attr}="{stem}.html{frag}"'
+        if os.path.exists(os.path.join(results, target)):
+            return f'{attr}="../{target}{frag}"'
+        return f'data-missing-{attr}="{target}"'
+    return LINK.sub(sub, html_text)
+
+
+def cite_figures(results, text):
+    """`figures/NAME.png` in a report's text: a link to the figure when it exists."""
+    def sub(m):
+        name = m.group(1)
+        return f"[`figures/{name}`](figures/{name})" if os.path.exists(os.path.join(results, "figures", name)) \
+            else m.group(0)
+    return CITED.sub(sub, text)
+
+
+def gallery(names):
+    if not names:
+        return ""
+    items = "".join(f'<figure><a href="../figures/{esc(n)}"><img src="../figures/{esc(n)}" alt="{esc(n)}" '
+                    f'loading="lazy"></a><figcaption>{esc(n)}</figcaption></figure>\n' for n in names)
+    return f'<h2 id="figures">Figures</h2>\n<div class="gallery">\n{items}</div>'
+
+
+def first_paragraph(text):
+    for block in text.split("\n\n"):
+        block = block.strip()
+        if block and not block.startswith(("#", "|", "-", "*")):
+            return block.replace("\n", " ")
+    return ""
+
+
+def pages(results):
+    out = []
+    for name, (title, globs) in REPORTS.items():
+        path = os.path.join(results, f"{name}.md")
+        if not os.path.exists(path):
+            continue
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        body = markdown.markdown(cite_figures(results, text), extensions=["tables", "fenced_code"])
+        body = relink(results, body) + gallery(figure_names(results, name, globs))
+        out.append(Page(f"{name}.html", title, body, summary=first_paragraph(text)))
+    return out
+
+
+def index_body(results, pages):
+    missing = [f"{n}.md" for n in REPORTS if not os.path.exists(os.path.join(results, f"{n}.md"))]
+    items = "".join(f'<li><a href="{esc(p.name)}">{esc(p.title)}</a>' +
+                    (f"<br><small>{esc(p.summary[:300])}</small>" if p.summary else "") + "</li>\n"
+                    for p in pages if p.nav)
+    out = ["<h1>deformbench results</h1>",
+           f"<p>Generated from <code>{esc(os.path.abspath(results))}</code> by the report step "
+           "(<code>./run reproduce</code>; the history pages also by <code>./run track</code>). The reports "
+           "never measure: each page shows a report of the drivers' CSVs and its figures.</p>",
+           f"<ul class=\"index\">\n{items}</ul>"]
+    if missing:
+        out.append(f"<p>Not generated (no report; <code>./run reproduce</code> writes them): "
+                   f"{esc(', '.join(missing))}</p>")
+    return "\n".join(out)
