@@ -6,7 +6,8 @@ fails, a loaded machine (wall times x3, CPU times as they were) passes; the powe
 are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
 deterministic, memory and status rules; a subset run compares what ran ("not run", never a failure); stale and
 foreign baselines refused with their messages and exit codes (3, 4) unless allowed; bench_phases JSON records
-(gbench.py) and the drivers' result CSVs (results.py) under the same rules.
+(gbench.py) and the drivers' result CSVs (results.py) under the same rules; the report's count of what was gated and
+why the rest was not; a record as github-action-benchmark's customSmallerIsBetter JSON (ci.py).
 Run: PYTHONPATH=python tests/track_gate_test.py (ctest `track_gate`)."""
 import math
 import os
@@ -587,6 +588,68 @@ class GoogleBenchmarkRecords(unittest.TestCase):
         p = self.gate(gbench_doc(), bad)
         self.assertEqual(p.returncode, 2)
         self.assertRegex(p.stderr, r"cpu_time 'fast' 'us' is not a time")
+
+
+class WhatIsGated(unittest.TestCase):
+    """The report says what the gate compared and, for the rest, why not (report.gated_lines)."""
+
+    def test_counts_by_class_and_reasons(self):
+        from dbtools.track import report
+        base = g.History.from_rows(
+            [row("nnz", "deterministic", "", 5, 1), row("child_wall_s", "info", "", 1.0, 1)] +
+            [row("frame_cpu_s", "cpu", "", 0.002, k) for k in range(1, 6)] +
+            [row("init_cpu_s", "cpu", "", 0.5, k) for k in range(1, 6)] +
+            [row("init_s", "time", "mixed", 0.5, k) for k in range(1, 6)])
+        s = g.Settings()
+        lines = report.gated_lines(g.compare(base, base, s), s)
+        self.assertEqual(lines[0], "gated: 2 of 5 comparisons (cpu 1, deterministic 1)")
+        self.assertRegex(lines[1], r"^not gated: 3: ")
+        for why in ("1 baseline median under 5 ms (--min-time-s", "1 wall time (follows the load",
+                    "1 class info (the whole child's times"):
+            self.assertIn(why, lines[1])
+        other = g.compare(base, g.History.from_rows([row("init_cpu_s", "cpu", "", 0.5, k, machine="m2")
+                                                     for k in range(1, 6)]), s)
+        self.assertIn("1 measured on another machine", report.gated_lines(other, s)[1])
+        few = g.compare(base, g.History.from_rows([row("init_cpu_s", "cpu", "", 0.5, 1)]), s)
+        self.assertIn("1 fewer than 5 rounds on a side", report.gated_lines(few, s)[1])
+
+
+class BenchmarkJson(unittest.TestCase):
+    """ci.py: a record as github-action-benchmark's customSmallerIsBetter input."""
+
+    def test_shape(self):
+        import json
+        from dbtools.track import ci
+        rows = ([row("factorize_cpu_s", "cpu", "", t, k + 1) for k, t in enumerate([0.5, 0.6, 0.4])] +
+                [row("nnz_factor", "deterministic", "", 1000, 1), row("peak_rss_bytes", "memory", "", 2048, 1),
+                 row("child_wall_s", "info", "", 1.0, 1), row("status", "status", "", None, 1, cell="solve/x",
+                                                              message="error: boom"),
+                 row("nnz", "deterministic", "", 5, 1, cell="solve/x")])
+        with tempfile.TemporaryDirectory() as d:
+            path = write_csv(d, "run.csv", rows)
+            out = ci.write(path, os.path.join(d, "latest.json"))
+            self.assertEqual(out, os.path.join(d, "run.json"))
+            with open(out) as f:
+                doc = json.load(f)
+            with open(os.path.join(d, "latest.json")) as f:
+                self.assertEqual(json.load(f), doc)
+            self.assertRaises(ValueError, ci.write, out)  # never over a JSON record
+        self.assertIsInstance(doc, list)
+        by = {e["name"]: e for e in doc}
+        # info and the failed cell's measures are left out; every entry has the fields the action reads
+        self.assertEqual(sorted(by), [f"{CELL} factorize_cpu_s", f"{CELL} nnz_factor", f"{CELL} peak_rss_bytes"])
+        for e in doc:
+            self.assertLessEqual(set(e), {"name", "unit", "value", "range", "extra"})
+            self.assertIsInstance(e["name"], str)
+            self.assertIsInstance(e["unit"], str)
+            self.assertIsInstance(e["value"], (int, float))
+            self.assertIsInstance(e["extra"], str)
+        t = by[f"{CELL} factorize_cpu_s"]
+        self.assertEqual((t["unit"], t["value"], t["range"]), ("s", 0.5, "± 0.1"))
+        self.assertIn("class cpu; 3 round(s), min 0.4, max 0.6; commit cccccccccccc; machine m1", t["extra"])
+        self.assertEqual((by[f"{CELL} nnz_factor"]["unit"], by[f"{CELL} nnz_factor"]["value"]), ("count", 1000))
+        self.assertNotIn("range", by[f"{CELL} nnz_factor"])
+        self.assertEqual(by[f"{CELL} peak_rss_bytes"]["unit"], "bytes")
 
 
 class DriverResults(unittest.TestCase):

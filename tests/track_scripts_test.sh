@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # python3 -m dbtools.track (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
 # measure.txt as a history of one cell): the default baseline (the newest history of an ancestor, never a dirty
-# run), --baseline REV measured in a worktree and then reused, the committed reference as a fresh clone's
+# run; each run's github-action-benchmark JSON beside its CSV and as history/latest.json), --baseline REV measured
+# in a worktree and then reused, the committed reference as a fresh clone's
 # baseline (another machine's: refused as foreign, exit 4, unless --allow-foreign), a baseline holding a cell the
 # suite no longer defines refused as stale (exit 3), and --bisect finding planted regressions of a deterministic
-# and of a timed measure. Seconds, no build.
+# and of a timed measure; --baseline-runs N on a machine without history (N runs pooled into the baseline, times
+# gated at once, the report saying what was gated) and on one with history (nothing extra runs). Seconds, no build.
 #   track_scripts_test.sh SOURCE_DIR
 set -u
 SRC=$(cd "$1" && pwd)
@@ -42,6 +44,21 @@ expect() {
 expect "first run: recorded, nothing to compare" 0 "nothing to compare" --
 expect "second run: the first is its baseline" 0 "baseline: the newest history of an ancestor commit" --
 [ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" && ok "report written" || fail "no report"
+# The run as github-action-benchmark's customSmallerIsBetter input, beside its CSV and at a fixed path for CI.
+/usr/bin/python3 - "$T/history" >"$T/json.out" 2>&1 <<'PY' && ok "JSON beside each run and latest.json" || fail "JSON: $(cat "$T/json.out")"
+import glob, json, os, sys
+h = sys.argv[1]
+csvs = sorted(glob.glob(f"{h}/runs/*.csv"))
+assert csvs and all(os.path.exists(c[:-4] + ".json") for c in csvs), os.listdir(f"{h}/runs")
+doc = json.load(open(f"{h}/latest.json"))
+assert doc == json.load(open(csvs[-1][:-4] + ".json"))
+by = {e["name"]: e for e in doc}
+assert sorted(by) == ["fake/cell factorize_s", "fake/cell nnz_factor"], by
+assert by["fake/cell factorize_s"]["unit"] == "s" and by["fake/cell factorize_s"]["value"] == 1.5, by
+assert by["fake/cell factorize_s"]["range"] == "± 0.045", by
+assert by["fake/cell nnz_factor"]["value"] == 1300 and "range" not in by["fake/cell nnz_factor"], by
+assert all(isinstance(e["extra"], str) and "commit" in e["extra"] for e in doc)
+PY
 
 printf 'nnz_factor=5000\nfactorize_s=1.5\n' >measure.txt  # uncommitted: a dirty run
 expect "dirty run gated" 1 "nnz_factor +deterministic +1300 +5000" --
@@ -70,6 +87,22 @@ expect "bisect without --cell" 1 "needs --cell and --measure" -- --bisect c1 c7
 expect "unknown revision" 1 "nosuch: not a commit" -- --baseline nosuch
 expect "unknown option" 1 "unrecognized arguments" -- --baselin c1
 
+# --baseline-runs on a machine without history: N runs of this commit pooled into the baseline, times gated at once.
+expect "--baseline-runs 2 without history" 0 "a local baseline of 2 run\(s\) of this commit" -- \
+  --history-dir "$T/history4" --baseline-runs 2
+grep -q "^gated: 2 of 2 comparisons (cpu 1, deterministic 1)" "$T/out" && ok "--baseline-runs: the CPU time gated" ||
+  fail "--baseline-runs: $(cat "$T/out")"
+grep -q "^- gated: 2 of 2 comparisons" "$T/track.md" && grep -q "^- baseline: a local baseline of 2 run" "$T/track.md" &&
+  ok "the report says what was gated and against what" || fail "track.md: $(cat "$T/track.md")"
+[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 3 ] &&
+  [ "$(grep -c ',factorize_s,' "$T"/history4/baselines/*.csv)" -eq 10 ] &&
+  ok "two runs pooled into a baseline of 10 rounds, then the run" || fail "history4: $(ls -R "$T/history4")"
+expect "--baseline-runs with history: not needed" 0 "--baseline-runs not needed" -- --history-dir "$T/history4" \
+  --baseline-runs 2
+[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 4 ] && ok "--baseline-runs with history: one run only" ||
+  fail "history4: $(ls "$T/history4/runs")"
+expect "--baseline-runs 0" 1 "--baseline-runs N: N >= 1" -- --baseline-runs 0
+
 # A fresh clone: no runs of its own, only the committed reference (of a commit it does not have).
 mkdir -p "$T/history2/reference"
 sed "s/^$(sha c7)/$(printf 'f%.0s' {1..40})/" "$(ls "$T"/history/runs/*"$(sha c7 | cut -c1-12)"*.csv | head -1)" \
@@ -89,8 +122,8 @@ grep -q "baseline refused (foreign, exit 4)" "$T/track.md" && ok "the report say
 expect "--allow-foreign: its deterministic measures" 0 \
   "foreign baseline \(--allow-foreign\): deterministic measures only" -- --allow-foreign \
   --baseline-file "$T/history3/reference/ref.csv"  # the refused run above is this machine's newest history now
-grep -Eq "fake/cell +factorize_s +cpu .*not gated" "$T/out" || grep -q "not gated 1" "$T/out" &&
-  ok "--allow-foreign: times not gated" || fail "--allow-foreign: $(cat "$T/out")"
+grep -q "^not gated: 1: 1 measured on another machine" "$T/out" &&
+  ok "--allow-foreign: times not gated, saying why" || fail "--allow-foreign: $(cat "$T/out")"
 
 # A baseline holding a cell the suite no longer defines: stale.
 REF=$T/history2/reference/ref.csv

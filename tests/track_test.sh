@@ -70,7 +70,8 @@ done
 grep -E "^deform/[a-z]+/lap/.*FAIL" "$T/out" && fail "a lap cell failed" || ok "lap cells unchanged"
 grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic |" "$T/track.md" &&
   ok "Markdown report names it" || fail "track.md: $(head -20 "$T/track.md")"
-[ "$(ls "$T/history/runs" | wc -l)" -eq 2 ] && ok "one history file per run" || fail "histories: $(ls "$T/history/runs")"
+[ "$(ls "$T/history/runs"/*.csv | wc -l)" -eq 2 ] && [ "$(ls "$T/history/runs"/*.json | wc -l)" -eq 2 ] &&
+  ok "one history file per run, its JSON beside it" || fail "histories: $(ls "$T/history/runs")"
 
 # A planted slowdown caught by the CPU-time rule alone (--measure init_cpu_s): the TF cell of hand in 5 rounds, run
 # again unchanged and with the natural ordering (more fill: its init does several times the work, and fails).

@@ -1,6 +1,7 @@
 """Regression tracking of init time and memory across commits (`./run track`, `python3 -m dbtools.track`).
 
-  python3 -m dbtools.track [--baseline REV | --baseline-file CSV] [--repeats N] [--only GLOBS] [--override RULE]...
+  python3 -m dbtools.track [--baseline REV | --baseline-file CSV | --baseline-runs N] [--repeats N] [--only GLOBS]
+                           [--override RULE]...
                            [gate options: --threshold PCT ...] [--allow-stale] [--allow-foreign]
                            [--save-reference] [--no-plots]
   python3 -m dbtools.track --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
@@ -8,7 +9,9 @@
 run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
 new history file results/history/runs/<UTC>_<commit>_<machine>.csv, picks a baseline history and gates the run
 against it (gate.py: the cells that ran; a stale or foreign baseline is refused, exit 3 / 4), writing
-results/track.md and the trend figures (dbtools.plots.history, into results/figures/). The build must be a Release build.
+results/track.md, the run as github-action-benchmark JSON (ci.py: runs/<name>.json beside the CSV and
+results/history/latest.json), the trend figures (dbtools.plots.history, into results/figures/) and the site
+(dbtools.site, results/site/). The build must be a Release build.
   baseline: --baseline REV: the newest history of REV on this machine, else REV built in a git worktree
             (WORK/rev-<sha>) and measured now; default: the newest history of an ancestor commit (HEAD included)
             on this machine id, clean and without overrides, in results/history/runs or results/history/reference;
@@ -34,6 +37,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from . import ci
 from . import gate as track_gate
 from .history import InputError, load_history
 
@@ -281,16 +285,16 @@ def baseline_of_rev(ctx, sha, machine):
 
 
 # ------------------------------------------------------------------------------------------------ gating
-def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=False, suite=None):
+def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=False, suite=None, notes=()):
     """gate.py's exit code for NOW against BASE (0 pass, 1 regression, 3 stale, 4 foreign baseline); `suite`: the
-    cells the current suite defines."""
+    cells the current suite defines; `notes`: lines for the report."""
     try:
         base, now = load_history(base_path), load_history(now_path)
     except InputError as e:
         raise Failure(str(e))
     a = ctx.args
     s = track_gate.settings(None, a, cells, measures)
-    return track_gate.gate(base, now, s, suite, a.allow_stale, a.allow_foreign, markdown, quiet)
+    return track_gate.gate(base, now, s, suite, a.allow_stale, a.allow_foreign, markdown, quiet, notes=notes)
 
 
 def plots(ctx):
@@ -300,6 +304,51 @@ def plots(ctx):
                        env=dict(os.environ, PYTHONPATH=str(PACKAGES), PYTHONDONTWRITEBYTECODE="1"))
     if p.returncode != 0:
         log("dbtools.plots.history failed (the gate's verdict stands)")
+
+
+def site(ctx):
+    """The static site (dbtools.site, results/site/) with the new history; its failure leaves the verdict alone."""
+    p = subprocess.run([PY, "-m", "dbtools.site", "--results", str(ctx.repo / "results")],
+                       env=dict(os.environ, PYTHONPATH=str(PACKAGES), PYTHONDONTWRITEBYTECODE="1"))
+    if p.returncode != 0:
+        log("dbtools.site failed (the gate's verdict stands)")
+
+
+def pooled(paths, out):
+    """One history of the runs `paths` (of one commit and machine): their rows, the rounds of the k-th run numbered
+    after those of the runs before it, written to `out`."""
+    rows, offset = [], 0
+    for path in paths:
+        with open(path, newline="") as f:
+            run = list(csv.DictReader(f))
+        reps = [int(r["repeat"]) for r in run if r["repeat"].isdigit()]
+        for r in run:
+            if r["repeat"].isdigit():
+                r["repeat"] = str(int(r["repeat"]) + offset)
+        offset += max(reps, default=0)
+        rows += run
+    fields = list(dict.fromkeys(k for r in rows for k in r))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with open(out, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields, restval="")
+        w.writeheader()
+        w.writerows(rows)
+    return out
+
+
+def local_baseline(ctx, machine, head, label, n):
+    """(baseline path, why) from --baseline-runs: this machine's history of an ancestor when it has one, else `n`
+    runs of the current tree measured now and pooled into RESULTS/history/baselines/."""
+    mine = [m for m in candidates(ctx, machine, cells=suite_cells(ctx, ctx.only))
+            if is_ancestor(ctx.repo, m["commit"], head)]
+    if mine:
+        return None, "this machine has a history of an ancestor commit: --baseline-runs not needed"
+    log(f"no history of an ancestor commit on machine {machine}: a local baseline of {n} run(s) of this commit first")
+    runs = [measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only, ctx.overrides)
+            for _ in range(n)]
+    out = pooled(runs, ctx.history / "baselines" / runs[0].name)
+    return out, (f"a local baseline of {n} run(s) of this commit on this machine, measured now and pooled "
+                 f"({out.name}): this comparison is of unchanged code, a check of the gate's noise here")
 
 
 def save_reference(ctx, path, machine):
@@ -326,8 +375,16 @@ def cmd_run(ctx, a):
     elif a.baseline_file:
         base, why = Path(a.baseline_file), "the history file given"
     label = short_sha(ctx.repo)
+    if base is None and a.baseline_runs:
+        base, why = local_baseline(ctx, machine, head, label, a.baseline_runs)
+        if base is None:
+            log(why)
     now = measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only,
                   ctx.overrides)
+    try:
+        log(f"github-action-benchmark JSON: {ci.write(now, ctx.history / 'latest.json')}")
+    except InputError as e:
+        raise Failure(f"the run's history cannot be read: {e}")
     if base is None:
         base, why = choose_baseline(ctx, machine, head, now)
     code = 0
@@ -338,13 +395,14 @@ def cmd_run(ctx, a):
     else:
         log(f"baseline: {why}: {base}")
         code = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=ctx.report,
-                    suite=suite_cells(ctx, None))
+                    suite=suite_cells(ctx, None), notes=[f"baseline: {why}"])
         if code in (0, 1):
             log(f"report: {ctx.report}")
     if a.save_reference:
         save_reference(ctx, now, machine)
     if not a.no_plots:
         plots(ctx)
+        site(ctx)
     return code
 
 
@@ -430,6 +488,8 @@ def parse_args(argv):
                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog="\n".join(__doc__.split("\n")[2:]))
     ap.add_argument("--baseline", metavar="REV", help="compare with this commit (measured now when it has no history)")
     ap.add_argument("--baseline-file", metavar="CSV", help="compare with this history file")
+    ap.add_argument("--baseline-runs", type=int, metavar="N", help="on a machine with no history of an ancestor "
+                    "commit: first N runs of this commit as the baseline (pooled), so times are gated at once")
     ap.add_argument("--bisect", nargs=2, metavar=("GOOD", "BAD"), help="find the first commit where --measure of "
                     "--cell regressed")
     ap.add_argument("--cell", help="bisect: the cell (its name in the history, e.g. deform/armadillo/tf/structured/"
@@ -444,7 +504,8 @@ def parse_args(argv):
     track_gate.add_baseline_options(ap)
     ap.add_argument("--config", help="the suite (default data/experiments/track.toml)")
     ap.add_argument("--save-reference", action="store_true", help="make this run the machine's committed reference")
-    ap.add_argument("--no-plots", action="store_true", help="skip the trend figures (dbtools.plots.history)")
+    ap.add_argument("--no-plots", action="store_true", help="skip the trend figures (dbtools.plots.history) and the "
+                    "site (dbtools.site)")
     ap.add_argument("--no-build", action="store_true", help="use the existing build of this tree")
     ap.add_argument("--history-dir", help="histories: runs/ and reference/ (default results/history)")
     ap.add_argument("--report", help="the Markdown report of the comparison (default results/track.md)")
@@ -458,6 +519,8 @@ def parse_args(argv):
         ap.error("--bisect, --baseline and --baseline-file do not go together")
     if a.repeats is not None and a.repeats < 1:
         ap.error("--repeats must be >= 1")
+    if a.baseline_runs is not None and (a.baseline_runs < 1 or a.bisect or a.baseline or a.baseline_file):
+        ap.error("--baseline-runs N: N >= 1, and not with --bisect, --baseline or --baseline-file")
     track_gate.settings(ap, a)  # usage errors in the gate's options now, not after the run
     return a
 

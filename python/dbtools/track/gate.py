@@ -324,8 +324,9 @@ def settings(ap, a, cells=(), measures=()):
 
 
 def gate(base, now, s, suite_cells=None, allow_stale=False, allow_foreign=False, markdown=None, quiet=False,
-         show_all=False, title="Tracking suite"):
-    """The whole gate on two records: the baseline checked (provenance.py), compared, reported. Exit code."""
+         show_all=False, title="Tracking suite", notes=()):
+    """The whole gate on two records: the baseline checked (provenance.py), compared, reported (with the lines
+    `notes`, e.g. how the baseline was chosen). Exit code."""
     from . import report
     try:
         verdict = check(base, now, suite_cells, allow_stale, allow_foreign)
@@ -335,10 +336,11 @@ def gate(base, now, s, suite_cells=None, allow_stale=False, allow_foreign=False,
             report.write_atomically(markdown, f"# {title}: baseline refused ({e.kind}, exit {e.exit_code})\n\n{e}\n")
         return e.exit_code
     cmps = compare(base, now, s, verdict.same_machine)
+    notes = [*notes, *verdict.notes]
     if not quiet:
-        report.print_report(base, now, cmps, s, show_all, verdict.notes)
+        report.print_report(base, now, cmps, s, show_all, notes)
     if markdown:
-        report.write_atomically(markdown, report.markdown(base, now, cmps, s, verdict.notes, title))
+        report.write_atomically(markdown, report.markdown(base, now, cmps, s, notes, title))
     return 1 if any(c.verdict == "FAIL" for c in cmps) else 0
 
 

@@ -43,6 +43,41 @@ def largest_time_ratios(cmps, cls="cpu", k=5, min_time_s=0.005):
     return sorted(t, key=lambda c: -abs(math.log(c.ratio)) if c.ratio > 0 else 0)[:k]
 
 
+def not_gated_reason(c, s):
+    """Why the comparison `c` (verdict "not gated") was not gated, in words."""
+    if c.cls == "info":
+        return "class info (the whole child's times: recorded, never compared)"
+    if "other machine" in c.note:
+        return "measured on another machine (times and memory of two machines are not comparable)"
+    if "--gate-wall" in c.note:
+        return "wall time (follows the load on a shared machine: reported; gated only with --gate-wall)"
+    if c.note.startswith("under "):
+        return (f"baseline median under {s.min_time_s * 1e3:g} ms (--min-time-s: such phases move by more than the "
+                "threshold between runs of one commit)")
+    if " runs < " in c.note:
+        return (f"fewer than {s.min_repeats} rounds on a side (--min-repeats; --repeats, or --baseline-runs on a "
+                "machine without history)")
+    return c.note or "not gated"
+
+
+def gated_lines(cmps, s):
+    """What the gate compared and what it did not, with why: two lines, counts by class and by reason."""
+    gated = [c for c in cmps if c.verdict not in ("not gated", "new", "not run")]
+    by_cls, reasons = {}, {}
+    for c in gated:
+        by_cls[c.cls] = by_cls.get(c.cls, 0) + 1
+    for c in cmps:
+        if c.verdict == "not gated":
+            why = not_gated_reason(c, s)
+            reasons[why] = reasons.get(why, 0) + 1
+    lines = [f"gated: {len(gated)} of {len(cmps)} comparisons (" +
+             (", ".join(f"{k} {n}" for k, n in sorted(by_cls.items())) or "none") + ")"]
+    if reasons:
+        lines.append(f"not gated: {sum(reasons.values())}: " +
+                     "; ".join(f"{n} {why}" for why, n in sorted(reasons.items(), key=lambda x: -x[1])))
+    return lines
+
+
 def summary_lines(base, now, cmps, s, notes=()):
     drift = cpu_drift(base, now, s)
     fails = [c for c in cmps if c.verdict == "FAIL"]
@@ -60,6 +95,7 @@ def summary_lines(base, now, cmps, s, notes=()):
              "CPU drift by round (median ratio of the round's CPU times to the baseline's medians), baseline / now: "
              + " / ".join(" ".join(f"{f:.3f}" for _, f in sorted(d.items())) or "none"
                           for d in (drift.base, drift.now))]
+    lines += gated_lines(cmps, s)
     recorded = [c for c in cmps if c.verdict == "recorded only"]
     if recorded:
         lines.append(f"recorded only (past the threshold and significant, but under the {s.min_delta_s * 1e3:g} ms "
