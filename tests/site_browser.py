@@ -165,7 +165,14 @@ def canvas_check(b, shot, min_colours):
     summary = f"canvas {int(r[2])}x{int(r[3])}: {colours} colours, {drawn:.1%} non-background"
     if colours < min_colours or drawn < 0.02:
         return f"viewer.html: blank canvas ({summary})", summary
-    return None, summary
+    # Every choice of the colouring, then every case: what a reader clicks through (errors are collected after).
+    n = b.evaluate("(function(){var r=document.getElementById('ref'), n=r.options.length;"
+                   "for (var k=0;k<n;k++){r.value=r.options[k].value;r.dispatchEvent(new Event('change'));}"
+                   "var c=document.getElementById('case');"
+                   "for (var k=c.options.length-1;k>=0;k--){c.value=c.options[k].value;"
+                   "c.dispatchEvent(new Event('change'));} return n + '/' + c.options.length;})()")
+    time.sleep(2)
+    return None, f"{summary}; colourings/cases clicked through: {n}"
 
 
 def main():

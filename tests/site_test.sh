@@ -50,7 +50,7 @@ B=(/usr/bin/python3 "$SRC/tests/site_browser.py")
 rc=$?
 cat "$T/out"
 [ $rc -eq 0 ] && ok "every page clean in Chromium, the viewer drawn" || fail "site_browser: exit $rc"
-grep -Eq "^ok +viewer.html \(canvas [0-9]+x[0-9]+: [0-9]+ colours" "$T/out" && ok "viewer canvas checked" ||
+grep -Eq "^ok +viewer.html \(canvas [0-9]+x[0-9]+: [0-9]+ colours.*clicked through: 6/1" "$T/out" && ok "viewer canvas checked" ||
   fail "the viewer's canvas was not checked"
 
 # The checker bites: a page with a missing image, a console.error and an uncaught exception.

@@ -8,7 +8,8 @@ var DB_MESHES = {
   waiting: null,
   add: function (rec) {
     this.cases[rec.name] = rec;
-    if (this.waiting) { var f = this.waiting; this.waiting = null; f(rec); }
+    // only the case last asked for is shown (a reader may pick another before the first has loaded)
+    if (this.waiting && this.waiting.name === rec.name) { var f = this.waiting.done; this.waiting = null; f(rec); }
   }
 };
 window.DB_VIEWER_DRAWN = 0;
@@ -80,6 +81,9 @@ window.DB_VIEWER_DRAWN = 0;
       o.value = p.key; o.textContent = p.label;
       ref.appendChild(o);
     });
+    var roleOption = document.createElement("option");
+    roleOption.value = "roles"; roleOption.textContent = "none: colour by role (fixed / region of interest / handle)";
+    ref.appendChild(roleOption);
     ref.value = panels.some(function (p) { return p.key === "lap"; }) ? "lap" : "rest";
     colour(rec, roles);
     frame();
@@ -89,23 +93,24 @@ window.DB_VIEWER_DRAWN = 0;
   function refKey() { return document.getElementById("ref").value; }
 
   function colour(rec, roles) {
-    var ref = panels.filter(function (p) { return p.key === refKey(); })[0];
+    var byRole = refKey() === "roles", ref = panels.filter(function (p) { return p.key === refKey(); })[0];
     var dists = panels.map(function (p) {
-      return p.key === "rest" || p === ref ? null : distances(p.V, ref.V, rec.diag);
+      return byRole || p.key === "rest" || p === ref ? null : distances(p.V, ref.V, rec.diag);
     });
     var hi = 0;
     dists.forEach(function (d) { if (d) for (var i = 0; i < d.length; i++) hi = Math.max(hi, d[i]); });
     panels.forEach(function (p, k) {
       var col = p.geometry.attributes.color.array, d = dists[k];
       for (var i = 0; i < roles.length; i++) {
-        var c = p.key === "rest" ? ROLE_COLOURS[roles[i]] || ROLE_COLOURS[1]
+        var c = p.key === "rest" || byRole ? ROLE_COLOURS[roles[i]] || ROLE_COLOURS[1]
               : d ? ramp(hi > 0 ? d[i] / hi : 0) : [0.8, 0.8, 0.8];  // the reference itself: grey
         col[3 * i] = c[0]; col[3 * i + 1] = c[1]; col[3 * i + 2] = c[2];
       }
       p.geometry.attributes.color.needsUpdate = true;
     });
     document.getElementById("cb-lo").textContent = "0";
-    document.getElementById("cb-hi").textContent = hi.toPrecision(3) + " bbox diagonals from " + ref.label;
+    document.getElementById("cb-hi").textContent = byRole ? "(colours by role)"
+      : hi.toPrecision(3) + " rest bounding-box diagonals from " + ref.label;
   }
 
   function frame() {
@@ -167,8 +172,8 @@ window.DB_VIEWER_DRAWN = 0;
       current = rec;
       build(rec);
     };
-    if (DB_MESHES.cases[name]) { done(DB_MESHES.cases[name]); return; }
-    DB_MESHES.waiting = done;
+    if (DB_MESHES.cases[name]) { DB_MESHES.waiting = null; done(DB_MESHES.cases[name]); return; }
+    DB_MESHES.waiting = {name: name, done: done};
     var s = document.createElement("script");
     s.src = entry.file;
     document.body.appendChild(s);
