@@ -39,6 +39,7 @@ from pathlib import Path
 
 from . import ci
 from . import gate as track_gate
+from . import power
 from .history import InputError, load_history
 
 PY = "/usr/bin/python3"
@@ -285,11 +286,20 @@ def baseline_of_rev(ctx, sha, machine):
 
 
 # ------------------------------------------------------------------------------------------------ gating
+def load_baseline(path):
+    """The baseline record: a history file, or a list of them (runs of one commit) gated as one, rounds pooled."""
+    if not isinstance(path, list):
+        return load_history(path)
+    base = power.pooled([load_history(p) for p in path])
+    base.path = f"{path[0]} and {len(path) - 1} more, pooled"
+    return base
+
+
 def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=False, suite=None, notes=()):
     """gate.py's exit code for NOW against BASE (0 pass, 1 regression, 3 stale, 4 foreign baseline); `suite`: the
     cells the current suite defines; `notes`: lines for the report."""
     try:
-        base, now = load_history(base_path), load_history(now_path)
+        base, now = load_baseline(base_path), load_history(now_path)
     except InputError as e:
         raise Failure(str(e))
     a = ctx.args
@@ -314,31 +324,10 @@ def site(ctx):
         log("dbtools.site failed (the gate's verdict stands)")
 
 
-def pooled(paths, out):
-    """One history of the runs `paths` (of one commit and machine): their rows, the rounds of the k-th run numbered
-    after those of the runs before it, written to `out`."""
-    rows, offset = [], 0
-    for path in paths:
-        with open(path, newline="") as f:
-            run = list(csv.DictReader(f))
-        reps = [int(r["repeat"]) for r in run if r["repeat"].isdigit()]
-        for r in run:
-            if r["repeat"].isdigit():
-                r["repeat"] = str(int(r["repeat"]) + offset)
-        offset += max(reps, default=0)
-        rows += run
-    fields = list(dict.fromkeys(k for r in rows for k in r))
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with open(out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields, restval="")
-        w.writeheader()
-        w.writerows(rows)
-    return out
-
-
 def local_baseline(ctx, machine, head, label, n):
-    """(baseline path, why) from --baseline-runs: this machine's history of an ancestor when it has one, else `n`
-    runs of the current tree measured now and pooled into RESULTS/history/baselines/."""
+    """(baseline, why) from --baseline-runs: this machine's history of an ancestor when it has one (None: the
+    default choice finds it), else `n` runs of the current tree measured now (their paths: gated as one record,
+    power.pooled)."""
     mine = [m for m in candidates(ctx, machine, cells=suite_cells(ctx, ctx.only))
             if is_ancestor(ctx.repo, m["commit"], head)]
     if mine:
@@ -346,9 +335,9 @@ def local_baseline(ctx, machine, head, label, n):
     log(f"no history of an ancestor commit on machine {machine}: a local baseline of {n} run(s) of this commit first")
     runs = [measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only, ctx.overrides)
             for _ in range(n)]
-    out = pooled(runs, ctx.history / "baselines" / runs[0].name)
-    return out, (f"a local baseline of {n} run(s) of this commit on this machine, measured now and pooled "
-                 f"({out.name}): this comparison is of unchanged code, a check of the gate's noise here")
+    return runs, (f"a local baseline of {n} run(s) of this commit on this machine, measured now, their rounds "
+                  f"pooled ({', '.join(p.name for p in runs)}): this comparison is of unchanged code, a check of "
+                  "the gate's noise here")
 
 
 def save_reference(ctx, path, machine):
