@@ -101,6 +101,10 @@ expect "--baseline-runs with history: not needed" 0 "--baseline-runs not needed"
 [ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 4 ] && ok "--baseline-runs with history: one run only" ||
   fail "history4: $(ls "$T/history4/runs")"
 expect "--baseline-runs 0" 1 "--baseline-runs N: N >= 1" -- --baseline-runs 0
+# Without --no-plots a run refreshes the trend figures and the site (RESULTS/site/, dbtools.site) of the repository.
+/usr/bin/python3 -m dbtools.track --repo "$R" --work-dir "$T/work" --history-dir "$T/history4" --report "$T/track.md" \
+  >"$T/out" 2>&1 && [ -s "$R/results/site/index.html" ] && grep -q "\[site\] .* pages" "$T/out" &&
+  ok "a run refreshes the site" || fail "no site after a run: $(tail -c 600 "$T/out")"
 
 # A fresh clone: no runs of its own, only the committed reference (of a commit it does not have).
 mkdir -p "$T/history2/reference"

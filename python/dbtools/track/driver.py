@@ -318,6 +318,7 @@ def plots(ctx):
 
 def site(ctx):
     """The static site (dbtools.site, results/site/) with the new history; its failure leaves the verdict alone."""
+    (ctx.repo / "results").mkdir(exist_ok=True)
     p = subprocess.run([PY, "-m", "dbtools.site", "--results", str(ctx.repo / "results")],
                        env=dict(os.environ, PYTHONPATH=str(PACKAGES), PYTHONDONTWRITEBYTECODE="1"))
     if p.returncode != 0:
