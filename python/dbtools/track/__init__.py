@@ -11,6 +11,7 @@ is its JSON, read as the same rows by gbench.py. Both are gated by gate.py's rul
   python3 -m dbtools.track.gate       gate.py: two records (history CSV or bench_phases JSON)
   python3 -m dbtools.track.results    results.py: two runs of the experiment drivers' result CSVs
   python3 -m dbtools.track.power      power.py: the gate's false alarms and power on runs of one commit
+  python3 -m dbtools.track.ci         ci.py: a record as github-action-benchmark JSON (customSmallerIsBetter)
 
 Why gbench feeds the gate instead of leaving it: its phases are the library calls a regression shows in first
 (one backend's factorization, one build), timed in-process without a child's start-up, and its counters are the

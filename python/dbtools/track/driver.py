@@ -383,7 +383,7 @@ def cmd_run(ctx, a):
             "the baseline of the next run"
         log(f"recorded {now} ({nxt}); {why}: nothing to compare")
     else:
-        log(f"baseline: {why}: {base}")
+        log(f"baseline: {why}" + ("" if isinstance(base, list) else f": {base}"))
         code = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=ctx.report,
                     suite=suite_cells(ctx, None), notes=[f"baseline: {why}"])
         if code in (0, 1):
