@@ -85,9 +85,10 @@ VIEWER = """<h1>Deformed meshes</h1>
 role (<span class="swatch" style="background:#9ea8b8"></span> fixed, <span class="swatch"
 style="background:#db524d"></span> free: the region of interest, <span class="swatch"
 style="background:#f7d940"></span> handle) beside each method's result coloured by its per-vertex distance from the
-chosen reference, in rest bounding-box diagonals (one scale for all panels), or every panel by role. Handle
-vertices are marked in yellow on every panel. Drag to turn, wheel to zoom, right-drag to pan; the panels share
-the camera.</p>
+chosen reference, in rest bounding-box diagonals (one scale for all panels; a result blown far past the rest
+size saturates), or every panel by role. Handle vertices are marked by <span class="swatch"
+style="background:#e0218a"></span> points on every panel. Drag to turn, wheel to zoom, right-drag to pan; the
+panels share the camera.</p>
 <div class="controls"><label>case <select id="case"></select></label>
 <label>distance from <select id="ref"></select></label> <span id="status"></span></div>
 <div id="viewer"><canvas id="canvas"></canvas><div id="labels"></div></div>

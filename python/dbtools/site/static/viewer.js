@@ -68,7 +68,7 @@ window.DB_VIEWER_DRAWN = 0;
       handle.forEach(function (v, k) { hp[3 * k] = V[3 * v]; hp[3 * k + 1] = V[3 * v + 1]; hp[3 * k + 2] = V[3 * v + 2]; });
       var hg = new THREE.BufferGeometry();
       hg.setAttribute("position", new THREE.BufferAttribute(hp, 3));
-      scene.add(new THREE.Points(hg, new THREE.PointsMaterial({color: 0xf7d940, size: 3, sizeAttenuation: false})));
+      scene.add(new THREE.Points(hg, new THREE.PointsMaterial({color: 0xe0218a, size: 3, sizeAttenuation: false})));
       scene.add(new THREE.AmbientLight(0xffffff, 0.45));
       var light = new THREE.DirectionalLight(0xffffff, 0.6);
       scene.add(light);
@@ -85,8 +85,8 @@ window.DB_VIEWER_DRAWN = 0;
     roleOption.value = "roles"; roleOption.textContent = "none: colour by role (fixed / region of interest / handle)";
     ref.appendChild(roleOption);
     ref.value = panels.some(function (p) { return p.key === "lap"; }) ? "lap" : "rest";
-    colour(rec, roles);
     frame();
+    colour(rec, roles);
     layout();
   }
 
@@ -97,8 +97,17 @@ window.DB_VIEWER_DRAWN = 0;
     var dists = panels.map(function (p) {
       return byRole || p.key === "rest" || p === ref ? null : distances(p.V, ref.V, rec.diag);
     });
-    var hi = 0;
-    dists.forEach(function (d) { if (d) for (var i = 0; i < d.length; i++) hi = Math.max(hi, d[i]); });
+    // One scale for all panels, set by the results of about the rest size: a blown-up result (TF's free scale)
+    // would leave every other panel at the bottom colour; it saturates instead.
+    var hi = 0, hiAll = 0, saturated = [];
+    dists.forEach(function (d, k) {
+      if (!d) return;
+      var m = 0;
+      for (var i = 0; i < d.length; i++) m = Math.max(m, d[i]);
+      hiAll = Math.max(hiAll, m);
+      if (panels[k].scale <= 2) hi = Math.max(hi, m); else saturated.push(panels[k].label);
+    });
+    if (hi === 0) { hi = hiAll; saturated = []; }
     panels.forEach(function (p, k) {
       var col = p.geometry.attributes.color.array, d = dists[k];
       for (var i = 0; i < roles.length; i++) {
@@ -110,7 +119,8 @@ window.DB_VIEWER_DRAWN = 0;
     });
     document.getElementById("cb-lo").textContent = "0";
     document.getElementById("cb-hi").textContent = byRole ? "(colours by role)"
-      : hi.toPrecision(3) + " rest bounding-box diagonals from " + ref.label;
+      : hi.toPrecision(3) + " rest bounding-box diagonals from " + ref.label +
+        (saturated.length ? " (" + saturated.join(", ") + ": up to " + hiAll.toPrecision(3) + ", saturated)" : "");
   }
 
   function frame() {
@@ -144,8 +154,10 @@ window.DB_VIEWER_DRAWN = 0;
       var l = document.createElement("div");
       l.className = "label";
       l.style.left = p.rect.x + "px"; l.style.top = p.rect.y + "px"; l.style.width = pw + "px";
-      l.textContent = p.label + (p.key === refKey() ? " (reference)" : "") +
+      var t = document.createElement("span");
+      t.textContent = p.label + (p.key === refKey() ? " (reference)" : "") +
         (p.scale > 2 ? " - " + p.scale.toFixed(1) + "x the rest size: zoom out" : "");
+      l.appendChild(t);
       labels.appendChild(l);
     });
     draw();
