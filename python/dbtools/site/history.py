@@ -135,7 +135,8 @@ def pages(results):
             "docs/tracking.md), a page per tracked measure (the gate's classes: deterministic, memory, CPU time, "
             "wall time).</p><table><tr><th>machine</th><th>runs</th><th>first</th><th>last</th></tr>"
             f"{runs}</table><ul>{rows}</ul>")
-    return [Page("history.html", "History", body)] + [measure_page(ms, machines) for ms in measures]
+    what = "each tracked measure of the tracking suite over commits, with its spread, machines apart"
+    return [Page("history.html", "History", body, summary=what)] + [measure_page(ms, machines) for ms in measures]
 
 
 def cls_of(machines, measure):

@@ -106,4 +106,5 @@ def pages(results, site):
                 f"<code>{esc(THREE)}</code>): the viewer needs it. <code>./run reproduce</code> installs it.</p>")
         return [Page("viewer.html", "3D viewer", body)]
     scripts = ["three/three.min.js", "three/OrbitControls.js", "meshes/index.js", "viewer.js"]
-    return [Page("viewer.html", "3D viewer", VIEWER, scripts)]
+    what = "the deformed meshes in 3D: rest against LAP, TF, scale-free TF and LRI, per-vertex distances"
+    return [Page("viewer.html", "3D viewer", VIEWER, scripts, summary=what)]

@@ -7,15 +7,21 @@ import markdown
 
 from .layout import Page, esc
 
-# report -> (page title, its figures: globs under RESULTS/figures/, in order). A report that is not there has no page.
+# report -> (page title, what it shows, its figures: globs under RESULTS/figures/, in order). A report that is not
+# there has no page.
 REPORTS = {
-    "table_2_1": ("Table 2-1 vs the thesis", ["table_2_1_*.png", "scaling*.png"]),
-    "solvers": ("Solver verdict", ["solvers_*.png"]),
-    "frames": ("Frames study", ["frames_*.png"]),
-    "figures": ("Frames renders", ["render_*.png"]),
-    "applications": ("Applications", ["render_app_*.png"]),
-    "handle_frames": ("Handle frames", []),
-    "handle_drags": ("Handle drags", []),
+    "table_2_1": ("Table 2-1 vs the thesis", "the thesis' Table 2-1 (dense, naive and structured builds of LAP and "
+                  "TF) reproduced beside the thesis' values, and the scaling of the structured build",
+                  ["table_2_1_*.png", "scaling*.png"]),
+    "solvers": ("Solver verdict", "every backend and ordering on the LAP and TF systems, the BLAS kernel sets, "
+                "and the verdict", ["solvers_*.png"]),
+    "frames": ("Frames study", "LRI's frame strategies against LAP and TF on bends, twists and edits",
+               ["frames_*.png"]),
+    "figures": ("Frames renders", "the thesis' figures: rest against every method's result, per case",
+                ["render_*.png"]),
+    "applications": ("Applications", "coating transfer and transplanting", ["render_app_*.png"]),
+    "handle_frames": ("Handle frames", "frame times of the handle mode", []),
+    "handle_drags": ("Handle drags", "drags in the handle mode", []),
 }
 # figures.md shows the frames study's renders; the applications' renders are the applications page's.
 EXCLUDE = {"figures": ["render_app_*.png"]}
@@ -67,17 +73,9 @@ def gallery(names):
     return f'<h2 id="figures">Figures</h2>\n<div class="gallery">\n{items}</div>'
 
 
-def first_paragraph(text):
-    for block in text.split("\n\n"):
-        block = block.strip()
-        if block and not block.startswith(("#", "|", "-", "*")):
-            return block.replace("\n", " ")
-    return ""
-
-
 def pages(results):
     out = []
-    for name, (title, globs) in REPORTS.items():
+    for name, (title, what, globs) in REPORTS.items():
         path = os.path.join(results, f"{name}.md")
         if not os.path.exists(path):
             continue
@@ -85,14 +83,14 @@ def pages(results):
             text = f.read()
         body = markdown.markdown(cite_figures(results, text), extensions=["tables", "fenced_code"])
         body = relink(results, body) + gallery(figure_names(results, name, globs))
-        out.append(Page(f"{name}.html", title, body, summary=first_paragraph(text)))
+        out.append(Page(f"{name}.html", title, body, summary=what))
     return out
 
 
 def index_body(results, pages):
     missing = [f"{n}.md" for n in REPORTS if not os.path.exists(os.path.join(results, f"{n}.md"))]
     items = "".join(f'<li><a href="{esc(p.name)}">{esc(p.title)}</a>' +
-                    (f"<br><small>{esc(p.summary[:300])}</small>" if p.summary else "") + "</li>\n"
+                    (f": {esc(p.summary)}" if p.summary else "") + "</li>\n"
                     for p in pages if p.nav)
     out = ["<h1>deformbench results</h1>",
            f"<p>Generated from <code>{esc(os.path.abspath(results))}</code> by the report step "
@@ -100,6 +98,6 @@ def index_body(results, pages):
            "never measure: each page shows a report of the drivers' CSVs and its figures.</p>",
            f"<ul class=\"index\">\n{items}</ul>"]
     if missing:
-        out.append(f"<p>Not generated (no report; <code>./run reproduce</code> writes them): "
+        out.append(f"<p>No page for the reports not under the results directory (their drivers did not run): "
                    f"{esc(', '.join(missing))}</p>")
     return "\n".join(out)
