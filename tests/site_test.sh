@@ -26,7 +26,11 @@ for k in 1 2; do
     "$R/history/runs/2026112${k}T000000Z_abc${k}_fake-machine.csv" "abc${k}000000000" || fail "history $k"
 done
 
+# An unreadable mesh costs its case only, named.
+printf 'ply\nnot a mesh\n' >"$R/meshes/frames/broken__rest.ply"
 /usr/bin/python3 -m dbtools.site --results "$R" >"$T/out" 2>&1 && ok "site generated" || fail "site: $(cat "$T/out")"
+grep -q "viewer: case broken left out: .*broken__rest.ply: not a PLY file" "$T/out" && ok "a broken mesh named, left out" ||
+  fail "broken mesh: $(cat "$T/out")"
 S=$R/site
 for f in index.html table_2_1.html solvers.html frames.html applications.html history.html history_factorize_s.html \
   history_nnz_factor.html viewer.html viewer.js style.css meshes/index.js meshes/tiny_cactus.js three/three.min.js \

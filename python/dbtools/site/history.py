@@ -5,11 +5,12 @@ share an axis). Reads RESULTS/history/{runs,reference}/*.csv (dbtools.plots.hist
 rules left out) through the gate's record (dbtools.track.history). Charts are inline SVG: nothing to load."""
 import re
 import statistics
+import sys
 from collections import defaultdict
 
 from ..plots.history import read_runs
 from ..plots.styles import COLOURS
-from ..track.history import History
+from ..track.history import History, InputError
 from ..track.provenance import describe_machine
 from .layout import Page, esc
 
@@ -31,7 +32,11 @@ def collect(results):
     "class": {measure: class}}}"""
     machines = {}
     for rows in read_runs(results):
-        h = History.from_rows(rows)
+        try:
+            h = History.from_rows(rows)
+        except InputError as e:  # a history of another format: left out, said so
+            print(f"[site] history left out: {e}", file=sys.stderr)
+            continue
         m = machines.setdefault(h.meta["machine_id"], {"runs": [], "series": defaultdict(list), "class": {}})
         m["meta"] = h.meta
         i = len(m["runs"])

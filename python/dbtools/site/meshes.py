@@ -11,6 +11,7 @@ import glob
 import json
 import os
 import shutil
+import sys
 
 import numpy as np
 
@@ -57,7 +58,11 @@ def write_data(results, site):
     os.makedirs(out_dir, exist_ok=True)
     index = []
     for case in cases:
-        rec = encode_case(frames_dir, case)
+        try:
+            rec = encode_case(frames_dir, case)
+        except (OSError, ValueError) as e:  # an unreadable mesh costs its case only
+            print(f"[site] viewer: case {case} left out: {e}", file=sys.stderr)
+            continue
         if rec is None:
             continue
         with open(os.path.join(out_dir, f"{case}.js"), "w") as f:
