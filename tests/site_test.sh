@@ -10,7 +10,8 @@
 set -u
 SRC=$(cd "$1" && pwd)
 if ! command -v chromium >/dev/null; then
-  echo "SKIP: chromium is not installed (Debian's chromium; ./run test installs it): the site is not tested in a browser"
+  echo "SKIP: chromium is not installed (Debian's chromium; ./run test installs it):" \
+    "the site is not tested in a browser"
   exit 77
 fi
 . "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
@@ -29,7 +30,8 @@ done
 # An unreadable mesh costs its case only, named.
 printf 'ply\nnot a mesh\n' >"$R/meshes/frames/broken__rest.ply"
 /usr/bin/python3 -m dbtools.site --results "$R" >"$T/out" 2>&1 && ok "site generated" || fail "site: $(cat "$T/out")"
-grep -q "viewer: case broken left out: .*broken__rest.ply: not a PLY file" "$T/out" && ok "a broken mesh named, left out" ||
+grep -q "viewer: case broken left out: .*broken__rest.ply: not a PLY file" "$T/out" &&
+  ok "a broken mesh named, left out" ||
   fail "broken mesh: $(cat "$T/out")"
 S=$R/site
 for f in index.html table_2_1.html solvers.html frames.html applications.html history.html history_factorize_s.html \
@@ -54,7 +56,8 @@ B=(/usr/bin/python3 "$SRC/tests/site_browser.py")
 rc=$?
 cat "$T/out"
 [ $rc -eq 0 ] && ok "every page clean in Chromium, the viewer drawn" || fail "site_browser: exit $rc"
-grep -Eq "^ok +viewer.html \(canvas [0-9]+x[0-9]+: [0-9]+ colours.*clicked through: 6/1" "$T/out" && ok "viewer canvas checked" ||
+grep -Eq "^ok +viewer.html \(canvas [0-9]+x[0-9]+: [0-9]+ colours.*clicked through: 6/1" "$T/out" &&
+  ok "viewer canvas checked" ||
   fail "the viewer's canvas was not checked"
 
 # The checker bites: a page with a missing image, a console.error and an uncaught exception.

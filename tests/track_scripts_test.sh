@@ -45,7 +45,8 @@ expect "first run: recorded, nothing to compare" 0 "nothing to compare" --
 expect "second run: the first is its baseline" 0 "baseline: the newest history of an ancestor commit" --
 [ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" && ok "report written" || fail "no report"
 # The run as github-action-benchmark's customSmallerIsBetter input, beside its CSV and at a fixed path for CI.
-/usr/bin/python3 - "$T/history" >"$T/json.out" 2>&1 <<'PY' && ok "JSON beside each run and latest.json" || fail "JSON: $(cat "$T/json.out")"
+/usr/bin/python3 - "$T/history" >"$T/json.out" 2>&1 <<'PY' && ok "JSON beside each run and latest.json" ||
+  fail "JSON: $(cat "$T/json.out")"
 import glob, json, os, sys
 h = sys.argv[1]
 csvs = sorted(glob.glob(f"{h}/runs/*.csv"))
@@ -92,9 +93,11 @@ expect "--baseline-runs 2 without history" 0 "a local baseline of 2 run\(s\) of 
   --history-dir "$T/history4" --baseline-runs 2
 grep -q "^gated: 2 of 2 comparisons (cpu 1, deterministic 1)" "$T/out" && ok "--baseline-runs: the CPU time gated" ||
   fail "--baseline-runs: $(cat "$T/out")"
-grep -q "^- gated: 2 of 2 comparisons" "$T/track.md" && grep -q "^- baseline: a local baseline of 2 run" "$T/track.md" &&
+grep -q "^- gated: 2 of 2 comparisons" "$T/track.md" &&
+  grep -q "^- baseline: a local baseline of 2 run" "$T/track.md" &&
   ok "the report says what was gated and against what" || fail "track.md: $(cat "$T/track.md")"
-[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 3 ] && grep -q "^baseline: .*history4/runs/.* and 1 more, pooled" "$T/out" &&
+[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 3 ] &&
+  grep -q "^baseline: .*history4/runs/.* and 1 more, pooled" "$T/out" &&
   ok "two runs gated as one baseline, then the run" || fail "history4: $(ls -R "$T/history4"; cat "$T/out")"
 expect "--baseline-runs with history: not needed" 0 "--baseline-runs not needed" -- --history-dir "$T/history4" \
   --baseline-runs 2

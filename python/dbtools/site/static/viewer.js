@@ -65,7 +65,9 @@ window.DB_VIEWER_DRAWN = 0;
       scene.add(new THREE.Mesh(g, new THREE.MeshLambertMaterial({vertexColors: THREE.VertexColors,
                                                                  side: THREE.DoubleSide})));
       var hp = new Float32Array(handle.length * 3);
-      handle.forEach(function (v, k) { hp[3 * k] = V[3 * v]; hp[3 * k + 1] = V[3 * v + 1]; hp[3 * k + 2] = V[3 * v + 2]; });
+      handle.forEach(function (v, k) {
+        hp[3 * k] = V[3 * v]; hp[3 * k + 1] = V[3 * v + 1]; hp[3 * k + 2] = V[3 * v + 2];
+      });
       var hg = new THREE.BufferGeometry();
       hg.setAttribute("position", new THREE.BufferAttribute(hp, 3));
       scene.add(new THREE.Points(hg, new THREE.PointsMaterial({color: 0xe0218a, size: 3, sizeAttenuation: false})));
