@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "applications/application_measures.h"
 #include "applications/coating_transfer.h"
 #include "applications/disk_parameterization.h"
 #include "applications/disk_patch.h"
@@ -74,20 +75,23 @@ TEST(DiskPatch, RefusesWhatIsNoDisk) {
                      "once its ears are trimmed (7 vertices selected)");
 }
 
-TEST(TutteParameterization, IsBijectiveOntoTheDisk) {
+// Uniform (Tutte) and mean-value weights are positive: the map is bijective (no triangle folds) on any disk.
+TEST(DiskParameterization, PositiveWeightsAreBijectiveOntoTheDisk) {
   const Mesh m = bumpy();
-  const DiskPatch p = extract_disk_patch(m, all_vertices(m), "source");
-  const UV uv = tutte_parameterization(p);
-  for (int v : p.boundary) EXPECT_NEAR(uv.row(v).norm(), 1.0, 1e-12);
-  for (int f = 0; f < p.mesh.num_faces(); ++f) {  // every triangle keeps its orientation: no fold
-    const Eigen::Vector2d a = uv.row(p.mesh.F(f, 0)), b = uv.row(p.mesh.F(f, 1)), c = uv.row(p.mesh.F(f, 2));
-    const Eigen::Vector2d e1 = b - a, e2 = c - a;
-    EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0) << "face " << f;
+  const DiskPatch p = extract_disk_patch(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7), "source");
+  for (const DiskMap map : {DiskMap::Uniform, DiskMap::MeanValue}) {
+    const UV uv = disk_parameterization(p, map);
+    for (int v : p.boundary) EXPECT_NEAR(uv.row(v).norm(), 1.0, 1e-12);
+    for (int f = 0; f < p.mesh.num_faces(); ++f) {  // every triangle keeps its orientation: no fold
+      const Eigen::Vector2d a = uv.row(p.mesh.F(f, 0)), b = uv.row(p.mesh.F(f, 1)), c = uv.row(p.mesh.F(f, 2));
+      const Eigen::Vector2d e1 = b - a, e2 = c - a;
+      EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0) << to_string(map) << " face " << f;
+    }
+    // Each vertex is found in a face it belongs to, with barycentric weight 1 at itself.
+    const auto at = locate_in_parameter_domain(uv, p.mesh.F, uv);
+    const Points back = interpolate(at, p.mesh.F, p.mesh.V);
+    EXPECT_LT((back - p.mesh.V).cwiseAbs().maxCoeff(), 1e-12) << to_string(map);
   }
-  // Each vertex is found in a face it belongs to, with barycentric weight 1 at itself.
-  const auto at = locate_in_parameter_domain(uv, p.mesh.F, uv);
-  const Points back = interpolate(at, p.mesh.F, p.mesh.V);
-  EXPECT_LT((back - p.mesh.V).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 // The test: the surface's own coating onto its own smooth version gives the surface back.
@@ -106,15 +110,17 @@ TEST(CoatingTransfer, OwnCoatingOntoOwnSmoothVersionReconstructs) {
 
 // A surface's own coating onto its own smooth version (put back in the mesh's numbering), on `region`: the largest
 // distance from the input surface over the patch's bounding-box diagonal. Outside the patch nothing moves.
-double self_coating_error(const Mesh& m, const std::vector<int>& region) {
-  const CoatingOptions o;
+double self_coating_error(const Mesh& m, const std::vector<int>& region, const CoatingOptions& o = {}) {
   const Coating c = extract_coating(m, region, o);
   Mesh smooth = m;
   for (int l = 0; l < c.patch.num_vertices(); ++l) smooth.V.row(c.patch.parent[l]) = c.smooth.row(l);
   EXPECT_GT(rel_max(c.smooth, c.patch.mesh.V), 1e-4);  // the smoothing removed detail worth reconstructing
   const CoatedTarget t = transfer_coating(c, smooth, region, o);
   EXPECT_DOUBLE_EQ(t.scale, 1.0);  // same boundary, same smooth surface: sigma = rho = 1
-  EXPECT_LT(t.detail_error, 1e-8);
+  // The detail the solve carries, off by at most rounding on the diagonal's scale (detail_error is relative to the
+  // detail's own size, which is far smaller than the coordinates it is rounded with).
+  const double detail_rms = std::sqrt(t.mapped_detail.squaredNorm() / t.mapped_detail.rows());
+  EXPECT_LT(t.detail_error * detail_rms, 1e-8 * bbox_diagonal(c.patch.mesh.V));
   Points got(c.patch.num_vertices(), 3);
   for (int l = 0; l < c.patch.num_vertices(); ++l) got.row(l) = t.result.V.row(c.patch.parent[l]);
   std::vector<char> in(static_cast<std::size_t>(m.num_vertices()), 0);
@@ -125,8 +131,8 @@ double self_coating_error(const Mesh& m, const std::vector<int>& region) {
     }
   }
   const double err = rel_max(got, c.patch.mesh.V);
-  std::cout << m.name << ": " << c.patch.num_vertices() << " patch vertices, self-coating error " << err
-            << " of the patch's diagonal\n";
+  std::cout << m.name << " (" << o.map << " map, " << o.encoding << " encoding): " << c.patch.num_vertices()
+            << " patch vertices, self-coating error " << err << " of the patch's diagonal\n";
   return err;
 }
 
@@ -135,11 +141,29 @@ double self_coating_error(const Mesh& m, const std::vector<int>& region) {
 // 1e-3 of the diagonal was lost near the boundary). What remains is rounding through the LSE normal equations, whose condition
 // number grows as the fourth power of the patch's radius in rings r: eps r^4 is under the 1e-8 of the
 // patch's diagonal for the largest patch here (the BS08 disk, r about 66), and far under it for the others.
+// Every map with every encoding: the source's map is taken on its smooth version, so the target (that smooth
+// version) maps onto the same points whatever the weights.
+std::vector<CoatingOptions> every_alternative() {
+  std::vector<CoatingOptions> out;
+  for (const DiskMap map : {DiskMap::Uniform, DiskMap::MeanValue, DiskMap::Cotangent})
+    for (const DetailEncoding e : {DetailEncoding::Height, DetailEncoding::Laplacian}) {
+      CoatingOptions o;
+      o.map = map;
+      o.encoding = e;
+      out.push_back(o);
+    }
+  return out;
+}
+
 TEST(CoatingTransfer, OwnCoatingOfASubPatchReconstructs) {
   const Mesh m = bumpy();
-  EXPECT_LT(self_coating_error(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7)), 1e-8);
+  for (const CoatingOptions& o : every_alternative())
+    EXPECT_LT(self_coating_error(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7), o), 1e-8);
   const Mesh plane = read_mesh((bs08_dir() / "plane.off").string());
-  EXPECT_LT(self_coating_error(plane, select_sphere(plane, Vec3(50, 50, 0), 33)), 1e-8);
+  CoatingOptions laplacian;
+  laplacian.encoding = DetailEncoding::Laplacian;
+  for (const CoatingOptions& o : {CoatingOptions{}, laplacian})
+    EXPECT_LT(self_coating_error(plane, select_sphere(plane, Vec3(50, 50, 0), 33), o), 1e-8);
 }
 
 // The irregular patches: the bunny's 3000 vertices nearest (0, 0, 0.5) and the 26-ring of vertex 4530, the
@@ -151,8 +175,27 @@ TEST(CoatingTransfer, OwnCoatingOfIrregularRealPatchesReconstructs) {
     const std::string p = DEFORMBENCH_SOURCE_DIR "/data/meshes/" + file;
     ASSERT_TRUE(std::filesystem::exists(p)) << p << " is missing: run scripts/data.sh (./run test does)";
     const Mesh m = read_mesh(p);
-    EXPECT_LT(self_coating_error(m, select_by_spec(m, spec)), 1e-8) << file << " " << spec;
+    for (const CoatingOptions& o : every_alternative())
+      EXPECT_LT(self_coating_error(m, select_by_spec(m, spec), o), 1e-8) << file << " " << spec;
   }
+}
+
+// The coating keeps its size on an irregular target: the BS08 plane's bumps onto the bunny's 3000 vertices nearest
+// (0, 0, 0.5), with the default map and encoding, arrive with normal heights the source's times sigma, largest and
+// area-weighted RMS within the 15% band (Laplacian coordinates made them several times too tall:
+// results/applications.md measures every alternative). Not a rounding-level property: the band
+// is the acceptance criterion, and what the measure can vary by is the two samplings' interpolation.
+TEST(CoatingTransfer, KeepsTheCoatingsSizeOnAnIrregularPatch) {
+  const std::string p = DEFORMBENCH_SOURCE_DIR "/data/meshes/bunny00.off";
+  ASSERT_TRUE(std::filesystem::exists(p)) << p << " is missing: run scripts/data.sh (./run test does)";
+  const Mesh src = read_mesh((bs08_dir() / "plane.off").string()), dst = read_mesh(p);
+  const CoatingOptions o;
+  const Coating c = extract_coating(src, all_vertices(src), o);
+  const CoatedTarget t = transfer_coating(c, dst, select_by_spec(dst, "nearest:0,0,0.5,3000"), o);
+  const CoatingAmplitude a = coating_amplitude(c, t, dst);
+  std::cout << "bunny patch: height ratios max " << a.max_ratio << ", rms " << a.rms_ratio << "\n";
+  EXPECT_NEAR(a.max_ratio, 1.0, 0.15);
+  EXPECT_NEAR(a.rms_ratio, 1.0, 0.15);
 }
 
 TEST(CoatingTransfer, PutsTheBumpsOnAFlatPatch) {
