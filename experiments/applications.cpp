@@ -11,8 +11,9 @@
 // --data, or plane:NX:NY:SIZE:HEIGHT:BUMPS), source_region=, target_region= (the selection forms of .edit files,
 // default all), smooth_weight=, amplitude=, map=, encoding= (coat), zone= (transplant); coat's target=self is the
 // source's own smooth version (the self-coating, whose result must be the source: column self_error); map=all and
-// encoding=all make one cell per value (the case's name suffixed with the values), so each alternative is measured. A case whose mesh is absent is skipped; a
-// case that fails is a row with its status, and the driver then exits with kCellsFailedExit (harness/driver.h).
+// encoding=all make one cell per value (the case's name suffixed with the values), so each alternative is measured.
+// A case whose mesh is absent is skipped; a case that fails is a row with its status, and the driver then exits
+// with kCellsFailedExit (harness/driver.h).
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -140,13 +141,6 @@ std::vector<int> graft_vertices(const Transplant& t) {
 // The application's measures; a name ending in "_s" is a time (unit "s", so that it gets its spread).
 void set_measures(CellResult& r, const NamedValues& values) {
   for (const auto& [k, v] : values) r.set(k, v, k.size() > 2 && k.compare(k.size() - 2, 2, "_s") == 0 ? "s" : "");
-}
-
-// The source with its patch replaced by the coating's smooth version: the self-coating's target.
-Mesh own_smooth_version(const Mesh& source, const Coating& c) {
-  Mesh m = source;
-  for (int l = 0; l < c.patch.num_vertices(); ++l) m.V.row(c.patch.parent[l]) = c.smooth.row(l);
-  return m;
 }
 
 // Coating transfer; a self-coating (target=self) also measures how far the result is from the source, over the

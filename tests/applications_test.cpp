@@ -100,8 +100,7 @@ TEST(CoatingTransfer, OwnCoatingOntoOwnSmoothVersionReconstructs) {
   const CoatingOptions o;
   const Coating c = extract_coating(m, all_vertices(m), o);
   EXPECT_GT(rel_max(c.smooth, m.V), 0.01);  // the smoothing removed the bumps
-  Mesh smooth = m;  // the smooth patch back in the mesh's numbering
-  for (int l = 0; l < c.patch.num_vertices(); ++l) smooth.V.row(c.patch.parent[l]) = c.smooth.row(l);
+  const Mesh smooth = own_smooth_version(m, c);
   const CoatedTarget t = transfer_coating(c, smooth, all_vertices(smooth), o);
   EXPECT_DOUBLE_EQ(t.scale, 1.0);
   EXPECT_LT(rel_max(t.result.V, m.V), 1e-8);
@@ -112,8 +111,7 @@ TEST(CoatingTransfer, OwnCoatingOntoOwnSmoothVersionReconstructs) {
 // distance from the input surface over the patch's bounding-box diagonal. Outside the patch nothing moves.
 double self_coating_error(const Mesh& m, const std::vector<int>& region, const CoatingOptions& o = {}) {
   const Coating c = extract_coating(m, region, o);
-  Mesh smooth = m;
-  for (int l = 0; l < c.patch.num_vertices(); ++l) smooth.V.row(c.patch.parent[l]) = c.smooth.row(l);
+  const Mesh smooth = own_smooth_version(m, c);
   EXPECT_GT(rel_max(c.smooth, c.patch.mesh.V), 1e-4);  // the smoothing removed detail worth reconstructing
   const CoatedTarget t = transfer_coating(c, smooth, region, o);
   EXPECT_DOUBLE_EQ(t.scale, 1.0);  // same boundary, same smooth surface: sigma = rho = 1

@@ -38,18 +38,6 @@ double mean_edge_length(const Mesh& m) {
   return sum / (3.0 * m.num_faces());
 }
 
-// The uniform Laplacian coordinates of the patch's vertices placed at X (patch rows), as rows of the whole mesh's
-// Laplacian (the rest of the mesh where it is): a boundary vertex averages over all its neighbours in the mesh, as
-// in the rows of the transfer's LSE solve, which runs on the whole target.
-Points rows_in_mesh(const Mesh& whole, const Adjacency& adj, const DiskPatch& p, const Points& X) {
-  Mesh placed = whole;
-  for (int l = 0; l < p.num_vertices(); ++l) placed.V.row(p.parent[l]) = X.row(l);
-  const Points L = uniform_delta(placed, adj);
-  Points out(p.num_vertices(), 3);
-  for (int l = 0; l < p.num_vertices(); ++l) out.row(l) = L.row(p.parent[l]);
-  return out;
-}
-
 // E(X) of the encoding, X the whole mesh's positions, on the patch's rows: the positions (height) or their
 // uniform Laplacian coordinates (laplacian).
 Points encoded(DetailEncoding e, const Mesh& whole, const Adjacency& adj, const DiskPatch& p, const Points& X) {
@@ -57,6 +45,15 @@ Points encoded(DetailEncoding e, const Mesh& whole, const Adjacency& adj, const 
   Points out(p.num_vertices(), 3);
   for (int l = 0; l < p.num_vertices(); ++l) out.row(l) = all.row(p.parent[l]);
   return out;
+}
+
+// The uniform Laplacian coordinates of the patch's vertices placed at X (patch rows), as rows of the whole mesh's
+// Laplacian (the rest of the mesh where it is): a boundary vertex averages over all its neighbours in the mesh, as
+// in the rows of the transfer's LSE solve, which runs on the whole target.
+Points rows_in_mesh(const Mesh& whole, const Adjacency& adj, const DiskPatch& p, const Points& X) {
+  Points placed = whole.V;
+  for (int l = 0; l < p.num_vertices(); ++l) placed.row(p.parent[l]) = X.row(l);
+  return encoded(DetailEncoding::Laplacian, whole, adj, p, placed);
 }
 
 }  // namespace
@@ -93,6 +90,12 @@ Coating extract_coating(const Mesh& source, const std::vector<int>& region, cons
   c.boundary_length = loop_length(c.patch);
   c.mean_edge = mean_edge_length(smooth);  // the spacing of the surface the detail sits on
   return c;
+}
+
+Mesh own_smooth_version(const Mesh& source, const Coating& coating) {
+  Mesh m = source;
+  for (int l = 0; l < coating.patch.num_vertices(); ++l) m.V.row(coating.patch.parent[l]) = coating.smooth.row(l);
+  return m;
 }
 
 CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const std::vector<int>& region,

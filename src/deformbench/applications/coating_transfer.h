@@ -79,6 +79,10 @@ struct CoatedTarget {
   double parameterize_s = 0, map_s = 0;
 };
 
+//! `source` with the coating's patch replaced by its smooth version: the target of a self-coating, which must give
+//! `source` back.
+Mesh own_smooth_version(const Mesh& source, const Coating& coating);
+
 //! Transfers `coating` onto `region` of `target`; the vertices outside the patch's interior stay where they are.
 CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const std::vector<int>& region,
                               const CoatingOptions& options);
