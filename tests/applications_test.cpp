@@ -3,6 +3,16 @@
 // patches.
 #include <gtest/gtest.h>
 
+#define CGAL_EIGEN3_ENABLED 1  // CGAL's Eigen solver traits (Eigen is the project's)
+#include <CGAL/Eigen_solver_traits.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_parameterization/Circular_border_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/Discrete_conformal_map_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/Mean_value_coordinates_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/parameterize.h>
+#include <Eigen/SparseLU>
+
 #include <algorithm>
 #include <array>
 #include <filesystem>
@@ -92,6 +102,45 @@ TEST(DiskParameterization, PositiveWeightsAreBijectiveOntoTheDisk) {
     const Points back = interpolate(at, p.mesh.F, p.mesh.V);
     EXPECT_LT((back - p.mesh.V).cwiseAbs().maxCoeff(), 1e-12) << to_string(map);
   }
+}
+
+namespace smp = CGAL::Surface_mesh_parameterization;
+using CgalMesh = CGAL::Surface_mesh<CGAL::Simple_cartesian<double>::Point_3>;
+using CgalLu = CGAL::Eigen_solver_traits<Eigen::SparseLU<CGAL::Eigen_sparse_matrix<double>::EigenType>>;
+using CgalBorder = smp::Circular_border_arc_length_parameterizer_3<CgalMesh>;
+
+// CGAL's map of `p` with parameterizer P (circular arc-length border from boundary[0], direct LU), moved from
+// CGAL's disk (centre (0.5, 0.5), radius 0.5; the border walked against the faces at negative angles, so in the
+// same turn as ours) onto the unit disk.
+template <class P>
+UV cgal_disk_map(const DiskPatch& p) {
+  CgalMesh sm;
+  std::vector<CgalMesh::Vertex_index> vs;
+  for (int v = 0; v < p.num_vertices(); ++v) vs.push_back(sm.add_vertex({p.mesh.V(v, 0), p.mesh.V(v, 1), p.mesh.V(v, 2)}));
+  for (int f = 0; f < p.mesh.num_faces(); ++f) sm.add_face(vs[p.mesh.F(f, 0)], vs[p.mesh.F(f, 1)], vs[p.mesh.F(f, 2)]);
+  auto h = sm.halfedge(vs[p.boundary[0]], vs[p.boundary.back()]);
+  EXPECT_TRUE(sm.is_border(h));
+  auto uvmap = sm.add_property_map<CgalMesh::Vertex_index, CGAL::Simple_cartesian<double>::Point_2>("v:uv").first;
+  EXPECT_EQ(smp::parameterize(sm, P(), h, uvmap), smp::OK);
+  UV uv(p.num_vertices(), 2);
+  for (int v = 0; v < p.num_vertices(); ++v) uv.row(v) << 2 * uvmap[vs[v]].x() - 1, 2 * uvmap[vs[v]].y() - 1;
+  return uv;
+}
+
+// The hand-written mean-value and cotangent maps are CGAL's mean-value coordinates and discrete conformal map
+// (same border): an independent implementation of the same weights. Both are direct solves of systems whose
+// condition number grows as the square of the patch's radius in rings (about 10 here), so they agree to rounding
+// times that; a wrong weight moves vertices by a visible fraction of the disk.
+TEST(DiskParameterization, GeometricWeightsAreCgalsMaps) {
+  const Mesh m = bumpy();
+  const DiskPatch p = extract_disk_patch(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7), "source");
+  using Mvc = smp::Mean_value_coordinates_parameterizer_3<CgalMesh, CgalBorder, CgalLu>;
+  using Dcm = smp::Discrete_conformal_map_parameterizer_3<CgalMesh, CgalBorder, CgalLu>;
+  const double mvc = (disk_parameterization(p, DiskMap::MeanValue) - cgal_disk_map<Mvc>(p)).cwiseAbs().maxCoeff();
+  const double cot = (disk_parameterization(p, DiskMap::Cotangent) - cgal_disk_map<Dcm>(p)).cwiseAbs().maxCoeff();
+  std::cout << "largest difference from CGAL: mean value " << mvc << ", cotangent " << cot << "\n";
+  EXPECT_LT(mvc, 1e-10);
+  EXPECT_LT(cot, 1e-10);
 }
 
 // The test: the surface's own coating onto its own smooth version gives the surface back.

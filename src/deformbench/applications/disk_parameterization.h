@@ -16,9 +16,10 @@
 //! weights only when both are computed on the same positions, as coating transfer does: see coating_transfer.h).
 //! Uniform and cotangent systems (symmetric, positive definite with the boundary fixed) go through
 //! systems/min_quad_with_fixed.h; the mean-value system, not symmetric, through Eigen's sparse LU. Written here
-//! rather than taken from CGAL's Surface_mesh_parameterization (whose mean-value and discrete-conformal
-//! parameterizers with a circular arc-length border are the same formulas): each map is its weights only, the
-//! patch needs no conversion to a CGAL halfedge mesh, and the symmetric ones share the project's solve path.
+//! rather than taken from CGAL's Surface_mesh_parameterization, whose mean-value and discrete-conformal
+//! parameterizers with a circular arc-length border give the same maps (tests/applications_test.cpp compares
+//! them, to rounding): each map is its weights only, the patch needs no conversion to a CGAL halfedge mesh, and
+//! the symmetric ones share the project's solve path.
 //! LSCM (free boundary) is not offered: it gives each patch a domain of its own shape, and coating transfer
 //! needs both on one domain.
 #include "applications/disk_patch.h"
