@@ -40,7 +40,9 @@ def table(rows, columns):
 def amplitude_note(rows):
     """The coat cases that differ only in amplitude: how the seam angle follows it."""
     by = {r["case"]: r for r in rows}
-    full, half = by.get("coat_plane_flat"), by.get("coat_plane_flat_amp05")
+    # the full-amplitude case with the half-amplitude one's map and encoding (the defaults)
+    half = by.get("coat_plane_flat_amp05")
+    full = half and (by.get("coat_plane_flat") or by.get(f"coat_plane_flat.{half['map']}.{half['encoding']}"))
     if not full or not half:
         return ""
     a, b = number(full["seam_max_deg_after"]), number(half["seam_max_deg_after"])
