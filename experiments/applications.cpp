@@ -9,12 +9,16 @@
 //
 // Cases, "NAME: APP key=value ..." with APP coat or transplant; keys source=, target= (a mesh path relative to
 // --data, or plane:NX:NY:SIZE:HEIGHT:BUMPS), source_region=, target_region= (the selection forms of .edit files,
-// default all), smooth_weight=, amplitude= (coat), zone= (transplant). A case whose mesh is absent is skipped; a
-// case that fails is a row with its status, and the driver then exits with kCellsFailedExit (harness/driver.h).
+// default all), smooth_weight=, amplitude=, map=, encoding= (coat), zone= (transplant); coat's target=self is the
+// source's own smooth version (the self-coating, whose result must be the source: column self_error); map=all and
+// encoding=all make one cell per value (the case's name suffixed with the values), so each alternative is measured.
+// A case whose mesh is absent is skipped; a case that fails is a row with its status, and the driver then exits
+// with kCellsFailedExit (harness/driver.h).
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -40,7 +44,7 @@ using namespace db::harness;
 namespace {
 
 const std::vector<std::string> kCaseKeys = {"source", "target", "source_region", "target_region", "smooth_weight",
-                                            "amplitude", "zone"};
+                                            "amplitude", "zone", "map", "encoding"};
 
 struct Options {
   std::string data = "data", out = "results/applications.csv", meshes;
@@ -78,7 +82,7 @@ CellSpec parse_case(const std::string& text, const std::string& data, std::strin
     std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
     if (std::find(kCaseKeys.begin(), kCaseKeys.end(), key) == kCaseKeys.end())
       throw UsageError(fmt::format("case '{}': unknown key {} (known: {})", text, key, fmt::join(kCaseKeys, ", ")));
-    if ((key == "source" || key == "target") && value.rfind("plane:", 0) != 0) {
+    if ((key == "source" || key == "target") && value.rfind("plane:", 0) != 0 && value != "self") {
       value = (fs::path(data) / value).string();
       if (!fs::exists(value)) {
         std::cerr << fmt::format("[applications] skipping {}: {} not found (run scripts/data.sh)\n", name, value);
@@ -139,28 +143,49 @@ void set_measures(CellResult& r, const NamedValues& values) {
   for (const auto& [k, v] : values) r.set(k, v, k.size() > 2 && k.compare(k.size() - 2, 2, "_s") == 0 ? "s" : "");
 }
 
+// Coating transfer; a self-coating (target=self) also measures how far the result is from the source, over the
+// source patch's bounding-box diagonal (NaN otherwise).
+void measure_coat(const CellSpec& s, const Mesh& source, const std::vector<int>& sr, CellResult& r) {
+  CoatingOptions o;
+  o.smooth_weight = s.real("smooth_weight", o.smooth_weight, 1e-6, 1e3);
+  o.amplitude = s.real("amplitude", o.amplitude, -1e3, 1e3);
+  o.map = parse_enum<DiskMap>(s.get("map", to_string(o.map)));
+  o.encoding = parse_enum<DetailEncoding>(s.get("encoding", to_string(o.encoding)));
+  Timer t;
+  const Coating c = extract_coating(source, sr, o);
+  const bool self = s.get("target") == "self";
+  const Mesh target = self ? own_smooth_version(source, c) : load_mesh(s.get("target"));
+  const std::vector<int> tr = self ? sr : select_by_spec(target, s.get("target_region", "all"));
+  const CoatedTarget res = transfer_coating(c, target, tr, o);
+  set_measures(r, coat_measures(c, res, target, t.seconds()));
+  double self_error = std::numeric_limits<double>::quiet_NaN();
+  if (self) {
+    self_error = 0;
+    for (int v : c.patch.parent) self_error = std::max(self_error, (res.result.V.row(v) - source.V.row(v)).norm());
+    self_error /= bbox_diagonal(c.patch.mesh.V);
+  }
+  r.set("self_error", self_error);
+  r.set_text("backend", res.solve.system.backend);
+  if (s.has("meshes")) write_meshes(s, source, target, res.result, c.patch, res.patch, res.patch.parent);
+}
+
 CellResult measure_application(const CellSpec& s) {
   s.check_keys({"name", "app", "meshes", "source", "target", "source_region", "target_region", "smooth_weight",
-                "amplitude", "zone"});
-  const Mesh source = load_mesh(s.get("source")), target = load_mesh(s.get("target"));
+                "amplitude", "zone", "map", "encoding"});
+  const Mesh source = load_mesh(s.get("source"));
   const std::vector<int> sr = select_by_spec(source, s.get("source_region", "all"));
-  const std::vector<int> tr = select_by_spec(target, s.get("target_region", "all"));
   CellResult r;
-  Timer t;
   if (s.get("app") == "coat") {
-    CoatingOptions o;
-    o.smooth_weight = s.real("smooth_weight", o.smooth_weight, 1e-6, 1e3);
-    o.amplitude = s.real("amplitude", o.amplitude, -1e3, 1e3);
-    const Coating c = extract_coating(source, sr, o);
-    const CoatedTarget res = transfer_coating(c, target, tr, o);
-    set_measures(r, coat_measures(c, res, target, t.seconds()));
-    r.set_text("backend", res.solve.system.backend);
-    if (s.has("meshes")) write_meshes(s, source, target, res.result, c.patch, res.patch, res.patch.parent);
+    measure_coat(s, source, sr, r);
   } else {
+    const Mesh target = load_mesh(s.get("target"));
+    const std::vector<int> tr = select_by_spec(target, s.get("target_region", "all"));
     TransplantOptions o;
     o.zone = s.real("zone", o.zone, 0.01, 1);
+    Timer t;
     const Transplant res = transplant_patch(source, sr, target, tr, o);
     set_measures(r, transplant_measures(res, target, t.seconds()));
+    r.set("self_error", std::numeric_limits<double>::quiet_NaN());
     r.set_text("backend", res.solve.system.backend);
     if (s.has("meshes")) write_meshes(s, source, target, res.result, res.source_patch, res.patch, graft_vertices(res));
   }
@@ -176,7 +201,9 @@ void add_row(CsvTable& csv, const CellSpec& s, const CellResult& r, const CellRe
                        {"source", fs::path(s.get("source")).filename().string()},
                        {"target", fs::path(s.get("target")).filename().string()},
                        {"source_region", s.get("source_region", "all")},
-                       {"target_region", s.get("target_region", "all")},
+                       {"target_region", s.get("target_region", s.get("target") == "self" ? s.get("source_region", "all") : "all")},
+                       {"map", s.get("app") == "coat" ? s.get("map", to_string(CoatingOptions{}.map)) : ""},
+                       {"encoding", s.get("app") == "coat" ? s.get("encoding", to_string(CoatingOptions{}.encoding)) : ""},
                        {"backend", r.text("backend")},
                        {"status", r.status},
                        {"message", r.message}};
@@ -192,6 +219,23 @@ void add_row(CsvTable& csv, const CellSpec& s, const CellResult& r, const CellRe
   csv.add(row);
 }
 
+// A coat case with map=all or encoding=all as one cell per combination of the values, named NAME.MAP.ENCODING.
+std::vector<CellSpec> expand_alternatives(const CellSpec& s) {
+  if (s.get("app") != "coat" || (s.get("map", "") != "all" && s.get("encoding", "") != "all")) return {s};
+  const auto values = [&](const std::string& key, const std::vector<std::string>& all, const std::string& dflt) {
+    const std::string v = s.get(key, dflt);
+    return v == "all" ? all : std::vector<std::string>{v};
+  };
+  std::vector<CellSpec> out;
+  for (const std::string& m : values("map", enum_names<DiskMap>(), to_string(CoatingOptions{}.map)))
+    for (const std::string& e : values("encoding", enum_names<DetailEncoding>(), to_string(CoatingOptions{}.encoding))) {
+      CellSpec c = s;
+      c.set("map", m).set("encoding", e).set("name", s.get("name") + "." + m + "." + e);
+      out.push_back(c);
+    }
+  return out;
+}
+
 int run(Options& o) {
   cli::check_output("--out", o.out, {".csv"});
   if (!o.meshes.empty()) check_output_dir("--meshes", o.meshes);
@@ -201,7 +245,7 @@ int run(Options& o) {
     CellSpec s = parse_case(text, o.data, name);
     if (name.empty()) continue;
     if (!o.meshes.empty()) s.set("meshes", o.meshes);
-    grid.push_back(s);
+    for (const CellSpec& c : expand_alternatives(s)) grid.push_back(c);
   }
   if (grid.empty()) throw InputError("no application case found (--case, or a --config that lists cases)");
   if (o.dry_run) {

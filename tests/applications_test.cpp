@@ -3,6 +3,16 @@
 // patches.
 #include <gtest/gtest.h>
 
+#define CGAL_EIGEN3_ENABLED 1  // CGAL's Eigen solver traits (Eigen is the project's)
+#include <CGAL/Eigen_solver_traits.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_parameterization/Circular_border_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/Discrete_conformal_map_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/Mean_value_coordinates_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/parameterize.h>
+#include <Eigen/SparseLU>
+
 #include <algorithm>
 #include <array>
 #include <filesystem>
@@ -13,6 +23,7 @@
 #include <string>
 #include <utility>
 
+#include "applications/application_measures.h"
 #include "applications/coating_transfer.h"
 #include "applications/disk_parameterization.h"
 #include "applications/disk_patch.h"
@@ -74,20 +85,62 @@ TEST(DiskPatch, RefusesWhatIsNoDisk) {
                      "once its ears are trimmed (7 vertices selected)");
 }
 
-TEST(TutteParameterization, IsBijectiveOntoTheDisk) {
+// Uniform (Tutte) and mean-value weights are positive: the map is bijective (no triangle folds) on any disk.
+TEST(DiskParameterization, PositiveWeightsAreBijectiveOntoTheDisk) {
   const Mesh m = bumpy();
-  const DiskPatch p = extract_disk_patch(m, all_vertices(m), "source");
-  const UV uv = tutte_parameterization(p);
-  for (int v : p.boundary) EXPECT_NEAR(uv.row(v).norm(), 1.0, 1e-12);
-  for (int f = 0; f < p.mesh.num_faces(); ++f) {  // every triangle keeps its orientation: no fold
-    const Eigen::Vector2d a = uv.row(p.mesh.F(f, 0)), b = uv.row(p.mesh.F(f, 1)), c = uv.row(p.mesh.F(f, 2));
-    const Eigen::Vector2d e1 = b - a, e2 = c - a;
-    EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0) << "face " << f;
+  const DiskPatch p = extract_disk_patch(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7), "source");
+  for (const DiskMap map : {DiskMap::Uniform, DiskMap::MeanValue}) {
+    const UV uv = disk_parameterization(p, map);
+    for (int v : p.boundary) EXPECT_NEAR(uv.row(v).norm(), 1.0, 1e-12);
+    for (int f = 0; f < p.mesh.num_faces(); ++f) {  // every triangle keeps its orientation: no fold
+      const Eigen::Vector2d a = uv.row(p.mesh.F(f, 0)), b = uv.row(p.mesh.F(f, 1)), c = uv.row(p.mesh.F(f, 2));
+      const Eigen::Vector2d e1 = b - a, e2 = c - a;
+      EXPECT_GT(e1.x() * e2.y() - e1.y() * e2.x(), 0) << to_string(map) << " face " << f;
+    }
+    // Each vertex is found in a face it belongs to, with barycentric weight 1 at itself.
+    const auto at = locate_in_parameter_domain(uv, p.mesh.F, uv);
+    const Points back = interpolate(at, p.mesh.F, p.mesh.V);
+    EXPECT_LT((back - p.mesh.V).cwiseAbs().maxCoeff(), 1e-12) << to_string(map);
   }
-  // Each vertex is found in a face it belongs to, with barycentric weight 1 at itself.
-  const auto at = locate_in_parameter_domain(uv, p.mesh.F, uv);
-  const Points back = interpolate(at, p.mesh.F, p.mesh.V);
-  EXPECT_LT((back - p.mesh.V).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+namespace smp = CGAL::Surface_mesh_parameterization;
+using CgalMesh = CGAL::Surface_mesh<CGAL::Simple_cartesian<double>::Point_3>;
+using CgalLu = CGAL::Eigen_solver_traits<Eigen::SparseLU<CGAL::Eigen_sparse_matrix<double>::EigenType>>;
+using CgalBorder = smp::Circular_border_arc_length_parameterizer_3<CgalMesh>;
+
+// CGAL's map of `p` with parameterizer P (circular arc-length border from boundary[0], direct LU), moved from
+// CGAL's disk (centre (0.5, 0.5), radius 0.5; the border walked against the faces at negative angles, so in the
+// same turn as ours) onto the unit disk.
+template <class P>
+UV cgal_disk_map(const DiskPatch& p) {
+  CgalMesh sm;
+  std::vector<CgalMesh::Vertex_index> vs;
+  for (int v = 0; v < p.num_vertices(); ++v) vs.push_back(sm.add_vertex({p.mesh.V(v, 0), p.mesh.V(v, 1), p.mesh.V(v, 2)}));
+  for (int f = 0; f < p.mesh.num_faces(); ++f) sm.add_face(vs[p.mesh.F(f, 0)], vs[p.mesh.F(f, 1)], vs[p.mesh.F(f, 2)]);
+  auto h = sm.halfedge(vs[p.boundary[0]], vs[p.boundary.back()]);
+  EXPECT_TRUE(sm.is_border(h));
+  auto uvmap = sm.add_property_map<CgalMesh::Vertex_index, CGAL::Simple_cartesian<double>::Point_2>("v:uv").first;
+  EXPECT_EQ(smp::parameterize(sm, P(), h, uvmap), smp::OK);
+  UV uv(p.num_vertices(), 2);
+  for (int v = 0; v < p.num_vertices(); ++v) uv.row(v) << 2 * uvmap[vs[v]].x() - 1, 2 * uvmap[vs[v]].y() - 1;
+  return uv;
+}
+
+// The hand-written mean-value and cotangent maps are CGAL's mean-value coordinates and discrete conformal map
+// (same border): an independent implementation of the same weights. Both are direct solves of systems whose
+// condition number grows as the square of the patch's radius in rings (about 10 here), so they agree to rounding
+// times that; a wrong weight moves vertices by a visible fraction of the disk.
+TEST(DiskParameterization, GeometricWeightsAreCgalsMaps) {
+  const Mesh m = bumpy();
+  const DiskPatch p = extract_disk_patch(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7), "source");
+  using Mvc = smp::Mean_value_coordinates_parameterizer_3<CgalMesh, CgalBorder, CgalLu>;
+  using Dcm = smp::Discrete_conformal_map_parameterizer_3<CgalMesh, CgalBorder, CgalLu>;
+  const double mvc = (disk_parameterization(p, DiskMap::MeanValue) - cgal_disk_map<Mvc>(p)).cwiseAbs().maxCoeff();
+  const double cot = (disk_parameterization(p, DiskMap::Cotangent) - cgal_disk_map<Dcm>(p)).cwiseAbs().maxCoeff();
+  std::cout << "largest difference from CGAL: mean value " << mvc << ", cotangent " << cot << "\n";
+  EXPECT_LT(mvc, 1e-10);
+  EXPECT_LT(cot, 1e-10);
 }
 
 // The test: the surface's own coating onto its own smooth version gives the surface back.
@@ -96,8 +149,7 @@ TEST(CoatingTransfer, OwnCoatingOntoOwnSmoothVersionReconstructs) {
   const CoatingOptions o;
   const Coating c = extract_coating(m, all_vertices(m), o);
   EXPECT_GT(rel_max(c.smooth, m.V), 0.01);  // the smoothing removed the bumps
-  Mesh smooth = m;  // the smooth patch back in the mesh's numbering
-  for (int l = 0; l < c.patch.num_vertices(); ++l) smooth.V.row(c.patch.parent[l]) = c.smooth.row(l);
+  const Mesh smooth = own_smooth_version(m, c);
   const CoatedTarget t = transfer_coating(c, smooth, all_vertices(smooth), o);
   EXPECT_DOUBLE_EQ(t.scale, 1.0);
   EXPECT_LT(rel_max(t.result.V, m.V), 1e-8);
@@ -106,15 +158,16 @@ TEST(CoatingTransfer, OwnCoatingOntoOwnSmoothVersionReconstructs) {
 
 // A surface's own coating onto its own smooth version (put back in the mesh's numbering), on `region`: the largest
 // distance from the input surface over the patch's bounding-box diagonal. Outside the patch nothing moves.
-double self_coating_error(const Mesh& m, const std::vector<int>& region) {
-  const CoatingOptions o;
+double self_coating_error(const Mesh& m, const std::vector<int>& region, const CoatingOptions& o = {}) {
   const Coating c = extract_coating(m, region, o);
-  Mesh smooth = m;
-  for (int l = 0; l < c.patch.num_vertices(); ++l) smooth.V.row(c.patch.parent[l]) = c.smooth.row(l);
+  const Mesh smooth = own_smooth_version(m, c);
   EXPECT_GT(rel_max(c.smooth, c.patch.mesh.V), 1e-4);  // the smoothing removed detail worth reconstructing
   const CoatedTarget t = transfer_coating(c, smooth, region, o);
   EXPECT_DOUBLE_EQ(t.scale, 1.0);  // same boundary, same smooth surface: sigma = rho = 1
-  EXPECT_LT(t.detail_error, 1e-8);
+  // The detail the solve carries, off by at most rounding on the diagonal's scale (detail_error is relative to the
+  // detail's own size, which is far smaller than the coordinates it is rounded with).
+  const double detail_rms = std::sqrt(t.mapped_detail.squaredNorm() / t.mapped_detail.rows());
+  EXPECT_LT(t.detail_error * detail_rms, 1e-8 * bbox_diagonal(c.patch.mesh.V));
   Points got(c.patch.num_vertices(), 3);
   for (int l = 0; l < c.patch.num_vertices(); ++l) got.row(l) = t.result.V.row(c.patch.parent[l]);
   std::vector<char> in(static_cast<std::size_t>(m.num_vertices()), 0);
@@ -125,8 +178,8 @@ double self_coating_error(const Mesh& m, const std::vector<int>& region) {
     }
   }
   const double err = rel_max(got, c.patch.mesh.V);
-  std::cout << m.name << ": " << c.patch.num_vertices() << " patch vertices, self-coating error " << err
-            << " of the patch's diagonal\n";
+  std::cout << m.name << " (" << o.map << " map, " << o.encoding << " encoding): " << c.patch.num_vertices()
+            << " patch vertices, self-coating error " << err << " of the patch's diagonal\n";
   return err;
 }
 
@@ -135,11 +188,29 @@ double self_coating_error(const Mesh& m, const std::vector<int>& region) {
 // 1e-3 of the diagonal was lost near the boundary). What remains is rounding through the LSE normal equations, whose condition
 // number grows as the fourth power of the patch's radius in rings r: eps r^4 is under the 1e-8 of the
 // patch's diagonal for the largest patch here (the BS08 disk, r about 66), and far under it for the others.
+// Every map with every encoding: the source's map is taken on its smooth version, so the target (that smooth
+// version) maps onto the same points whatever the weights.
+std::vector<CoatingOptions> every_alternative() {
+  std::vector<CoatingOptions> out;
+  for (const DiskMap map : {DiskMap::Uniform, DiskMap::MeanValue, DiskMap::Cotangent})
+    for (const DetailEncoding e : {DetailEncoding::Height, DetailEncoding::Laplacian}) {
+      CoatingOptions o;
+      o.map = map;
+      o.encoding = e;
+      out.push_back(o);
+    }
+  return out;
+}
+
 TEST(CoatingTransfer, OwnCoatingOfASubPatchReconstructs) {
   const Mesh m = bumpy();
-  EXPECT_LT(self_coating_error(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7)), 1e-8);
+  for (const CoatingOptions& o : every_alternative())
+    EXPECT_LT(self_coating_error(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7), o), 1e-8);
   const Mesh plane = read_mesh((bs08_dir() / "plane.off").string());
-  EXPECT_LT(self_coating_error(plane, select_sphere(plane, Vec3(50, 50, 0), 33)), 1e-8);
+  CoatingOptions laplacian;
+  laplacian.encoding = DetailEncoding::Laplacian;
+  for (const CoatingOptions& o : {CoatingOptions{}, laplacian})
+    EXPECT_LT(self_coating_error(plane, select_sphere(plane, Vec3(50, 50, 0), 33), o), 1e-8);
 }
 
 // The irregular patches: the bunny's 3000 vertices nearest (0, 0, 0.5) and the 26-ring of vertex 4530, the
@@ -151,8 +222,27 @@ TEST(CoatingTransfer, OwnCoatingOfIrregularRealPatchesReconstructs) {
     const std::string p = DEFORMBENCH_SOURCE_DIR "/data/meshes/" + file;
     ASSERT_TRUE(std::filesystem::exists(p)) << p << " is missing: run scripts/data.sh (./run test does)";
     const Mesh m = read_mesh(p);
-    EXPECT_LT(self_coating_error(m, select_by_spec(m, spec)), 1e-8) << file << " " << spec;
+    for (const CoatingOptions& o : every_alternative())
+      EXPECT_LT(self_coating_error(m, select_by_spec(m, spec), o), 1e-8) << file << " " << spec;
   }
+}
+
+// The coating keeps its size on an irregular target: the BS08 plane's bumps onto the bunny's 3000 vertices nearest
+// (0, 0, 0.5), with the default map and encoding, arrive with normal heights the source's times sigma, largest and
+// area-weighted RMS within the 15% band (Laplacian coordinates made them several times too tall:
+// results/applications.md measures every alternative). Not a rounding-level property: the band
+// is the acceptance criterion, and what the measure can vary by is the two samplings' interpolation.
+TEST(CoatingTransfer, KeepsTheCoatingsSizeOnAnIrregularPatch) {
+  const std::string p = DEFORMBENCH_SOURCE_DIR "/data/meshes/bunny00.off";
+  ASSERT_TRUE(std::filesystem::exists(p)) << p << " is missing: run scripts/data.sh (./run test does)";
+  const Mesh src = read_mesh((bs08_dir() / "plane.off").string()), dst = read_mesh(p);
+  const CoatingOptions o;
+  const Coating c = extract_coating(src, all_vertices(src), o);
+  const CoatedTarget t = transfer_coating(c, dst, select_by_spec(dst, "nearest:0,0,0.5,3000"), o);
+  const CoatingAmplitude a = coating_amplitude(c, t, dst);
+  std::cout << "bunny patch: height ratios max " << a.max_ratio << ", rms " << a.rms_ratio << "\n";
+  EXPECT_NEAR(a.max_ratio, 1.0, 0.15);
+  EXPECT_NEAR(a.rms_ratio, 1.0, 0.15);
 }
 
 TEST(CoatingTransfer, PutsTheBumpsOnAFlatPatch) {

@@ -21,7 +21,16 @@ Command add_coat(CLI::App& tool) {
       ->type_name("W")->check(cli::Real(1e-6, 1e3))->capture_default_str();
   app->add_option("--amplitude", o->amplitude, "multiplies the transferred detail (negative: engraved, not embossed)")
       ->type_name("A")->check(cli::Real(-1e3, 1e3))->capture_default_str();
-  return {app, [app, a, o] {
+  auto map = std::make_shared<std::string>(to_string(o->map));
+  auto encoding = std::make_shared<std::string>(to_string(o->encoding));
+  app->add_option("--map", *map, "the patches' maps onto the disk: " + enum_choices<DiskMap>())
+      ->type_name("MAP")->check(CLI::IsMember(enum_names<DiskMap>()))->capture_default_str();
+  app->add_option("--encoding", *encoding,
+                  "the detail: height (displacement from the smooth surface) or laplacian (Laplacian coordinates)")
+      ->type_name("E")->check(CLI::IsMember(enum_names<DetailEncoding>()))->capture_default_str();
+  return {app, [app, a, o, map, encoding] {
+            o->map = parse_enum<DiskMap>(*map);
+            o->encoding = parse_enum<DetailEncoding>(*encoding);
             const PatchInputs in = load_patch_inputs(*app, *a);
             Timer t;
             const Coating c = extract_coating(in.source, in.source_region, *o);

@@ -1,6 +1,10 @@
 """Renders of the applications experiment (exp_applications: coating transfer, transplanting): one PNG per case,
 panels source (its patch orange), target (its patch orange), result, and the result's patch close up beside the
-target's (the same camera), so the transferred detail and the seam can be checked by eye.
+target's (the same camera), so the transferred detail and the seam can be checked by eye. A coating's result is
+coloured by its normal height, (result - target) . n over the target's vertex normals, in target-patch diagonals,
+on one diverging scale shared by every coat case rendered together (its ends: the median of the cases' largest
+heights; a colour bar beside), so the coating's amplitude shows: the same coating at half the amplitude is half as
+saturated, one too tall saturates. Transplants keep the patch colours.
 
 Reads results/meshes/applications/CASE__{source,target,result}.ply and CASE__{source_patch,patch,result_patch}.txt
 (the vertex ids of the source and target patches, and of the result's transferred or grafted part: a transplant's
@@ -20,6 +24,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from .cli import out_dir, parser  # noqa: E402
+from matplotlib.cm import ScalarMappable  # noqa: E402
+from matplotlib.colors import Normalize  # noqa: E402
+
 from .render_meshes import camera, draw, read_ply, shade  # noqa: E402
 
 BASE = np.array([0.62, 0.66, 0.72])
@@ -40,6 +47,32 @@ def view_for(V, patch):
     return elev - 25.0 if elev > 60 else elev + 20.0, azim + 20.0
 
 
+def vertex_normals(V, F):
+    """Unit area-weighted vertex normals."""
+    fn = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n = np.zeros_like(V)
+    for c in range(3):
+        np.add.at(n, F[:, c], fn)
+    return n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+
+
+def coat_heights(d, case):
+    """Per target vertex: the coating's normal height over the target patch's bounding-box diagonal; None when
+    the case is no coating (a transplant's result has vertices of its own)."""
+    Vt, Ft = read_ply(os.path.join(d, f"{case}__target.ply"))
+    Vr, Fr = read_ply(os.path.join(d, f"{case}__result.ply"))
+    if Vr.shape != Vt.shape or Fr.shape != Ft.shape or not np.array_equal(Fr, Ft):
+        return None
+    patch = np.loadtxt(os.path.join(d, f"{case}__patch.txt"), dtype=np.int64, ndmin=1)
+    diag = np.linalg.norm(Vt[patch].max(0) - Vt[patch].min(0))
+    return ((Vr - Vt) * vertex_normals(Vt, Ft)).sum(1) / diag
+
+
+def height_colors(h, F, scale):
+    """Face colours from the mean normal height of their corners on a diverging map, +-scale at its ends."""
+    return plt.get_cmap("RdBu_r")(Normalize(-scale, scale)(h[F].mean(1)))[:, :3]
+
+
 def panel(ax, V, F, colors, cam, lim, title):
     draw(ax, V, F, colors, cam)
     ax.set_xlim(lim[0][0], lim[1][0])
@@ -57,7 +90,7 @@ def limits(V, cam, pad=0.05):
     return lo - p, hi + p
 
 
-def render_case(case, d, out_dir):
+def render_case(case, d, out_dir, scale=None):
     Vs, Fs = read_ply(os.path.join(d, f"{case}__source.ply"))
     Vt, Ft = read_ply(os.path.join(d, f"{case}__target.ply"))
     Vr, Fr = read_ply(os.path.join(d, f"{case}__result.ply"))
@@ -83,14 +116,22 @@ def render_case(case, d, out_dir):
     r_in = np.zeros(len(Vr), bool)
     r_in[rpatch] = True
     rc = np.where(r_in[Fr].all(axis=1)[:, None], RESULT, BASE)
-    panel(axes[2], Vr, Fr, shade(Vr, Fr, rc, light), cam, limits(Vr, cam), "result")
+    h = coat_heights(d, case) if scale else None
+    what = "patch blue"
+    if h is not None:
+        rc = np.where(r_in[Fr].all(axis=1)[:, None], height_colors(h, Fr, scale), BASE)
+        what = "normal height"
+    panel(axes[2], Vr, Fr, shade(Vr, Fr, rc, light), cam, limits(Vr, cam), f"result ({what})")
     # Close-up: the patch and a margin around it, before and after in one frame.
     c0 = Vt[patch].mean(0)
     radius = 1.4 * np.linalg.norm(Vt[patch] - c0, axis=1).max()
     near = np.linalg.norm(Vr - c0, axis=1) <= radius
     fz = near[Fr].all(axis=1)
     lim = limits(np.vstack([Vr[near], Vt[np.linalg.norm(Vt - c0, axis=1) <= radius]]), cam)
-    panel(axes[3], Vr, Fr[fz], shade(Vr, Fr[fz], rc[fz], light), cam, lim, "result, close up (patch blue)")
+    panel(axes[3], Vr, Fr[fz], shade(Vr, Fr[fz], rc[fz], light), cam, lim, f"result, close up ({what})")
+    if h is not None:
+        bar = fig.colorbar(ScalarMappable(Normalize(-scale, scale), "RdBu_r"), ax=axes[3], fraction=0.04, pad=0.02)
+        bar.set_label("normal height / patch diagonal", fontsize=8)
     fig.suptitle(f"{case}: source {len(Vs)} vertices, target {len(Vt)}, patch {len(patch)}, result {len(Vr)}",
                  fontsize=11)
     fig.tight_layout()
@@ -108,10 +149,12 @@ def plot(results, out, meshes=None, cases=""):
         print(f"applications: no meshes under {d} (run exp_applications first); nothing to render", file=sys.stderr)
         return 0
     os.makedirs(out, exist_ok=True)
-    for p in found:
-        case = os.path.basename(p)[: -len("__result.ply")]
-        if cases in case:
-            print(f"applications: wrote {render_case(case, d, out)}", file=sys.stderr)
+    chosen = [c for c in (os.path.basename(p)[: -len("__result.ply")] for p in found) if cases in c]
+    heights = [h for h in (coat_heights(d, c) for c in chosen) if h is not None]
+    # One colour scale for every coating: the median of their largest heights, so a coating too tall saturates.
+    scale = float(np.median([np.abs(h).max() for h in heights])) if heights else None
+    for case in chosen:
+        print(f"applications: wrote {render_case(case, d, out, scale)}", file=sys.stderr)
     return 0
 
 

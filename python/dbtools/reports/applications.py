@@ -15,6 +15,8 @@ QUALITY = [("detail_error", "detail error"), ("seam_max_deg_before", "seam max b
            ("seam_mean_deg_after", "seam mean after"), ("nonmanifold", "non-manifold"),
            ("degenerate_faces", "degenerate faces"), ("open_seam_edges", "open seam edges"),
            ("max_displacement_rel", "max move")]
+AMPLITUDE = [("sigma", "sigma"), ("height_max_ratio", "max height ratio"), ("height_rms_ratio", "RMS height ratio"),
+             ("self_error", "self-coating error"), ("detail_error", "detail error")]
 TIMES = [("parameterize_s", "parameterize"), ("smooth_s", "smooth"), ("map_s", "map"), ("build_s", "build"),
          ("analyze_s", "analyze"), ("factorize_s", "factorize"), ("solve_s", "solve"), ("total_s", "total"),
          ("n", "LSE n"), ("nnz_factor", "factor nnz")]
@@ -38,7 +40,9 @@ def table(rows, columns):
 def amplitude_note(rows):
     """The coat cases that differ only in amplitude: how the seam angle follows it."""
     by = {r["case"]: r for r in rows}
-    full, half = by.get("coat_plane_flat"), by.get("coat_plane_flat_amp05")
+    # the full-amplitude case with the half-amplitude one's map and encoding (the defaults)
+    half = by.get("coat_plane_flat_amp05")
+    full = half and (by.get("coat_plane_flat") or by.get(f"coat_plane_flat.{half['map']}.{half['encoding']}"))
     if not full or not half:
         return ""
     a, b = number(full["seam_max_deg_after"]), number(half["seam_max_deg_after"])
@@ -51,6 +55,20 @@ def amplitude_note(rows):
             "The boundary vertices are fixed and the detail is transferred up to them; a coating that must meet "
             "the boundary flat would need the detail faded towards it, which the method (Sorkine et al. 2004) does "
             "not do.\n")
+
+
+def alternatives_table(rows):
+    """The coat cases with their disk map and detail encoding: how big the coating arrives, and the self-coatings'
+    reconstruction error."""
+    coats = [r for r in rows if r["app"] == "coat"]
+    if not coats:
+        return ""
+    cols = [("map", "map"), ("encoding", "encoding")] + AMPLITUDE
+    o = ["| case |" + "".join(f" {lab} |" for _, lab in cols), "|---|" + "---|" * len(cols)]
+    for r in coats:
+        cells = [r.get("map", ""), r.get("encoding", "")] + [fmt(number(r.get(k, "")), "{:.3g}") for k, _ in AMPLITUDE]
+        o.append(f"| `{r['case']}` |" + "".join(f" {c} |" for c in cells))
+    return "\n".join(o)
 
 
 def write(results):
@@ -74,6 +92,15 @@ def write(results):
           "V: vertices. A transplant's result has the target's vertices outside the region plus the source patch's "
           "(its boundary welded onto the hole's loop when the two coincide: `welded` 1); `band faces` are the "
           "zippered strip's; `rho` the parameter radius the source was placed at.\n", table(rows, SIZES), "",
+          "## The coating's size: disk maps and detail encodings\n",
+          "Each coat case with each disk map (`uniform` Tutte, `mean-value` Floater, `cotangent` harmonic) and each "
+          "detail encoding (`height`: the displacement from the smooth surface in its frames; `laplacian`: Laplacian "
+          "coordinates). Height ratios: the coating's normal heights on the target, (result - target) . n, against the "
+          "source's, (V - smooth) . n, times `sigma` (the boundary-length ratio): largest |height|, and root mean square "
+          "weighted by vertex area; 1 is a coating that arrives at its size, the issue's band is 0.85 to 1.15. "
+          "`self-coating error` (target `self`: the source's own smooth version): the largest distance of the result "
+          "from the source over the patch's bounding-box diagonal, which must be rounding.\n",
+          alternatives_table(rows), "",
           "## Detail and seam\n",
           "`detail error`: coat, the mapped coating against what the solved surface carries (relative, patch "
           "interior); transplant, the result's Laplacian coordinates against the placed source's where the blend is "

@@ -1,10 +1,13 @@
 #include "applications/application_measures.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <utility>
 
 #include "applications/seam_metrics.h"
+#include "operators/frames.h"
 
 namespace db {
 namespace {
@@ -59,7 +62,38 @@ void add_common(NamedValues& v, const DiskPatch& patch, const LseReport& lse, co
                      {"max_displacement_rel", moved / bbox_diagonal(before.V)}});
 }
 
+// Largest |h| and the area-weighted root mean square of per-vertex heights h on the surface (V, F).
+std::pair<double, double> height_max_rms(const Points& V, const Faces& F, const Eigen::VectorXd& h) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(V.rows());
+  for (int f = 0; f < F.rows(); ++f) {
+    const Vec3 a = V.row(F(f, 1)) - V.row(F(f, 0)), b = V.row(F(f, 2)) - V.row(F(f, 0));
+    for (int c = 0; c < 3; ++c) area[F(f, c)] += a.cross(b).norm() / 6;
+  }
+  return {h.cwiseAbs().maxCoeff(), std::sqrt(area.dot(h.cwiseProduct(h)) / area.sum())};
+}
+
+// (X - Y) . n per row, n the unit vertex normals of (Y, F).
+Eigen::VectorXd normal_heights(const Points& X, const Points& Y, const Faces& F) {
+  const Points n = vertex_normals(Y, F);
+  return (X - Y).cwiseProduct(n).rowwise().sum();
+}
+
 }  // namespace
+
+CoatingAmplitude coating_amplitude(const Coating& coating, const CoatedTarget& t, const Mesh& target) {
+  const Mesh& s = coating.patch.mesh;
+  const auto [s_max, s_rms] = height_max_rms(coating.smooth, s.F, normal_heights(s.V, coating.smooth, s.F));
+  Points before(t.patch.num_vertices(), 3), after(t.patch.num_vertices(), 3);
+  for (int l = 0; l < t.patch.num_vertices(); ++l) {
+    before.row(l) = target.V.row(t.patch.parent[l]);
+    after.row(l) = t.result.V.row(t.patch.parent[l]);
+  }
+  const auto [t_max, t_rms] = height_max_rms(before, t.patch.mesh.F, normal_heights(after, before, t.patch.mesh.F));
+  CoatingAmplitude a;
+  a.max_ratio = s_max > 0 ? t_max / (t.sigma * s_max) : 0.0;
+  a.rms_ratio = s_rms > 0 ? t_rms / (t.sigma * s_rms) : 0.0;
+  return a;
+}
 
 NamedValues coat_measures(const Coating& coating, const CoatedTarget& t, const Mesh& target, double total_s) {
   const LseReport& sm = coating.smoothing;
@@ -74,6 +108,8 @@ NamedValues coat_measures(const Coating& coating, const CoatedTarget& t, const M
   v.insert(v.end(), {{"band_faces", 0.0}, {"welded", 0.0}, {"band_by_diagonal", 0.0}, {"rho", 1.0}, {"total_s", total_s},
                      {"detail_scale", t.scale}, {"detail_error", t.detail_error},
                      {"core_vertices", static_cast<double>(t.patch.num_vertices() - t.patch.boundary.size())}});
+  const CoatingAmplitude a = coating_amplitude(coating, t, target);
+  v.insert(v.end(), {{"sigma", t.sigma}, {"height_max_ratio", a.max_ratio}, {"height_rms_ratio", a.rms_ratio}});
   return v;
 }
 
@@ -90,6 +126,8 @@ NamedValues transplant_measures(const Transplant& t, const Mesh& target, double 
                      {"band_by_diagonal", t.band_by_diagonal ? 1.0 : 0.0}, {"rho", t.rho},
                      {"total_s", total_s}, {"detail_scale", t.scale}, {"detail_error", t.detail_error},
                      {"core_vertices", t.core_vertices}});
+  const double none = std::numeric_limits<double>::quiet_NaN();  // the coating's columns, so both rows match
+  v.insert(v.end(), {{"sigma", none}, {"height_max_ratio", none}, {"height_rms_ratio", none}});
   return v;
 }
 

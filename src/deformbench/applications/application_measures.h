@@ -13,6 +13,17 @@ namespace db {
 
 using NamedValues = std::vector<std::pair<std::string, double>>;
 
+//! Whether a coating keeps its size: the normal heights of the coating on the target, (result - target) . n over
+//! the target patch (n: the target's vertex normals), against the source's, (V - smooth) . n over the source
+//! patch (n: the smooth surface's), times sigma (not times the amplitude: a coating at amplitude A gives about A).
+//! Two ratios, 1 for a coating that arrives at its size: of the
+//! largest |height|, and of the root mean square height weighted by vertex area (a third of the faces around;
+//! so that a patch's sampling does not weigh in, only how much of its surface the coating covers how high).
+struct CoatingAmplitude {
+  double max_ratio = 0, rms_ratio = 0;
+};
+CoatingAmplitude coating_amplitude(const Coating& coating, const CoatedTarget& t, const Mesh& target);
+
 //! `target` is the mesh before the transfer; `total_s` the wall time of extract + transfer.
 NamedValues coat_measures(const Coating& coating, const CoatedTarget& t, const Mesh& target, double total_s);
 //! `target` is the mesh before the graft; `total_s` the wall time of transplant_patch.

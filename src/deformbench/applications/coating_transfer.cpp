@@ -8,6 +8,13 @@
 #include "core/timer.h"
 
 namespace db {
+
+const EnumText<DetailEncoding>& enum_text(DetailEncoding) {
+  static const EnumText<DetailEncoding> t{
+      "detail encoding", {{DetailEncoding::Height, "height"}, {DetailEncoding::Laplacian, "laplacian"}}};
+  return t;
+}
+
 namespace {
 
 double loop_length(const DiskPatch& p) {
@@ -31,16 +38,22 @@ double mean_edge_length(const Mesh& m) {
   return sum / (3.0 * m.num_faces());
 }
 
+// E(X) of the encoding, X the whole mesh's positions, on the patch's rows: the positions (height) or their
+// uniform Laplacian coordinates (laplacian).
+Points encoded(DetailEncoding e, const Mesh& whole, const Adjacency& adj, const DiskPatch& p, const Points& X) {
+  const Points all = e == DetailEncoding::Laplacian ? uniform_delta(Mesh{X, whole.F, whole.name}, adj) : X;
+  Points out(p.num_vertices(), 3);
+  for (int l = 0; l < p.num_vertices(); ++l) out.row(l) = all.row(p.parent[l]);
+  return out;
+}
+
 // The uniform Laplacian coordinates of the patch's vertices placed at X (patch rows), as rows of the whole mesh's
 // Laplacian (the rest of the mesh where it is): a boundary vertex averages over all its neighbours in the mesh, as
 // in the rows of the transfer's LSE solve, which runs on the whole target.
 Points rows_in_mesh(const Mesh& whole, const Adjacency& adj, const DiskPatch& p, const Points& X) {
-  Mesh placed = whole;
-  for (int l = 0; l < p.num_vertices(); ++l) placed.V.row(p.parent[l]) = X.row(l);
-  const Points L = uniform_delta(placed, adj);
-  Points out(p.num_vertices(), 3);
-  for (int l = 0; l < p.num_vertices(); ++l) out.row(l) = L.row(p.parent[l]);
-  return out;
+  Points placed = whole.V;
+  for (int l = 0; l < p.num_vertices(); ++l) placed.row(p.parent[l]) = X.row(l);
+  return encoded(DetailEncoding::Laplacian, whole, adj, p, placed);
 }
 
 }  // namespace
@@ -48,10 +61,8 @@ Points rows_in_mesh(const Mesh& whole, const Adjacency& adj, const DiskPatch& p,
 Coating extract_coating(const Mesh& source, const std::vector<int>& region, const CoatingOptions& options) {
   Coating c;
   c.patch = extract_disk_patch(source, region, "source");
+  c.encoding = options.encoding;
   const Mesh& m = c.patch.mesh;
-  Timer t;
-  c.uv = tutte_parameterization(c.patch);
-  c.parameterize_s = t.seconds();
   const Adjacency adj = vertex_adjacency(m);
   // Zero Laplacian coordinates inside; the boundary's rows (they touch interior unknowns, so they are in the
   // energy) keep their own, or their target 0 would pull the interior outwards.
@@ -62,17 +73,29 @@ Coating extract_coating(const Mesh& source, const std::vector<int>& region, cons
   c.smooth = solve_lse(m, interior_kinds(c.patch, Constraint::Soft), options.smooth_weight, target, m.V,
                        &c.smoothing);
   const Mesh smooth{c.smooth, m.F, m.name + "_smooth"};
+  Timer t;
+  c.uv = disk_parameterization(DiskPatch{smooth, c.patch.parent, c.patch.boundary, c.patch.on_boundary}, options.map);
+  c.parameterize_s = t.seconds();
   const std::vector<Mat3> frames = tangent_frames(smooth, adj, c.uv);
-  // The detail is read back by the rows of the target mesh's Laplacian, so it is written with the source mesh's:
-  // with the patch's own, a boundary vertex's detail would be divided by its degree within the patch, not in the
-  // mesh, and a surface's own coating would not give it back on a sub-patch.
-  const Adjacency whole = vertex_adjacency(source);
-  const Points d = rows_in_mesh(source, whole, c.patch, m.V) - rows_in_mesh(source, whole, c.patch, c.smooth);
+  Points d = m.V - c.smooth;
+  if (options.encoding == DetailEncoding::Laplacian) {
+    // The detail is read back by the rows of the target mesh's Laplacian, so it is written with the source
+    // mesh's: with the patch's own, a boundary vertex's detail would be divided by its degree within the patch,
+    // not in the mesh, and a surface's own coating would not give it back on a sub-patch.
+    const Adjacency whole = vertex_adjacency(source);
+    d = rows_in_mesh(source, whole, c.patch, m.V) - rows_in_mesh(source, whole, c.patch, c.smooth);
+  }
   c.detail.resize(d.rows(), 3);
   for (Eigen::Index i = 0; i < d.rows(); ++i) c.detail.row(i) = (frames[i].transpose() * d.row(i).transpose()).transpose();
   c.boundary_length = loop_length(c.patch);
   c.mean_edge = mean_edge_length(smooth);  // the spacing of the surface the detail sits on
   return c;
+}
+
+Mesh own_smooth_version(const Mesh& source, const Coating& coating) {
+  Mesh m = source;
+  for (int l = 0; l < coating.patch.num_vertices(); ++l) m.V.row(coating.patch.parent[l]) = coating.smooth.row(l);
+  return m;
 }
 
 CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const std::vector<int>& region,
@@ -84,14 +107,15 @@ CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const 
   out.patch = extract_disk_patch(target, region, "target");
   const DiskPatch& p = out.patch;
   Timer t;
-  const UV uv = tutte_parameterization(p);
+  const UV uv = disk_parameterization(p, options.map);
   out.parameterize_s = t.seconds();
   t.reset();
-  // The detail as a shape scales with the patch (sigma); its uniform Laplacian coordinates also scale with the
-  // square of the vertex spacing relative to the shape: rho = (h_t / h_s) / sigma.
+  // The detail as a shape scales with the patch (sigma); uniform Laplacian coordinates also scale with the square
+  // of the vertex spacing relative to the shape: rho = (h_t / h_s) / sigma.
   out.sigma = loop_length(p) / coating.boundary_length;
   const double rho = mean_edge_length(p.mesh) / coating.mean_edge / out.sigma;
-  out.scale = options.amplitude * out.sigma * rho * rho;
+  const bool laplacian = coating.encoding == DetailEncoding::Laplacian;
+  out.scale = options.amplitude * out.sigma * (laplacian ? rho * rho : 1.0);
   out.mapped_detail = out.scale * interpolate(locate_in_parameter_domain(coating.uv, coating.patch.mesh.F, uv),
                                               coating.patch.mesh.F, coating.detail);
   const std::vector<Mat3> frames = tangent_frames(p.mesh, vertex_adjacency(p.mesh), uv);
@@ -99,21 +123,27 @@ CoatedTarget transfer_coating(const Coating& coating, const Mesh& target, const 
 
   const Adjacency adj = vertex_adjacency(target);
   const Points delta0 = uniform_delta(target, adj);
-  Points delta = delta0;
   std::vector<Constraint> kinds(static_cast<std::size_t>(target.num_vertices()), Constraint::Hard);
+  Points moved = target.V;  // height encoding: the target displaced by the coating
+  Points delta = delta0;    // laplacian encoding: the coating added to the target's coordinates
   for (int l = 0; l < p.num_vertices(); ++l) {
-    delta.row(p.parent[l]) += (frames[l] * out.mapped_detail.row(l).transpose()).transpose();
-    if (!p.on_boundary[l]) kinds[p.parent[l]] = Constraint::Free;
+    const Vec3 d = frames[l] * out.mapped_detail.row(l).transpose();
+    if (laplacian) delta.row(p.parent[l]) += d.transpose();
+    if (p.on_boundary[l]) continue;
+    kinds[p.parent[l]] = Constraint::Free;
+    if (!laplacian) moved.row(p.parent[l]) += d.transpose();
   }
+  if (!laplacian) delta = uniform_delta(Mesh{moved, target.F, target.name}, adj);
   out.result = target;
   out.result.V = solve_lse(target, kinds, 1.0, delta, target.V, &out.solve);
 
   // How much of the mapped coating the solved surface carries, read back in the same frames.
-  const Points got = uniform_delta(out.result, adj) - delta0;
+  const Points got = encoded(coating.encoding, target, adj, p, out.result.V) -
+                     encoded(coating.encoding, target, adj, p, target.V);
   double err2 = 0, ref2 = 0;
   for (int l = 0; l < p.num_vertices(); ++l) {
     if (p.on_boundary[l]) continue;
-    const Vec3 xi = frames[l].transpose() * got.row(p.parent[l]).transpose();
+    const Vec3 xi = frames[l].transpose() * got.row(l).transpose();
     err2 += (xi - out.mapped_detail.row(l).transpose()).squaredNorm();
     ref2 += out.mapped_detail.row(l).squaredNorm();
   }
