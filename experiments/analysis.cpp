@@ -6,7 +6,7 @@
 // the deformation hands it the ordered matrix), their sum (analysis_s, the deformation's "analyze" phase) and
 // the factor's nnz(L) and flops. Soft constraints, as the solver study's systems.
 //
-//   build/exp_analysis --edit data/edits/armadillo_loop1_whole.edit --system tf --orderings metis,ringnd \
+//   build/exp_analysis --edit data/edits/armadillo_loop1_whole.edit --system tf --orderings metis,ringnd
 //       --rounds 5 --csv results/analysis.csv
 #include <cstdlib>
 #include <iostream>
@@ -62,6 +62,13 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
+//! The value of column `key` in `row`.
+std::string value(const db::CsvTable::Row& row, const std::string& key) {
+  for (const auto& [k, v] : row)
+    if (k == key) return v;
+  return {};
+}
+
 //! One edit's unknowns before any ordering.
 struct Case {
   db::EditCase edit;
@@ -86,11 +93,17 @@ db::CsvTable::Row measure(const Case& c, const std::string& system, const std::s
   solver->analyze(K);
   const double analyze_s = t.seconds();
   const db::FactorStats st = solver->stats();
-  return {{"edit", c.edit.edit.name},       {"vertices", std::to_string(c.edit.mesh.V.rows())},
-          {"system", system},               {"ordering", ordering},
-          {"round", std::to_string(round)}, {"order_s", db::num(order_s)},
-          {"order_cpu_s", db::num(order_cpu_s)},          {"mf_analyze_s", db::num(analyze_s)}, {"analysis_s", db::num(order_s + analyze_s)},
-          {"nnz_L", std::to_string(st.nnz_factor)}, {"gflop", db::num(st.flops / 1e9)},
+  return {{"edit", c.edit.edit.name},
+          {"vertices", std::to_string(c.edit.mesh.V.rows())},
+          {"system", system},
+          {"ordering", ordering},
+          {"round", std::to_string(round)},
+          {"order_s", db::num(order_s)},
+          {"order_cpu_s", db::num(order_cpu_s)},
+          {"mf_analyze_s", db::num(analyze_s)},
+          {"analysis_s", db::num(order_s + analyze_s)},
+          {"nnz_L", std::to_string(st.nnz_factor)},
+          {"gflop", db::num(st.flops / 1e9)},
           {"threads", std::to_string(db::worker_threads())}};
 }
 
@@ -113,7 +126,7 @@ int main(int argc, char** argv) {
           for (const std::string& o : a.orderings) {
             db::CsvTable::Row row = measure(c, s, o, r);
             std::cout << fmt::format("round {} {} {} {}: analysis {} s, nnz(L) {}\n", r, c.edit.edit.name, s, o,
-                                     row[8].second, row[9].second)
+                                     value(row, "analysis_s"), value(row, "nnz_L"))
                       << std::flush;
             table.add(std::move(row));
           }

@@ -49,7 +49,7 @@ struct ForeignRows {
 };
 
 //! Flops of one triangular solve (either direction) with r right-hand sides: two per factor entry and column.
-double solve_flops(const Symbolic& S, Eigen::Index r);
+double solve_flops(const Symbolic& S, Index r);
 
 // The solves below take either view (FactorView or FloatFactorView; instantiated for both): the same
 // supernodes, threads and kernels, reading double or float entries and computing in double.

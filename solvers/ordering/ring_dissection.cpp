@@ -63,7 +63,8 @@ class Dissection {
       const std::size_t start = p.rows.size();
       const int v = verts[j];
       for (int q = g_.ptr[v]; q < g_.ptr[v + 1]; ++q)
-        if (const int y = g_.adj[q]; in_part(y, id) && local_[std::size_t(y)] < int(j)) p.rows.push_back(local_[std::size_t(y)]);
+        if (const int y = g_.adj[q]; in_part(y, id) && local_[std::size_t(y)] < int(j))
+          p.rows.push_back(local_[std::size_t(y)]);
       std::sort(p.rows.begin() + std::ptrdiff_t(start), p.rows.end());
       p.colptr.push_back(int(p.rows.size()));
     }
@@ -235,7 +236,8 @@ class Dissection {
 void check_permutation(const std::vector<int>& perm, int m) {
   std::vector<char> seen(std::size_t(m), 0);
   for (int v : perm)
-    if (v < 0 || v >= m || seen[std::size_t(v)]++) throw SolverError("ring dissection: the ordering is not a permutation");
+    if (v < 0 || v >= m || seen[std::size_t(v)]++)
+      throw SolverError("ring dissection: the ordering is not a permutation");
   if (int(perm.size()) != m) throw SolverError("ring dissection: the ordering is incomplete");
 }
 

@@ -1,4 +1,4 @@
-// The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool, the thread choice by work.
+// The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool, the thread choice.
 #include <cstdint>
 #include <vector>
 

@@ -49,7 +49,8 @@ struct Mesh {
       for (int q = ptr[std::size_t(v)]; q < ptr[std::size_t(v) + 1]; ++q) {
         const int x = adj[std::size_t(q)];
         col.push_back(index[std::size_t(x)]);
-        for (int r = ptr[std::size_t(x)]; r < ptr[std::size_t(x) + 1]; ++r) col.push_back(index[std::size_t(adj[std::size_t(r)])]);
+        for (int r = ptr[std::size_t(x)]; r < ptr[std::size_t(x) + 1]; ++r)
+          col.push_back(index[std::size_t(adj[std::size_t(r)])]);
       }
       std::sort(col.begin(), col.end());
       col.erase(std::unique(col.begin(), col.end()), col.end());

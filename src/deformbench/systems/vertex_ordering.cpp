@@ -61,7 +61,8 @@ void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& meth
 
 void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method) {
   check_method(method);
-  if (method == "ringnd") throw InputError("vertex ordering 'ringnd' needs the vertex adjacency, not the 2-ring pattern");
+  if (method == "ringnd")
+    throw InputError("vertex ordering 'ringnd' needs the vertex adjacency, not the 2-ring pattern");
   PermutationCommon c;
   cholmod_factor* L = analyze_graph({unk.num_unknowns(), pat.colptr.data(), pat.rows.data()}, method, c.cc);
   renumber(static_cast<const int*>(L->Perm), unk);
