@@ -4,17 +4,19 @@
 # default), ringnd (the 1-ring dissection) and amd (the LAP default), in interleaved rounds (experiments/analysis.cpp);
 # (b) the full-frame median at 1 and 2 threads, paired in each round (the solves' thread choice by work).
 # Writes analysis.csv, frames.csv and table.md here.
-# usage: results/records/2026-11-26-analysis-2core/run.sh ROUNDS      (from the repository root, after building
-#        exp_analysis and deformbench in build/)
+# usage: results/records/2026-11-26-analysis-2core/run.sh ROUNDS [analysis|frames]   (from the repository root,
+#        after building exp_analysis and deformbench in build/; both parts by default)
 set -euo pipefail
-rounds=${1:-3}
+rounds=${1:-3} part=${2:-both}
 here=$(cd "$(dirname "$0")" && pwd)
 edits=(--edit data/edits/armadillo_whole.edit --edit data/edits/armadillo_loop1_whole.edit)
 export DEFORMBENCH_THREADS=2 OPENBLAS_NUM_THREADS=2
 echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+if [ "$part" != frames ]; then
 build/exp_analysis "${edits[@]}" --system tf --orderings metis,ringnd --rounds "$rounds" --csv "$here/analysis_tf.csv"
 build/exp_analysis "${edits[@]}" --system lap --orderings amd,metis,ringnd --rounds "$rounds" --csv "$here/analysis_lap.csv"
 echo "load after the analysis rounds: $(cut -d' ' -f1-3 /proc/loadavg)"
+fi
 
 t=$(mktemp -d); trap 'rm -rf "$t"' EXIT
 frame_ms() {  # the full-frame median (ms) of one run: THREADS ARGS...
@@ -22,6 +24,7 @@ frame_ms() {  # the full-frame median (ms) of one run: THREADS ARGS...
   DEFORMBENCH_THREADS=$th OPENBLAS_NUM_THREADS=$th build/deformbench deform "$@" --out "$t/o.ply" --csv "$t/o.csv" >/dev/null
   /usr/bin/python3 -c 'import csv,sys; r=next(csv.DictReader(open(sys.argv[1]))); print("%.4f" % (1e3*float(r["frame_s"])))' "$t/o.csv"
 }
+if [ "$part" != analysis ]; then
 echo "edit,method,round,threads,frame_median_ms" > "$here/frames.csv"
 for ((r = 1; r <= rounds; r++)); do
   for e in data/edits/armadillo_whole.edit data/edits/armadillo_loop1_whole.edit; do
@@ -32,6 +35,7 @@ for ((r = 1; r <= rounds; r++)); do
   done
 done
 echo "load after the frame rounds: $(cut -d' ' -f1-3 /proc/loadavg)"
+fi
 
 /usr/bin/python3 - "$here" > "$here/table.md" <<'PY'
 import csv, statistics, sys, collections
