@@ -194,7 +194,7 @@ int threads_worth(double flops, Work kind, int most) {
   const double seconds = flops / flops_per_second;
   if (most <= 1) return 1;
   if (!(min_seconds > 0)) return most;
-  return int(std::clamp(std::floor(seconds / min_seconds), 1.0, double(most)));
+  return int(std::clamp(std::floor(seconds / min_seconds) + 1, 1.0, double(most)));
 }
 
 bool worth_threads(double flops, Work kind) { return threads_worth(flops, kind, 2) > 1; }
