@@ -14,7 +14,8 @@ set -euo pipefail
 mode=${1:-}
 case $mode in
 prepare)
-  grep -qx '/.device/' .git/info/exclude 2>/dev/null || echo /.device/ >> "$(git rev-parse --git-path info/exclude)"
+  exclude=$(git rev-parse --git-path info/exclude)  # a worktree's .git is a file: ask git where it is
+  grep -qx '/.device/' "$exclude" 2>/dev/null || echo /.device/ >> "$exclude"
   ../shared/tools/device-bundle.sh build .device deformbench meshtool
   gzip -c data/generated/armadillo_loop1.off > .device/armadillo_loop1.off.gz
   cp "$0" .device/device_threads.sh
