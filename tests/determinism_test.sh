@@ -4,7 +4,8 @@
 #  - BS08 cactus: lap, tf and lri, full and handle frame modes, the multifrontal backends (double, mixed,
 #    refined, out of core), every parallel region forced onto threads (DEFORMBENCH_PARALLEL_MIN_SECONDS=0) so the
 #    small system takes the paths large ones take;
-#  - the 26k armadillo edit: tf and lap, full and handle, with the default thread choices.
+#  - the 26k armadillo edit: tf and lap, full and handle, with the default thread choices; tf with the ringnd
+#    vertex ordering.
 # usage: determinism_test.sh BUILD_DIR SOURCE_DIR
 set -u
 B=$1 S=$2
@@ -53,6 +54,8 @@ if [ -f "$S/data/meshes/armadillo.off" ]; then
       same_bytes "armadillo-$method-$mode" 3 "$armadillo" --method "$method" --constraints soft --frame-mode "$mode" --frames 5
     done
   done
+  # The ring dissection orders the two sides of each split in two processes at once.
+  same_bytes "armadillo-tf-ringnd" 3 "$armadillo" --method tf --constraints soft --ordering ringnd --frames 3
 else
   fail "data/meshes/armadillo.off is missing (scripts/data.sh extracts it)"
 fi

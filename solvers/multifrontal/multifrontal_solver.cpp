@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -99,7 +100,13 @@ class MultifrontalSolver final : public LinearSolver {
   FloatFactor float_;  //!< mixed: the factor in single precision
   SpMat kept_;         //!< refined backends: P A P^T (upper), the refinement's products
   Symbolic S_;
-  Plan factor_plan_, solve_plan_;
+  //! The solves' plan for r right-hand sides: for as many threads as their work is worth (threads_worth), made
+  //! on first use and kept (the same thread count gives the same plan, so the same bytes).
+  const Plan& solve_plan(Index r);
+
+  Plan factor_plan_;
+  std::map<int, Plan> solve_plans_;  //!< by thread count
+  std::vector<double> entries_;      //!< per supernode: factor entries, the solves' cost
   int threads_ = 1;
   Mapping values_;  //!< the FactorBlocks of all supernodes
   std::vector<double> pivots_;  //!< L_jj^2 per column, kept as the factorization goes (no pass over the factor)
@@ -128,14 +135,14 @@ void MultifrontalSolver::analyze(const SpMat& upper_in) {
   base_.resize(0, 0);
   threads_ = std::clamp(worker_threads(), 1, 64);  // owner[] holds a thread index in a signed char
   S_ = analyze_blocks(upper, b, options_.ordering);
-  std::vector<double> flops(std::size_t(S_.nsuper())), entries(std::size_t(S_.nsuper()));
+  std::vector<double> flops(std::size_t(S_.nsuper()));
+  entries_.assign(std::size_t(S_.nsuper()), 0.0);
   for (int s = 0; s < S_.nsuper(); ++s) {
     flops[std::size_t(s)] = supernode_flops(S_, s);
-    entries[std::size_t(s)] = double(S_.xptr[std::size_t(s) + 1] - S_.xptr[std::size_t(s)]);
+    entries_[std::size_t(s)] = double(S_.xptr[std::size_t(s) + 1] - S_.xptr[std::size_t(s)]);
   }
   factor_plan_ = schedule(S_, threads_, flops);
-  // A solve reads each factor entry once per direction: its threads are balanced by entries, not flops.
-  solve_plan_ = schedule(S_, threads_, entries);
+  solve_plans_.clear();
   guard_.remember(upper);
   stats_ = FactorStats{};
   stats_.n = std::size_t(n);
@@ -262,10 +269,10 @@ void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {
     const RowMajorMat b = y_;
     const auto precondition = [this](RowMajorMat& y) {
       if (mixed_) {
-        float_.solve(S_, solve_plan_, y, acc_);
+        float_.solve(S_, solve_plan(y.cols()), y, acc_);
       } else {
-        forward_all(factor(), solve_plan_, y, acc_);
-        backward_all(factor(), solve_plan_, y);
+        forward_all(factor(), solve_plan(y.cols()), y, acc_);
+        backward_all(factor(), solve_plan(y.cols()), y);
       }
     };
     const Refinement r = refine(refined_system(kept_), precondition, b, y_, options_.tolerance, options_.max_iterations,
@@ -274,10 +281,18 @@ void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {
     stats_.achieved_tolerance = r.residual;
     stats_.last_correction = r.last_correction;
   } else {
-    forward_all(factor(), solve_plan_, y_, acc_);
-    backward_all(factor(), solve_plan_, y_);
+    forward_all(factor(), solve_plan(y_.cols()), y_, acc_);
+    backward_all(factor(), solve_plan(y_.cols()), y_);
   }
   store_solution(X);
+}
+
+const Plan& MultifrontalSolver::solve_plan(Index r) {
+  const int T = threads_worth(solve_flops(S_, r), Work::Solve, threads_);
+  auto it = solve_plans_.find(T);
+  // A solve reads each factor entry once per direction: its threads are balanced by entries, not flops.
+  if (it == solve_plans_.end()) it = solve_plans_.emplace(T, schedule(S_, T, entries_)).first;
+  return it->second;
 }
 
 void MultifrontalSolver::set_base_rhs(const DenseMat& B0, const std::vector<int>& rows) {
@@ -292,7 +307,7 @@ void MultifrontalSolver::set_base_rhs(const DenseMat& B0, const std::vector<int>
   }
   find_reach(rows);
   load_rhs(B0);
-  forward_all(factor(), solve_plan_, y_, acc_);
+  forward_all(factor(), solve_plan(y_.cols()), y_, acc_);
   y0_ = y_;
   changing_ = std::move(changing);
   changing_rows_ = rows;
@@ -332,7 +347,7 @@ void MultifrontalSolver::solve_changed(const DenseMat& B, DenseMat& X) {
   SolveScratch tmp;
   for (int s : reach_) forward_supernode(factor(), s, y_, tmp);
   for (int j : reach_columns_) y_.row(j) += y0_.row(j);
-  backward_all(factor(), solve_plan_, y_);
+  backward_all(factor(), solve_plan(y_.cols()), y_);
   store_solution(X);
 }
 

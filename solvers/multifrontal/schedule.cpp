@@ -1,6 +1,7 @@
 #include "solvers/multifrontal/schedule.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <numeric>
 
@@ -181,7 +182,7 @@ void Handover::finished(int root, const std::function<void(int, int)>& assemble)
   }
 }
 
-bool worth_threads(double flops, Work kind) {
+int threads_worth(double flops, Work kind, int most) {
   // Rough rates of one core: dense factorization work (BLAS-3) and triangular solves, which stream the factor
   // from memory. The tests lower the bound (DEFORMBENCH_PARALLEL_MIN_SECONDS=0) to run small systems' plans on
   // threads.
@@ -190,8 +191,13 @@ bool worth_threads(double flops, Work kind) {
     return e && *e ? std::strtod(e, nullptr) : 2e-3;
   }();
   const double flops_per_second = kind == Work::Dense ? 2e10 : 2.5e9;
-  return flops / flops_per_second >= min_seconds;
+  const double seconds = flops / flops_per_second;
+  if (most <= 1) return 1;
+  if (!(min_seconds > 0)) return most;
+  return int(std::clamp(std::floor(seconds / min_seconds) + 1, 1.0, double(most)));
 }
+
+bool worth_threads(double flops, Work kind) { return threads_worth(flops, kind, 2) > 1; }
 
 void run_subtrees(std::size_t groups, bool parallel, const std::function<void(std::size_t)>& fn) {
   if (groups <= 1) {

@@ -63,6 +63,10 @@ class Handover {
 //! the factor from memory.
 enum class Work { Dense, Solve };
 bool worth_threads(double flops, Work kind);
+//! How many threads a job of `flops` is worth, from 1 to `most`: one more for each share of one core's work
+//! that worth_threads asks before it starts a second. Why: a thread with less work costs more in its start and
+//! its share of the serial top (a plan for more threads opens more subtrees) than it takes over.
+int threads_worth(double flops, Work kind, int most);
 
 //! OpenBLAS runs its own thread pool; while our threads each work on a subtree it must run single-threaded
 //! (two pools on the same cores oversubscribe them). Looked up at run time: other BLAS builds simply lack the

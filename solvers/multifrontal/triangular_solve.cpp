@@ -40,10 +40,9 @@ Panel<float> panel(const FloatFactorView&, const FactorBlockOf<const float>& L, 
   return {L.tri(p), L.rect(p)};
 }
 
-//! Flops of one triangular solve (either direction) with r right-hand sides: two per factor entry and column.
-double solve_flops(const Symbolic& S, Index r) { return 2.0 * double(S.nnz) * double(r); }
-
 }  // namespace
+
+double solve_flops(const Symbolic& S, Index r) { return 2.0 * double(S.nnz) * double(r); }
 
 template <class View>
 void forward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch, const ForeignRows* foreign) {

@@ -48,6 +48,9 @@ struct ForeignRows {
   RowMajorMat& acc;
 };
 
+//! Flops of one triangular solve (either direction) with r right-hand sides: two per factor entry and column.
+double solve_flops(const Symbolic& S, Index r);
+
 // The solves below take either view (FactorView or FloatFactorView; instantiated for both): the same
 // supernodes, threads and kernels, reading double or float entries and computing in double.
 

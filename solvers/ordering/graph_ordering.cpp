@@ -1,17 +1,14 @@
 #include "solvers/ordering/graph_ordering.h"
 
-#include <cerrno>
 #include <memory>
 #include <optional>
 #include <vector>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
+#include "solvers/ordering/child_task.h"
 #include "solvers/ordering/cholmod_views.h"
 #include "solvers/ordering/ordering_cache.h"
 
@@ -67,72 +64,6 @@ std::vector<int> metis_order(const SubGraph& g) {
   return metis_order({int(g.size()), g.colptr.data(), g.rows.data()}, &g.vertices);
 }
 
-//! A vector of `count` ints computed by a forked child process while this one goes on, sent back through a
-//! pipe. Why a process and not a thread: METIS draws its random numbers from the C library's one shared
-//! generator, reseeded at every call, so two orderings on two threads would interleave their draws and come out
-//! different from run to run.
-class ChildTask {
- public:
-  template <class Fn>
-  ChildTask(std::size_t count, Fn fn) : count_(count) {
-    int fds[2];
-    if (::pipe(fds) != 0) return;
-    pid_ = ::fork();
-    if (pid_ < 0) {
-      ::close(fds[0]);
-      ::close(fds[1]);
-      return;
-    }
-    if (pid_ == 0) {  // the child: compute, write, leave without running the parent's exit handlers
-      ::close(fds[0]);
-      bool ok = false;
-      try {
-        std::vector<int> out = fn();
-        ok = out.size() == count && transfer(fds[1], out.data(), count, true);
-      } catch (...) {
-      }
-      ::_exit(ok ? 0 : 1);
-    }
-    ::close(fds[1]);
-    fd_ = fds[0];
-  }
-  ChildTask(const ChildTask&) = delete;
-  ChildTask& operator=(const ChildTask&) = delete;
-  ~ChildTask() { result(); }
-
-  //! The child's answer; empty when it could not be started or did not deliver (the caller then computes it).
-  std::optional<std::vector<int>> result() {
-    if (pid_ <= 0) return std::nullopt;
-    std::vector<int> out(count_);
-    const bool got = transfer(fd_, out.data(), count_, false);
-    ::close(fd_);
-    int status = 0;
-    while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-    }
-    pid_ = -1;
-    if (!got || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return std::nullopt;
-    return out;
-  }
-
- private:
-  static bool transfer(int fd, int* data, std::size_t count, bool write) {
-    char* p = reinterpret_cast<char*>(data);
-    std::size_t left = count * sizeof(int);
-    while (left > 0) {
-      const ssize_t k = write ? ::write(fd, p, left) : ::read(fd, p, left);
-      if (k < 0 && errno == EINTR) continue;
-      if (k <= 0) return false;
-      p += k;
-      left -= static_cast<std::size_t>(k);
-    }
-    return true;
-  }
-
-  std::size_t count_;
-  pid_t pid_ = -1;
-  int fd_ = -1;
-};
-
 //! METIS nested dissection whose first level is done here, so that the two sides can be ordered at once: a
 //! METIS vertex separator splits the graph, each side is ordered by METIS (the smaller one in a child process
 //! when there are two worker threads), the separator comes last. METIS_NodeND takes the same first step itself,
@@ -178,12 +109,11 @@ std::vector<int> dissected_metis_order(const GraphPattern& pat, cholmod_common& 
 // Below this size METIS takes a few tens of milliseconds and the split would not pay for its bisection.
 constexpr int kDissectVertices = 20000;
 
-cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc) {
-  const OrderingCache cache = OrderingCache::from_environment();
-  const bool cacheable = cache.enabled() && method != "natural";
-  std::vector<int> given = cacheable ? cache.find(g, method) : std::vector<int>{};
-  const bool cached = !given.empty();  // postordered already: the analysis keeps it as it is
-  if (!cached && method == "metis" && g.n >= kDissectVertices) given = dissected_metis_order(g, cc);
+namespace {
+
+//! CHOLMOD's postordered analysis of g under `given` (perm[new] = old) or, when it is empty, under `method`.
+cholmod_factor* analyze_with(const GraphPattern& g, const std::vector<int>& given, const std::string& method,
+                             cholmod_common& cc) {
   cc.nmethods = 1;
   cc.method[0].ordering = given.empty() ? cholmod_ordering_code(method) : CHOLMOD_GIVEN;
   cc.postorder = true;
@@ -195,6 +125,18 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
     throw SolverError(fmt::format("symbolic analysis ({} ordering) of a {}-vertex graph failed, CHOLMOD status {}",
                                   method, g.n, cc.status));
   }
+  return L;
+}
+
+}  // namespace
+
+cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc) {
+  const OrderingCache cache = OrderingCache::from_environment();
+  const bool cacheable = cache.enabled() && method != "natural";
+  std::vector<int> given = cacheable ? cache.find(g, method) : std::vector<int>{};
+  const bool cached = !given.empty();  // postordered already: the analysis keeps it as it is
+  if (!cached && method == "metis" && g.n >= kDissectVertices) given = dissected_metis_order(g, cc);
+  cholmod_factor* L = analyze_with(g, given, method, cc);
   if (cacheable && !cached) {
     try {
       cache.store(g, method, static_cast<const int*>(L->Perm));
@@ -204,6 +146,12 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
     }
   }
   return L;
+}
+
+cholmod_factor* analyze_graph_given(const GraphPattern& g, const std::vector<int>& perm, cholmod_common& cc) {
+  if (int(perm.size()) != g.n)
+    throw SolverError(fmt::format("symbolic analysis: an order of {} entries for a {}-vertex graph", perm.size(), g.n));
+  return analyze_with(g, perm, "given", cc);
 }
 
 std::vector<int> metis_permutation(const GraphPattern& g) {

@@ -26,6 +26,10 @@ struct GraphPattern {
 //! \throw SolverError when CHOLMOD fails; Error when the cache directory cannot be written.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc);
 
+//! CHOLMOD's analysis of `g` under the given order `perm` (perm[new] = old, g.n entries), postordered; otherwise
+//! as analyze_graph (no cache: the caller computed the order). \throw SolverError when CHOLMOD fails.
+cholmod_factor* analyze_graph_given(const GraphPattern& g, const std::vector<int>& perm, cholmod_common& cc);
+
 //! METIS's fill-reducing order of `g` (perm[new] = old), not postordered; on 20000 vertices or more dissected
 //! as in analyze_graph, so that every METIS ordering in the project is the same for the same graph.
 //! \throw SolverError when METIS fails.

@@ -1,9 +1,10 @@
-// The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool.
+// The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool, the thread choice.
 #include <cstdint>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 
 namespace {
@@ -65,3 +66,23 @@ TEST(UpdatePool, BlocksComeFromThePoolUntilItIsFull) {
 }
 
 }  // namespace
+
+// The solves' thread count by work (schedule.h): from 1 to the most allowed, never fewer for more work, and more
+// than one exactly where worth_threads says a second thread is worth starting.
+TEST(ThreadsWorth, BoundedMonotoneAndConsistentWithWorthThreads) {
+  using db::multifrontal::threads_worth;
+  using db::multifrontal::Work;
+  for (Work kind : {Work::Solve, Work::Dense}) {
+    int last = 1;
+    for (double flops = 1; flops < 1e13; flops *= 3) {
+      const int t = threads_worth(flops, kind, 16);
+      EXPECT_GE(t, last) << flops;
+      EXPECT_GE(t, 1);
+      EXPECT_LE(t, 16);
+      EXPECT_EQ(threads_worth(flops, kind, 1), 1);
+      EXPECT_EQ(threads_worth(flops, kind, 2) > 1, db::multifrontal::worth_threads(flops, kind)) << flops;
+      last = t;
+    }
+    EXPECT_EQ(threads_worth(1e13, kind, 16), 16);  // hours of one core's work
+  }
+}

@@ -50,7 +50,7 @@ bool contains(const std::vector<std::string>& v, const std::string& s) {
 }
 
 // Orderings the structured LAP / TF build applies to the vertex graph itself (systems/vertex_ordering.h).
-const std::vector<std::string> kVertexOrderings = {"default", "natural", "amd", "metis", "nesdis"};
+const std::vector<std::string> kVertexOrderings = {"default", "natural", "amd", "metis", "nesdis", "ringnd"};
 
 std::vector<std::string> all_orderings() {
   std::vector<std::string> out = kVertexOrderings;

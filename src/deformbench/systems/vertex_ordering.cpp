@@ -3,39 +3,70 @@
 #include <cholmod.h>
 
 #include <exception>
-#include <memory>
 #include <thread>
 
 #include "solvers/base/error.h"
 #include "core/timer.h"
 #include "solvers/ordering/graph_ordering.h"
+#include "solvers/ordering/ring_dissection.h"
 #include "systems/build_detail.h"
 
 namespace db {
 
-void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method) {
-  // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
-  order_unknowns(interaction_pattern(adj, unk), unk, method);
-}
+namespace {
 
-void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method) {
-  if (method != "amd" && method != "metis" && method != "nesdis")
-    throw InputError("unknown vertex ordering '" + method + "' (expected amd, metis or nesdis)");
-  const int nu = unk.num_unknowns();
-
-  cholmod_common cc;
-  cholmod_start(&cc);
-  const std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> guard(&cc, cholmod_finish);
-  cc.print = 0;
-  cc.supernodal = CHOLMOD_SIMPLICIAL;  // only the permutation is wanted; skip the supernodal symbolic phase
-  cholmod_factor* L = analyze_graph({nu, pat.colptr.data(), pat.rows.data()}, method, cc);
-  const int* perm = static_cast<const int*>(L->Perm);
+//! Renumbers unk's unknowns by perm (perm[new] = old).
+void renumber(const int* perm, Unknowns& unk) {
   const std::vector<int> old = unk.unknown_vertices;
-  for (int p = 0; p < nu; ++p) {
+  for (int p = 0; p < unk.num_unknowns(); ++p) {
     unk.unknown_vertices[p] = old[perm[p]];
     unk.unknown_of[unk.unknown_vertices[p]] = p;
   }
-  cholmod_free_factor(&L, &cc);
+}
+
+//! CHOLMOD's common set for an analysis that only wants the permutation.
+struct PermutationCommon {
+  cholmod_common cc;
+  PermutationCommon() {
+    cholmod_start(&cc);
+    cc.print = 0;
+    cc.supernodal = CHOLMOD_SIMPLICIAL;  // only the permutation is wanted; skip the supernodal symbolic phase
+  }
+  ~PermutationCommon() { cholmod_finish(&cc); }
+};
+
+void check_method(const std::string& method) {
+  if (method != "amd" && method != "metis" && method != "nesdis" && method != "ringnd")
+    throw InputError("unknown vertex ordering '" + method + "' (expected amd, metis, nesdis or ringnd)");
+}
+
+}  // namespace
+
+void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method) {
+  check_method(method);
+  if (method != "ringnd") {
+    // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
+    order_unknowns(interaction_pattern(adj, unk), unk, method);
+    return;
+  }
+  // Dissected on the 1-ring graph; the postordering analysis then runs on the 2-ring graph.
+  const std::vector<int> perm = ring_dissection_order(
+      {adj.num_vertices(), adj.off.data(), adj.nbr.data(), unk.unknown_of.data(), unk.num_unknowns()});
+  const InteractionPattern pat = interaction_pattern(adj, unk);
+  PermutationCommon c;
+  cholmod_factor* L = analyze_graph_given({unk.num_unknowns(), pat.colptr.data(), pat.rows.data()}, perm, c.cc);
+  renumber(static_cast<const int*>(L->Perm), unk);
+  cholmod_free_factor(&L, &c.cc);
+}
+
+void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method) {
+  check_method(method);
+  if (method == "ringnd")
+    throw InputError("vertex ordering 'ringnd' needs the vertex adjacency, not the 2-ring pattern");
+  PermutationCommon c;
+  cholmod_factor* L = analyze_graph({unk.num_unknowns(), pat.colptr.data(), pat.rows.data()}, method, c.cc);
+  renumber(static_cast<const int*>(L->Perm), unk);
+  cholmod_free_factor(&L, &c.cc);
 }
 
 NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,

@@ -1,0 +1,143 @@
+// The analysis phase of the structured LAP / TF systems under several vertex orderings, in interleaved rounds
+// (a shared machine drifts: each round runs every ordering once, so ratios within a round compare like with
+// like). Per edit, system, ordering and round one CSV row: the vertex ordering's wall time (order_s) and this
+// process's CPU time in it (order_cpu_s: forked METIS children not included), the
+// multifrontal backend's symbolic analysis of the ordered system (mf_analyze_s; with the natural ordering, as
+// the deformation hands it the ordered matrix), their sum (analysis_s, the deformation's "analyze" phase) and
+// the factor's nnz(L) and flops. Soft constraints, as the solver study's systems.
+//
+//   build/exp_analysis --edit data/edits/armadillo_loop1_whole.edit --system tf --orderings metis,ringnd
+//       --rounds 5 --csv results/analysis.csv
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/csv.h"
+#include "core/provenance.h"
+#include "core/timer.h"
+#include "edit/edit_io.h"
+#include "methods/deformer.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
+#include "solvers/linear_solver.h"
+#include "systems/normal_system.h"
+#include "systems/vertex_ordering.h"
+
+namespace {
+
+struct Args {
+  std::vector<std::string> edits, systems{"tf"}, orderings{"metis", "ringnd"};
+  int rounds = 3;
+  std::string csv;
+};
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string key = argv[i];
+    if (i + 1 >= argc) throw db::UsageError(key + " needs a value");
+    const std::string value = argv[++i];
+    if (key == "--edit") a.edits.push_back(value);
+    else if (key == "--system") a.systems = split_list(value);
+    else if (key == "--orderings") a.orderings = split_list(value);
+    else if (key == "--rounds") a.rounds = std::atoi(value.c_str());
+    else if (key == "--csv") a.csv = value;
+    else throw db::UsageError("unknown option " + key + " (expected --edit, --system, --orderings, --rounds, --csv)");
+  }
+  if (a.edits.empty() || a.csv.empty() || a.rounds < 1 || a.rounds > 1000)
+    throw db::UsageError("usage: exp_analysis --edit E [--edit E2] [--system tf,lap] [--orderings metis,ringnd] "
+                         "[--rounds 1..1000] --csv OUT");
+  return a;
+}
+
+//! The value of column `key` in `row`.
+std::string value(const db::CsvTable::Row& row, const std::string& key) {
+  for (const auto& [k, v] : row)
+    if (k == key) return v;
+  return {};
+}
+
+//! One edit's unknowns before any ordering.
+struct Case {
+  db::EditCase edit;
+  db::Adjacency adj;
+  db::Unknowns unk;
+};
+
+//! Orders, analyzes and measures one cell; one CSV row.
+db::CsvTable::Row measure(const Case& c, const std::string& system, const std::string& ordering, int round) {
+  const int b = system == "tf" ? 3 : 1;
+  db::Unknowns unk = c.unk;
+  db::Timer t;
+  const db::CpuTimer cpu;
+  db::order_unknowns(c.adj, unk, ordering);
+  const double order_s = t.seconds(), order_cpu_s = cpu.seconds();
+  const db::SpMat K = db::expand_upper(db::interaction_pattern(c.adj, unk), b);  // the ordered system's pattern
+  db::SolverOptions so;
+  so.ordering = "natural";
+  so.block_size = b;
+  const auto solver = db::make_solver("multifrontal", so);
+  t.reset();
+  solver->analyze(K);
+  const double analyze_s = t.seconds();
+  const db::FactorStats st = solver->stats();
+  return {{"edit", c.edit.edit.name},
+          {"vertices", std::to_string(c.edit.mesh.V.rows())},
+          {"system", system},
+          {"ordering", ordering},
+          {"round", std::to_string(round)},
+          {"order_s", db::num(order_s)},
+          {"order_cpu_s", db::num(order_cpu_s)},
+          {"mf_analyze_s", db::num(analyze_s)},
+          {"analysis_s", db::num(order_s + analyze_s)},
+          {"nnz_L", std::to_string(st.nnz_factor)},
+          {"gflop", db::num(st.flops / 1e9)},
+          {"threads", std::to_string(db::worker_threads())}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Args a = parse(argc, argv);
+    std::vector<Case> cases;
+    for (const std::string& e : a.edits) {
+      Case c{db::load_edit_case(e), {}, {}};
+      c.adj = db::vertex_adjacency(c.edit.mesh);
+      c.unk = db::make_unknowns(db::classify(c.edit.edit, db::ConstraintMode::Soft), 1.0);
+      cases.push_back(std::move(c));
+    }
+    db::CsvTable table;
+    for (int r = 0; r < a.rounds; ++r)
+      for (const Case& c : cases)
+        for (const std::string& s : a.systems)
+          for (const std::string& o : a.orderings) {
+            db::CsvTable::Row row = measure(c, s, o, r);
+            std::cout << fmt::format("round {} {} {} {}: analysis {} s, nnz(L) {}\n", r, c.edit.edit.name, s, o,
+                                     value(row, "analysis_s"), value(row, "nnz_L"))
+                      << std::flush;
+            table.add(std::move(row));
+          }
+    table.write(a.csv);
+    std::cout << "wrote " << a.csv << " | " << db::provenance_summary() << "\n";
+    return 0;
+  } catch (const db::UsageError& e) {
+    std::cerr << "exp_analysis: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "exp_analysis: " << e.what() << "\n";
+    return 2;
+  }
+}
