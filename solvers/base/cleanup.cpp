@@ -227,4 +227,22 @@ DeferSignals::~DeferSignals() {
   if (g_deferring.fetch_sub(1) == 1 && g_pending.load() != 0) act(g_pending.load());
 }
 
+ForkGuard::ForkGuard() {
+  sigset_t block;
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  ::pthread_sigmask(SIG_BLOCK, &block, &old_mask_);
+}
+
+ForkGuard::~ForkGuard() { ::pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr); }
+
+void ForkGuard::in_child() const {
+  for (int sig : {SIGINT, SIGTERM}) {
+    struct sigaction cur {};
+    if (::sigaction(sig, nullptr, &cur) == 0 && cur.sa_handler != SIG_IGN) ::signal(sig, SIG_DFL);
+  }
+  ::pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr);
+}
+
 }  // namespace db::cleanup

@@ -7,6 +7,7 @@
 //!
 //! The registry is fixed-size static storage (the handler allocates nothing): a registration that finds no free
 //! slot is not cleaned on a signal (the normal paths still remove it).
+#include <signal.h>
 #include <sys/types.h>
 
 #include <string>
@@ -19,6 +20,7 @@ namespace db::cleanup {
 class ScratchPath {
  public:
   enum Matching { Exact, Prefix };
+  ScratchPath() = default;  //!< nothing registered
   explicit ScratchPath(const std::string& path, Matching matching = Exact);
   ScratchPath(ScratchPath&& other) noexcept : slot_(other.slot_) { other.slot_ = -1; }
   ScratchPath& operator=(ScratchPath&& other) noexcept;
@@ -51,6 +53,24 @@ class DeferSignals {
   DeferSignals(const DeferSignals&) = delete;
   DeferSignals& operator=(const DeferSignals&) = delete;
   ~DeferSignals();
+};
+
+//! Around a fork: SIGINT / SIGTERM deferred (DeferSignals) and blocked in this thread, so the child starts with them
+//! blocked and none is lost between the fork and its exec; the parent registers the child (ChildProcess) before
+//! this ends. The child calls in_child() before it execs.
+class ForkGuard {
+ public:
+  ForkGuard();
+  ForkGuard(const ForkGuard&) = delete;
+  ForkGuard& operator=(const ForkGuard&) = delete;
+  ~ForkGuard();
+  //! In the forked child, before exec (async-signal-safe): the default action for SIGINT / SIGTERM (unless they
+  //! were ignored) and the signal mask of before the guard, so a signal already sent ends the child.
+  void in_child() const;
+
+ private:
+  DeferSignals defer_;
+  sigset_t old_mask_;
 };
 
 //! Installs the SIGINT / SIGTERM handlers now (idempotent; registration does it too).

@@ -1,0 +1,151 @@
+#!/usr/bin/env bash
+# SIGINT and SIGTERM mid-run leave nothing behind (solvers/base/cleanup.h; docs/cli.md, exit codes): sent to
+# `deformbench deform --solver mumps --factor-dir DIR` mid-solve (one process, and 2 ranks under mpirun), to
+# `meshtool convert` while it writes the mesh, and to an experiment driver while its cell runs. Each must exit 130
+# (SIGINT) or 143 (SIGTERM) (under mpirun: the launcher's own non-zero code), leave no MUMPS file and no staged
+# `*.tmp.PID*` temporary, leave the earlier outputs byte for byte as they were, and leave no child running.
+# Every signal is sent once the process is seen in the phase (polling for its scratch file, or its child), never
+# after a fixed sleep, so a loaded machine only makes the test slower.
+#   signals_test.sh SOURCE_DIR BUILD_DIR
+set -u
+SRC=$1
+BIN=$2
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
+cd "$SRC" || exit 1
+set -m  # background jobs get SIGINT (a non-interactive shell's background jobs otherwise ignore it)
+export OPENBLAS_NUM_THREADS=1
+EDIT=data/edits/armadillo_whole.edit
+BIG=data/generated/armadillo_loop1.off  # large enough that writing it takes a while
+[ -f "$BIG" ] || BIG=data/meshes/armadillo.off
+
+# until SECONDS_MAX CMD...: polls CMD every 20 ms; false after SECONDS_MAX seconds.
+until_true() {
+  local end=$((SECONDS + $1))
+  shift
+  while ! "$@"; do
+    ((SECONDS < end)) || return 1
+    sleep 0.02
+  done
+}
+files_in() { [ "$(find "$1" -maxdepth 1 -type f -name "$2" | wc -l)" -ge "$3" ]; }
+no_files_in() { [ -z "$(find "$1" -mindepth 1 -maxdepth 1 -name "$2")" ]; }
+gone() { ! kill -0 "$1" 2>/dev/null; }
+# wait_exit PID: its exit status (a wait that returns because the job stopped, 128 + SIGSTOP, is repeated).
+wait_exit() {
+  local rc stopped=$((128 + $(kill -l STOP))) try
+  for try in 1 2 3 4 5 6 7 8; do
+    wait "$1"
+    rc=$?
+    [ $rc -eq $stopped ] || return $rc
+    kill -CONT "$1" 2>/dev/null
+  done
+  return $rc
+}
+code_of() { case $1 in INT) echo 130 ;; TERM) echo 143 ;; esac; }
+
+# Earlier outputs in $T/out, kept in $T/before to compare with.
+earlier_outputs() {
+  rm -rf "$T/out" "$T/before"
+  mkdir -p "$T/out" "$T/before"
+  for f in "$@"; do echo "earlier $f" >"$T/out/$f"; done
+  cp -p "$T"/out/* "$T/before/"
+}
+unchanged() {
+  diff -r "$T/before" "$T/out" >/dev/null && ok "$1: earlier outputs unchanged, no temporary left" ||
+    fail "$1: outputs changed or left: $(ls "$T/out")"
+}
+
+# ---------------------------------------------------------------- mid-solve, MUMPS out of core
+for sig in INT TERM; do
+  earlier_outputs a.off a.csv
+  rm -rf "$T/fd" && mkdir -p "$T/fd"
+  "$BIN/deformbench" deform $EDIT --solver mumps --factor-dir "$T/fd" --frames 100000 --out "$T/out/a.off" \
+    --csv "$T/out/a.csv" >"$T/log" 2>&1 &
+  pid=$!
+  if until_true 300 files_in "$T/fd" 'deformbench-mumps*' 1; then
+    kill -$sig $pid
+    wait $pid
+    rc=$?
+    [ $rc -eq "$(code_of $sig)" ] && ok "deform SIG$sig mid-solve: exit $rc" || fail "deform SIG$sig: exit $rc $(tail -c 300 "$T/log")"
+    no_files_in "$T/fd" '*' && ok "deform SIG$sig: no MUMPS file left" || fail "deform SIG$sig: left $(ls "$T/fd")"
+    unchanged "deform SIG$sig"
+  else
+    fail "deform SIG$sig: no MUMPS file appeared: $(tail -c 300 "$T/log")"
+    kill -KILL $pid 2>/dev/null
+    wait $pid
+  fi
+done
+
+# ---------------------------------------------------------------- mid-solve on 2 ranks: every rank cleans up
+if command -v "${MPIEXEC:-mpirun}" >/dev/null; then
+  earlier_outputs a.off
+  rm -rf "$T/fd" && mkdir -p "$T/fd"
+  scripts/mpirun.sh 2 "$BIN/deformbench" deform $EDIT --solver mumps --factor-dir "$T/fd" --frames 100000 \
+    --out "$T/out/a.off" >"$T/log" 2>&1 &
+  pid=$!
+  if until_true 300 files_in "$T/fd" 'deformbench-mumps*' 2; then
+    kill -TERM $pid
+    wait $pid
+    rc=$?
+    [ $rc -ne 0 ] && ok "2 ranks SIGTERM: mpirun exit $rc" || fail "2 ranks SIGTERM: exit 0"
+    until_true 30 no_files_in "$T/fd" '*' && ok "2 ranks SIGTERM: no MUMPS file left on either rank" ||
+      fail "2 ranks SIGTERM: left $(ls "$T/fd")"
+    unchanged "2 ranks SIGTERM"
+  else
+    fail "2 ranks: no MUMPS files of both ranks appeared: $(tail -c 300 "$T/log")"
+    kill -KILL $pid 2>/dev/null
+    wait $pid
+  fi
+fi
+
+# ---------------------------------------------------------------- while the mesh is written
+# The temporary exists only while the mesh is written: the process is stopped (SIGSTOP) as soon as it is seen and
+# signalled only when it is still there, so the signal lands mid-write; a run that finished first is tried again.
+for sig in INT TERM; do
+  caught=0
+  for attempt in 1 2 3 4 5; do
+    earlier_outputs big.obj
+    "$BIN/meshtool" convert "$BIG" "$T/out/big.obj" >"$T/log" 2>&1 &
+    pid=$!
+    until_true 120 eval "[ -n \"\$(compgen -G '$T/out/*.tmp.*')\" ] || ! kill -0 $pid 2>/dev/null"
+    kill -STOP $pid 2>/dev/null
+    if [ -n "$(compgen -G "$T/out/*.tmp.*")" ]; then
+      kill -$sig $pid
+      kill -CONT $pid
+      wait_exit $pid
+      rc=$?
+      caught=1
+      [ $rc -eq "$(code_of $sig)" ] && ok "meshtool SIG$sig mid-write: exit $rc" || fail "meshtool SIG$sig mid-write: exit $rc"
+      unchanged "meshtool SIG$sig mid-write"
+      break
+    fi
+    kill -CONT $pid 2>/dev/null
+    wait_exit $pid
+  done
+  [ $caught -eq 1 ] || fail "meshtool SIG$sig: the write was never caught in 5 runs"
+done
+
+# ---------------------------------------------------------------- a driver with a running cell
+for sig in TERM INT; do
+  earlier_outputs deform_cases.csv
+  "$BIN/exp_deform_cases" --case arm=edits/armadillo_whole.edit --methods lap --frames 100000 \
+    --out "$T/out/deform_cases.csv" >"$T/log" 2>&1 &
+  pid=$!
+  child=""
+  find_child() { child=$(pgrep -P $pid | head -1); [ -n "$child" ]; }
+  if until_true 300 find_child; then
+    kill -$sig $pid
+    wait $pid
+    rc=$?
+    [ $rc -eq "$(code_of $sig)" ] && ok "driver SIG$sig with a running cell: exit $rc" || fail "driver SIG$sig: exit $rc $(tail -c 300 "$T/log")"
+    gone "$child" && ok "driver SIG$sig: its cell $child is not left running" || { fail "driver SIG$sig: cell $child orphaned"; kill -KILL "$child"; }
+    unchanged "driver SIG$sig"
+  else
+    fail "driver SIG$sig: no cell started: $(tail -c 300 "$T/log")"
+    kill -KILL $pid 2>/dev/null
+    wait $pid
+  fi
+done
+
+((fails == 0)) && echo "signals: all ok" || echo "signals: $fails failure(s)"
+exit $((fails > 0))
