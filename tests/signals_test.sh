@@ -30,14 +30,16 @@ until_true() {
 files_in() { [ "$(find "$1" -maxdepth 1 -type f -name "$2" | wc -l)" -ge "$3" ]; }
 no_files_in() { [ -z "$(find "$1" -mindepth 1 -maxdepth 1 -name "$2")" ]; }
 gone() { ! kill -0 "$1" 2>/dev/null; }
-# wait_exit PID: its exit status (a wait that returns because the job stopped, 128 + SIGSTOP, is repeated).
+# wait_exit PID: its exit status. A wait that returns 128 + SIGSTOP (the job was seen stopped; bash may report that
+# again until it sees the job continue) is repeated.
 wait_exit() {
   local rc stopped=$((128 + $(kill -l STOP))) try
-  for try in 1 2 3 4 5 6 7 8; do
+  for try in $(seq 200); do
     wait "$1"
     rc=$?
     [ $rc -eq $stopped ] || return $rc
     kill -CONT "$1" 2>/dev/null
+    sleep 0.05
   done
   return $rc
 }
@@ -101,13 +103,15 @@ fi
 # ---------------------------------------------------------------- while the mesh is written
 # The temporary exists only while the mesh is written: the process is stopped (SIGSTOP) as soon as it is seen and
 # signalled only when it is still there, so the signal lands mid-write; a run that finished first is tried again.
-for sig in INT TERM; do
-  caught=0
+# mid_write SIG NAME OUTPUT CMD...: runs CMD (writing OUTPUT under $T/out) until it is caught writing, then sends SIG.
+mid_write() {
+  local sig=$1 name=$2 out=$3 caught=0 attempt pid rc
+  shift 3
   for attempt in 1 2 3 4 5; do
-    earlier_outputs big.obj
-    "$BIN/meshtool" convert "$BIG" "$T/out/big.obj" >"$T/log" 2>&1 &
+    earlier_outputs "$out" a.csv
+    "$@" >"$T/log" 2>&1 &
     pid=$!
-    until_true 120 eval "[ -n \"\$(compgen -G '$T/out/*.tmp.*')\" ] || ! kill -0 $pid 2>/dev/null"
+    until_true 300 eval "[ -n \"\$(compgen -G '$T/out/*.tmp.*')\" ] || ! kill -0 $pid 2>/dev/null"
     kill -STOP $pid 2>/dev/null
     if [ -n "$(compgen -G "$T/out/*.tmp.*")" ]; then
       kill -$sig $pid
@@ -115,15 +119,22 @@ for sig in INT TERM; do
       wait_exit $pid
       rc=$?
       caught=1
-      [ $rc -eq "$(code_of $sig)" ] && ok "meshtool SIG$sig mid-write: exit $rc" || fail "meshtool SIG$sig mid-write: exit $rc"
-      unchanged "meshtool SIG$sig mid-write"
+      [ $rc -eq "$(code_of $sig)" ] && ok "$name SIG$sig mid-write: exit $rc" || fail "$name SIG$sig mid-write: exit $rc"
+      unchanged "$name SIG$sig mid-write"
       break
     fi
     kill -CONT $pid 2>/dev/null
     wait_exit $pid
   done
-  [ $caught -eq 1 ] || fail "meshtool SIG$sig: the write was never caught in 5 runs"
+  [ $caught -eq 1 ] || fail "$name SIG$sig: the write was never caught in 5 runs"
+}
+for sig in INT TERM; do
+  mid_write $sig meshtool big.obj "$BIN/meshtool" convert "$BIG" "$T/out/big.obj"
 done
+# deform's mesh and CSV are staged together (the CSV row is written after the mesh)
+BIG_EDIT=data/edits/armadillo_loop1_whole.edit
+[ -f "$BIG" ] && [ "$BIG" = data/generated/armadillo_loop1.off ] || BIG_EDIT=$EDIT
+mid_write INT deform big.obj "$BIN/deformbench" deform $BIG_EDIT --frames 1 --out "$T/out/big.obj" --csv "$T/out/a.csv"
 
 # ---------------------------------------------------------------- a driver with a running cell
 for sig in TERM INT; do
