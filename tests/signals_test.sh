@@ -29,7 +29,8 @@ until_true() {
 }
 files_in() { [ "$(find "$1" -maxdepth 1 -type f -name "$2" | wc -l)" -ge "$3" ]; }
 no_files_in() { [ -z "$(find "$1" -mindepth 1 -maxdepth 1 -name "$2")" ]; }
-gone() { ! kill -0 "$1" 2>/dev/null; }
+# gone PID: not running (no such process, or a zombie: dead, its parent gone before reaping it)
+gone() { local st; st=$(ps -o stat= -p "$1" 2>/dev/null); [ -z "$st" ] || [ "${st:0:1}" = Z ]; }
 # wait_exit PID: its exit status. A wait that returns 128 + SIGSTOP (the job was seen stopped; bash may report that
 # again until it sees the job continue) is repeated.
 wait_exit() {
@@ -143,7 +144,7 @@ for sig in TERM INT; do
     --out "$T/out/deform_cases.csv" >"$T/log" 2>&1 &
   pid=$!
   child=""
-  find_child() { child=$(pgrep -P $pid | head -1); [ -n "$child" ]; }
+  find_child() { child=$(pgrep -P $pid -f -- '--cell' | head -1); [ -n "$child" ]; }  # the cell, not a helper
   if until_true 300 find_child; then
     kill -$sig $pid
     wait $pid

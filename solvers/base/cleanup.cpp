@@ -3,6 +3,7 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -227,7 +228,7 @@ DeferSignals::~DeferSignals() {
   if (g_deferring.fetch_sub(1) == 1 && g_pending.load() != 0) act(g_pending.load());
 }
 
-ForkGuard::ForkGuard() {
+ForkGuard::ForkGuard() : parent_(::getpid()) {
   sigset_t block;
   sigemptyset(&block);
   sigaddset(&block, SIGINT);
@@ -242,6 +243,8 @@ void ForkGuard::in_child() const {
     struct sigaction cur {};
     if (::sigaction(sig, nullptr, &cur) == 0 && cur.sa_handler != SIG_IGN) ::signal(sig, SIG_DFL);
   }
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (::getppid() != parent_) ::raise(SIGTERM);  // the parent died before the line above: held until unblocked
   ::pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr);
 }
 

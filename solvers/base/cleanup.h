@@ -65,12 +65,15 @@ class ForkGuard {
   ForkGuard& operator=(const ForkGuard&) = delete;
   ~ForkGuard();
   //! In the forked child, before exec (async-signal-safe): the default action for SIGINT / SIGTERM (unless they
-  //! were ignored) and the signal mask of before the guard, so a signal already sent ends the child.
+  //! were ignored) and the signal mask of before the guard, so a signal already sent ends the child; and SIGTERM
+  //! when the forking thread ends (PR_SET_PDEATHSIG, kept across exec), so a parent that dies however it dies
+  //! (even by a signal handled on another thread while it forked) leaves no child running.
   void in_child() const;
 
  private:
   DeferSignals defer_;
   sigset_t old_mask_;
+  pid_t parent_;
 };
 
 //! Installs the SIGINT / SIGTERM handlers now (idempotent; registration does it too).
