@@ -44,6 +44,16 @@ wait_exit() {
   done
   return $rc
 }
+# never_reached PID MESSAGE: the run never reached the phase: a failure, and the run is ended.
+never_reached() {
+  fail "$2: $(tail -c 300 "$T/log")"
+  kill -KILL "$1" 2>/dev/null
+  wait "$1"
+}
+# exits_with SIG RC NAME: RC is SIG's documented exit code.
+exits_with() {
+  [ "$2" -eq "$(code_of "$1")" ] && ok "$3: exit $2" || fail "$3: exit $2, not $(code_of "$1") $(tail -c 300 "$T/log")"
+}
 code_of() { case $1 in INT) echo 130 ;; TERM) echo 143 ;; esac; }
 
 # Earlier outputs in $T/out, kept in $T/before to compare with.
@@ -69,13 +79,11 @@ for sig in INT TERM; do
     kill -$sig $pid
     wait $pid
     rc=$?
-    [ $rc -eq "$(code_of $sig)" ] && ok "deform SIG$sig mid-solve: exit $rc" || fail "deform SIG$sig: exit $rc $(tail -c 300 "$T/log")"
+    exits_with $sig $rc "deform SIG$sig mid-solve"
     no_files_in "$T/fd" '*' && ok "deform SIG$sig: no MUMPS file left" || fail "deform SIG$sig: left $(ls "$T/fd")"
     unchanged "deform SIG$sig"
   else
-    fail "deform SIG$sig: no MUMPS file appeared: $(tail -c 300 "$T/log")"
-    kill -KILL $pid 2>/dev/null
-    wait $pid
+    never_reached $pid "deform SIG$sig: no MUMPS file appeared"
   fi
 done
 
@@ -95,9 +103,7 @@ if command -v "${MPIEXEC:-mpirun}" >/dev/null; then
       fail "2 ranks SIGTERM: left $(ls "$T/fd")"
     unchanged "2 ranks SIGTERM"
   else
-    fail "2 ranks: no MUMPS files of both ranks appeared: $(tail -c 300 "$T/log")"
-    kill -KILL $pid 2>/dev/null
-    wait $pid
+    never_reached $pid "2 ranks: no MUMPS files of both ranks appeared"
   fi
 fi
 
@@ -120,7 +126,7 @@ mid_write() {
       wait_exit $pid
       rc=$?
       caught=1
-      [ $rc -eq "$(code_of $sig)" ] && ok "$name SIG$sig mid-write: exit $rc" || fail "$name SIG$sig mid-write: exit $rc"
+      exits_with $sig $rc "$name SIG$sig mid-write"
       unchanged "$name SIG$sig mid-write"
       break
     fi
@@ -149,13 +155,11 @@ for sig in TERM INT; do
     kill -$sig $pid
     wait $pid
     rc=$?
-    [ $rc -eq "$(code_of $sig)" ] && ok "driver SIG$sig with a running cell: exit $rc" || fail "driver SIG$sig: exit $rc $(tail -c 300 "$T/log")"
+    exits_with $sig $rc "driver SIG$sig with a running cell"
     gone "$child" && ok "driver SIG$sig: its cell $child is not left running" || { fail "driver SIG$sig: cell $child orphaned"; kill -KILL "$child"; }
     unchanged "driver SIG$sig"
   else
-    fail "driver SIG$sig: no cell started: $(tail -c 300 "$T/log")"
-    kill -KILL $pid 2>/dev/null
-    wait $pid
+    never_reached $pid "driver SIG$sig: no cell started"
   fi
 done
 
