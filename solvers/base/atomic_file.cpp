@@ -82,8 +82,8 @@ std::string StagedOutputs::stage(const std::string& target) {
 
 namespace {
 
-// Keeps the file at `target` (if any) under a second name beside it ("DIR/NAME.old.PID.EXT") until the commit is
-// done: a hard link, so the target stays in place; where links are refused, the target is renamed away. Returns
+// Keeps the file at `target` (if any) under a second name beside it ("DIR/NAME.tmp.PID.kept.EXT", a name of this
+// process's temporaries, as the staged ones are) until the commit is done: a hard link, so the target stays in place; where links are refused, the target is renamed away. Returns
 // the second name, "" when there is no earlier file. \throw Error when it cannot be kept.
 std::string keep_earlier(const std::string& target) {
   std::error_code ec;
@@ -91,7 +91,7 @@ std::string keep_earlier(const std::string& target) {
   if (!fs::exists(st) || fs::is_directory(st)) return "";  // a directory is not replaced: the rename fails
   const fs::path p(target);
   const std::string kept =
-      (p.parent_path() / (p.stem().string() + ".old." + std::to_string(::getpid()) + p.extension().string())).string();
+      (p.parent_path() / (p.stem().string() + temporary_suffix() + ".kept" + p.extension().string())).string();
   fs::remove(kept, ec);
   if (::link(target.c_str(), kept.c_str()) == 0 || ::rename(target.c_str(), kept.c_str()) == 0) return kept;
   throw Error("cannot write " + target + ": " + std::strerror(errno) + " (its earlier version could not be kept)");
