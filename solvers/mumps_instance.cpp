@@ -125,7 +125,11 @@ Instance::Instance(MPI_Comm comm, const SolverOptions& options, const std::strin
   if (!options.factor_dir.empty()) {
     id_.ICNTL(22) = 1;
     std::snprintf(id_.ooc_tmpdir, sizeof id_.ooc_tmpdir, "%s", options.factor_dir.c_str());
-    std::snprintf(id_.ooc_prefix, sizeof id_.ooc_prefix, "%s", "deformbench-mumps");
+    // One prefix per process: the ranks under mpirun may share the directory, and an interrupt removes exactly
+    // this process's files.
+    const std::string prefix = fmt::format("deformbench-mumps.{}", ::getpid());
+    std::snprintf(id_.ooc_prefix, sizeof id_.ooc_prefix, "%s", prefix.c_str());
+    ooc_files_ = cleanup::ScratchPath(options.factor_dir + "/" + prefix, cleanup::ScratchPath::Prefix);
   }
   MPI_Comm_size(comm, &report_.processes);
 }

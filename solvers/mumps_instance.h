@@ -32,6 +32,8 @@
 #include "solvers/linear_solver.h"
 #include "solvers/mumps_report.h"
 
+#include "solvers/base/cleanup.h"
+
 namespace db::mumps {
 
 //! 1 / sqrt(d_k) for each diagonal entry, 1 for a non-positive one (its pivot fails anyway).
@@ -99,6 +101,9 @@ class Instance {
   Report report_;
   std::vector<double> scaling_;
   bool given_ = false, compressed_ = false, factored_ = false, alive_ = false, distributed_ = false;
+  //! Out of core: MUMPS's files of this process (OOC_PREFIX "deformbench-mumps.PID", one process per rank), removed
+  //! on SIGINT / SIGTERM; JOB=-2 removes them otherwise.
+  cleanup::ScratchPath ooc_files_;
 };
 
 }  // namespace db::mumps

@@ -237,5 +237,36 @@ TEST_F(Staged, AFailedRenameTakesBackTheEarlierOutputs) {
   EXPECT_TRUE(fs::is_empty(path("sub"))) << "the destructor removes the temporary that was not renamed";
 }
 
+// The case: the mesh of an earlier run is replaced, then the CSV cannot be: the earlier mesh is left as it
+// was (before, the new mesh was removed again and neither the earlier nor the new mesh was left).
+TEST_F(Staged, AFailedCommitLeavesTheEarlierOutputsAsTheyWere) {
+  std::ofstream(path("r.ply")) << "earlier mesh";
+  fs::create_directory(path("sub"));
+  {
+    StagedOutputs out;
+    std::ofstream(out.stage(path("r.ply"))) << "new mesh";
+    std::ofstream(out.stage(path("sub/r.csv"))) << "new csv";
+    fs::create_directories(path("sub/r.csv/occupied"));  // a non-empty directory where the CSV should go
+    EXPECT_THROW(out.commit(), Error);
+  }
+  std::ifstream in(path("r.ply"));
+  const std::string mesh((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(mesh, "earlier mesh") << "the earlier output is put back";
+  fs::remove_all(path("sub/r.csv"));
+  EXPECT_EQ(listing(), (std::vector<std::string>{"r.ply", "sub"})) << "no temporary and no kept copy is left";
+  EXPECT_TRUE(fs::is_empty(path("sub")));
+}
+
+TEST_F(Staged, ACommitReplacesTheEarlierOutputsAndKeepsNoCopy) {
+  std::ofstream(path("r.ply")) << "earlier mesh";
+  StagedOutputs out;
+  std::ofstream(out.stage(path("r.ply"))) << "new mesh";
+  out.commit();
+  std::ifstream in(path("r.ply"));
+  const std::string mesh((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(mesh, "new mesh");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"r.ply"}));
+}
+
 }  // namespace
 }  // namespace db

@@ -1,8 +1,10 @@
 // Fuzzing the readers (issue 13, item 8): small OFF, PLY (ASCII, binary, triangle strips), OBJ and STL (ASCII,
 // binary with a header that begins with "solid") files written here, the bundled Botsch-Sorkine cylinder
-// (.off/.sel/.def) and the .edit files of data/edits are mutated with a fixed seed (byte flips, truncations, count
-// changes, swapped numbers, lines dropped or repeated, junk inserted) and loaded in process. Each case must load
-// or throw db::InputError: no other exception, no crash, no hang, no NaN coordinate, no index out of range.
+// (.off/.sel/.def), the .edit files of data/edits, an edit's targets file (issue 28) and a driver's TOML options file
+// (issue 28: read as every driver reads one) are mutated with a fixed seed (byte flips, truncations, count changes,
+// swapped numbers, lines dropped or repeated, junk inserted) and loaded in process. Each case must load or throw
+// db::InputError (exit 2; an options file: CLI::ParseError, exit 1): no other exception, no crash, no hang, no NaN
+// coordinate, target or option value, no index out of range.
 //
 // Environment: DEFORMBENCH_FUZZ_CASES (default 3000), DEFORMBENCH_FUZZ_CASE=i runs case i alone (each case draws
 // from its own generator seeded with its number, so a failure replays alone), DEFORMBENCH_FUZZ_VERBOSE=1 prints
@@ -37,7 +39,9 @@
 #include <vector>
 
 #include "solvers/base/error.h"
+#include "core/cli.h"
 #include "edit/edit_io.h"
+#include "harness/driver.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"
@@ -143,7 +147,9 @@ const char* const kJunk[] = {"\n", "\r\n", "#", " ", "\t", "-", "/", "//", ",", 
                              "format binary_little_endian 1.0\n", "f 1 2 3\n", "v 1 2 3\n", "3 0 1 2\n",
                              "mesh = ../meshes/dino.off\n", "roi = all\n", "handle = nearest:0,0,0,5\n",
                              "transform = matrix:1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1\n", "kring:0,1000000\n",
-                             "indices:../edits/dino_head.edit\n", "box:1,1,1,0,0,0", "sphere:0,0,0,-1"};
+                             "indices:../edits/dino_head.edit\n", "box:1,1,1,0,0,0", "sphere:0,0,0,-1",
+                             "[", "]", "\"", "'", "[table]\n", "[[list]]\n", "tier = [\"a=x.off\",\n", "frames = \n",
+                             "frames = 1\n", "x = {a = 1}\n", "\"\"\"", "1979-05-27\n"};
 
 struct NumberToken {
   std::size_t pos, len;
@@ -246,6 +252,8 @@ void mutate(std::string& s, std::mt19937& rng, std::string& what) {
 }
 
 // ---------------------------------------------------------------- targets
+// A load's refusal of bad input: InputError (exit 2), or for an options file CLI11's ParseError, which cli::run
+// turns into exit 1 (docs/cli.md, exit codes).
 struct Target {
   std::string name;
   fs::path file;                    // rewritten every case
@@ -264,6 +272,32 @@ void check_case(const EditCase& c, const std::string& what) {
   if (static_cast<int>(c.edit.roles.size()) != c.mesh.num_vertices())
     throw std::logic_error(what + ": the edit's roles do not match the mesh");
   if (!c.edit.transform.allFinite()) throw std::logic_error(what + ": a non-finite transform was loaded");
+}
+
+// A driver's options file, read as every driver reads one (harness::add_config_option: strict TOML); what it sets
+// must satisfy the options' validators (no NaN, no value out of range).
+void load_config(const fs::path& file) {
+  CLI::App app("fuzzed driver", "exp_fuzzed");
+  long long frames = 20, repeats = 1;
+  double tolerance = 0.5;
+  std::vector<std::string> tier;
+  std::string results;
+  bool dry_run = false;
+  app.add_option("--frames", frames)->check(cli::Integer(1, 100000));
+  app.add_option("--repeats", repeats)->check(cli::Integer(1, 1000));
+  app.add_option("--tolerance", tolerance)->check(cli::Real(0, 1));
+  app.add_option("--tier", tier);
+  app.add_option("--results", results);
+  app.add_flag("--dry-run", dry_run);
+  harness::add_config_option(app, "");
+  app.parse(std::vector<std::string>{file.string(), "--config"});  // CLI11 takes the arguments reversed
+  if (!(tolerance >= 0 && tolerance <= 1) || frames < 1 || frames > 100000 || repeats < 1 || repeats > 1000)
+    throw std::logic_error(file.string() + ": a value outside its option's range was accepted");
+}
+
+std::string config_toml() {
+  return "# a driver's options\nframes = 20\nrepeats = 3\ntolerance = 0.25\n"
+         "tier = [\"a=x.off\", \"b=y.off\"]  # NAME=MESH\nresults = \"results\"\ndry-run = true\n";
 }
 
 // A tube written as OFF, with a .sel of its bottom (fixed) and top (handle) rings.
@@ -316,6 +350,27 @@ class Fuzz : public ::testing::Test {
       fs::copy_file(e.path(), f);
       targets_.push_back({f.filename().string(), f, slurp(f), [f] { check_case(load_edit_case(f.string()), f); }});
     }
+    targets_file_target(tube);
+    const fs::path config = dir_ / "driver.toml";
+    spit(config, config_toml());
+    targets_.push_back({"driver.toml", config, config_toml(), [config] { load_config(config); }});
+  }
+
+  // A per-vertex drag of the tube's top ring (3 frames up its axis): its targets file is what is mutated.
+  void targets_file_target(const Mesh& tube) {
+    const fs::path edit = dir_ / "m" / "drag.edit", targets = dir_ / "m" / "drag.targets";
+    write_mesh((dir_ / "m" / "drag.off").string(), tube);
+    spit(edit, "mesh = drag.off\nroi = all\nhandle = box:-9,-9,3.5,9,9,9\ntargets = drag.targets\n");
+    std::string lines = "# x y z per handle vertex, frame after frame\n";
+    for (int frame = 1; frame <= 3; ++frame)
+      for (int v = 0; v < tube.num_vertices(); ++v)
+        if (tube.V(v, 2) > 3.5) lines += fmt::format("{} {} {}\n", tube.V(v, 0), tube.V(v, 1), tube.V(v, 2) + 0.1 * frame);
+    targets_.push_back({"drag.targets", targets, lines, [edit] {
+                          const EditCase c = load_edit_case(edit.string());
+                          check_case(c, edit.string());
+                          if (!c.edit.targets.allFinite()) throw std::logic_error("a non-finite target was loaded");
+                        }});
+    spit(targets, lines);
   }
   void TearDown() override {
     if (std::getenv("DEFORMBENCH_FUZZ_KEEP")) std::cerr << "fuzz inputs kept in " << dir_ << "\n";
@@ -413,6 +468,9 @@ TEST_F(Fuzz, MutatedInputsLoadOrRaiseInputError) {
       ++loaded;
       if (verbose) std::cout << g_case << ": loaded\n";
     } catch (const InputError& e) {
+      ++refused;
+      if (verbose) std::cout << g_case << ": " << e.what() << "\n";
+    } catch (const CLI::ParseError& e) {  // an options file's refusal (exit 1)
       ++refused;
       if (verbose) std::cout << g_case << ": " << e.what() << "\n";
     } catch (const std::exception& e) {

@@ -6,6 +6,7 @@
 // This binary doubles as the cell child: run with "--cell ..." it measures one cell, as the drivers do.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "edit/edit_io.h"
 #include "harness/budget.h"
 #include "harness/cell.h"
+#include "harness/csv_reader.h"
 #include "harness/deform_cell.h"
 #include "harness/driver.h"
 #include "harness/mesh_source.h"
@@ -670,6 +672,45 @@ TEST(Positions, RoundTripAndTruncation) {
   fs::resize_file(p, fs::file_size(p) - 8);
   EXPECT_THROW(read_positions(p), InputError);
   EXPECT_THROW(read_positions(temp().mesh), InputError);
+}
+
+// The harness's readers open as core/input_file.h does: a FIFO is refused before it is opened for reading (before,
+// the open blocked for ever: no writer comes), a file without line ends is refused at the line cap instead of being
+// read whole, an empty CSV is an error naming the file, and a positions file's row count is checked against its size.
+TEST(HarnessReaders, SpecialFilesAndBadSizesAreRefusedWithoutBlocking) {
+  const fs::path dir = temp().dir / "readers";
+  fs::create_directories(dir);
+  const std::string fifo_csv = (dir / "fifo.csv").string(), fifo_pos = (dir / "fifo.pos").string();
+  ASSERT_EQ(::mkfifo(fifo_csv.c_str(), 0600), 0);
+  ASSERT_EQ(::mkfifo(fifo_pos.c_str(), 0600), 0);
+  EXPECT_THROW(read_csv(fifo_csv), InputError);
+  EXPECT_THROW(read_positions(fifo_pos), InputError);
+  EXPECT_THROW(read_csv(dir.string()), InputError) << "a directory";
+  const std::string empty = (dir / "empty.csv").string(), endless = (dir / "endless.csv").string();
+  std::ofstream(empty).close();
+  EXPECT_THROW(read_csv(empty), InputError);
+  std::ofstream(endless) << std::string(harness::kMaxCsvLine + 1, 'x');
+  try {
+    read_csv(endless);
+    FAIL() << "a line over the cap was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 1"), std::string::npos) << e.what();
+  }
+  const std::string ok = (dir / "ok.csv").string();
+  std::ofstream(ok) << "a,b\n1,2\n\n3\n";
+  const std::vector<CsvRow> rows = read_csv(ok);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].at("b"), "2");
+  EXPECT_EQ(rows[1].count("b"), 0u);
+  // A row count far beyond the file's size is refused before anything is allocated for it.
+  const std::string huge = (dir / "huge.pos").string();
+  {
+    std::ofstream out(huge, std::ios::binary);
+    const std::int64_t rows_declared = std::int64_t(1) << 60;
+    out.write("DBPOS001", 8);
+    out.write(reinterpret_cast<const char*>(&rows_declared), sizeof rows_declared);
+  }
+  EXPECT_THROW(read_positions(huge), InputError);
 }
 
 // ------------------------------------------------------------------------------------------------ the rest

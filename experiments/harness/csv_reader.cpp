@@ -1,9 +1,8 @@
 #include "harness/csv_reader.h"
 
-#include <fstream>
-
 #include <fmt/format.h>
 
+#include "core/input_file.h"
 #include "solvers/base/error.h"
 
 namespace db::harness {
@@ -31,22 +30,30 @@ std::vector<std::string> split_csv_line(const std::string& line) {
   return f;
 }
 
+std::string each_csv_line(const std::string& path,
+                          const std::function<void(int, const std::string&, const std::string&)>& fn) {
+  InputFile in(path, "CSV", kMaxCsvBytes);
+  std::string header;
+  in.each_line(kMaxCsvLine, [&](int lineno, const std::string& line) {
+    if (lineno == 1) header = line;
+    else if (!line.empty()) fn(lineno, header, line);
+  });
+  if (header.empty()) throw InputError(fmt::format("{}: no header line (an empty CSV file)", path));
+  return header;
+}
+
 std::vector<CsvRow> read_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read " + path);
-  std::string line;
-  std::getline(in, line);
-  const auto header = split_csv_line(line);
+  std::vector<std::string> columns;
   std::vector<CsvRow> rows;
-  for (int lineno = 2; std::getline(in, line); ++lineno) {
-    if (line.empty()) continue;
+  each_csv_line(path, [&](int lineno, const std::string& header, const std::string& line) {
+    if (columns.empty()) columns = split_csv_line(header);
     const auto f = split_csv_line(line);
-    if (f.size() > header.size())
-      throw InputError(fmt::format("{}:{}: {} fields, the header has {}", path, lineno, f.size(), header.size()));
+    if (f.size() > columns.size())
+      throw InputError(fmt::format("{}:{}: {} fields, the header has {}", path, lineno, f.size(), columns.size()));
     CsvRow row;
-    for (std::size_t i = 0; i < f.size(); ++i) row[header[i]] = f[i];
+    for (std::size_t i = 0; i < f.size(); ++i) row[columns[i]] = f[i];
     rows.push_back(std::move(row));
-  }
+  });
   return rows;
 }
 

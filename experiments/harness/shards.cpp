@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
-#include <fstream>
 #include <map>
 
 #include <fmt/format.h>
@@ -69,19 +68,18 @@ struct ShardFile {
 };
 
 ShardFile read_shard(const std::string& path, const std::function<std::string(const CsvRow&)>& key_of) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("shard merge: cannot read {} (did that shard run?)", path));
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw InputError(fmt::format("shard merge: cannot read {} (did that shard run?)", path));
   ShardFile f;
-  std::getline(in, f.header);
-  const std::vector<std::string> columns = split_csv_line(f.header);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
+  std::vector<std::string> columns;
+  f.header = each_csv_line(path, [&](int, const std::string& header, const std::string& line) {
+    if (columns.empty()) columns = split_csv_line(header);
     const std::vector<std::string> fields = split_csv_line(line);
     CsvRow row;
     for (std::size_t i = 0; i < fields.size() && i < columns.size(); ++i) row[columns[i]] = fields[i];
     f.lines[key_of(row)].push_back(line);
-  }
+  });
   return f;
 }
 

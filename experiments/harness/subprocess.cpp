@@ -13,10 +13,12 @@
 #include <cstring>
 #include <filesystem>
 #include <new>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "solvers/base/cleanup.h"
 #include "solvers/base/error.h"
 #include "core/timer.h"
 
@@ -45,12 +47,16 @@ ChildRun run_child(const std::vector<std::string>& argv, double timeout_s) {
     throw Error(fmt::format("pipe: {}", std::strerror(errno)));
   }
   Timer wall;
+  // A SIGINT / SIGTERM to this process is forwarded to the child and waits for it (cleanup.h): held back from
+  // the fork until the child is registered, so none arrives in between and leaves the child running.
+  std::optional<cleanup::ForkGuard> hold(std::in_place);
   const pid_t pid = ::fork();
   if (pid < 0) {
     for (int fd : {outp[0], outp[1], errp[0], errp[1]}) ::close(fd);
     throw Error(fmt::format("fork: {}", std::strerror(errno)));
   }
   if (pid == 0) {
+    hold->in_child();
     ::dup2(outp[1], STDOUT_FILENO);  // dup2 clears O_CLOEXEC on the copies
     ::dup2(errp[1], STDERR_FILENO);
     ::execv(cargv[0], cargv.data());
@@ -58,6 +64,8 @@ ChildRun run_child(const std::vector<std::string>& argv, double timeout_s) {
     [[maybe_unused]] ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
     ::_exit(127);
   }
+  const cleanup::ChildProcess forward_signals(pid);
+  hold.reset();
   ::close(outp[1]);
   ::close(errp[1]);
 

@@ -46,6 +46,7 @@ void write_atomically(const std::string& path, const std::function<void(std::ost
   if (target.has_parent_path() && !fs::exists(target.parent_path()))
     throw Error("output directory does not exist: " + target.parent_path().string());
   const std::string tmp = is_staged(target) ? path : path + temporary_suffix();
+  const cleanup::ScratchPath on_signal(tmp);
   try {
     {
       errno = 0;
@@ -75,20 +76,62 @@ StagedOutputs::~StagedOutputs() {
 std::string StagedOutputs::stage(const std::string& target) {
   const fs::path p(target);
   const fs::path tmp = p.parent_path() / (p.stem().string() + temporary_suffix() + p.extension().string());
-  entries_.push_back({target, tmp.string()});
+  entries_.push_back({target, tmp.string(), cleanup::ScratchPath(tmp.string())});
   return tmp.string();
 }
 
+namespace {
+
+// Keeps the file at `target` (if any) under a second name beside it ("DIR/NAME.tmp.PID.kept.EXT", a name of this
+// process's temporaries, as the staged ones are) until the commit is done: a hard link, so the target stays in place; where links are refused, the target is renamed away. Returns
+// the second name, "" when there is no earlier file. \throw Error when it cannot be kept.
+std::string keep_earlier(const std::string& target) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(target, ec);
+  if (!fs::exists(st) || fs::is_directory(st)) return "";  // a directory is not replaced: the rename fails
+  const fs::path p(target);
+  const std::string kept =
+      (p.parent_path() / (p.stem().string() + temporary_suffix() + ".kept" + p.extension().string())).string();
+  fs::remove(kept, ec);
+  if (::link(target.c_str(), kept.c_str()) == 0 || ::rename(target.c_str(), kept.c_str()) == 0) return kept;
+  throw Error("cannot write " + target + ": " + std::strerror(errno) + " (its earlier version could not be kept)");
+}
+
+}  // namespace
+
+void StagedOutputs::roll_back(std::size_t committed, const std::vector<std::string>& kept) {
+  std::error_code ec;
+  for (std::size_t j = 0; j < committed; ++j) {
+    if (kept[j].empty()) fs::remove(entries_[j].target, ec);
+    else fs::rename(kept[j], entries_[j].target, ec);
+  }
+  // The target that failed: renamed away (no hard links) but not replaced.
+  if (committed < kept.size() && !kept[committed].empty() && !fs::exists(entries_[committed].target, ec))
+    fs::rename(kept[committed], entries_[committed].target, ec);
+  for (const std::string& k : kept)
+    if (!k.empty()) fs::remove(k, ec);
+}
+
 void StagedOutputs::commit() {
+  const cleanup::DeferSignals whole;  // an interrupt waits until every output is in place, or put back
+  std::vector<std::string> kept;
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     std::error_code ec;
+    try {
+      kept.push_back(keep_earlier(entries_[i].target));
+    } catch (...) {
+      roll_back(i, kept);
+      throw;
+    }
     fs::rename(entries_[i].temporary, entries_[i].target, ec);
     if (!ec) continue;
-    std::error_code ignored;
-    for (std::size_t j = 0; j < i; ++j) fs::remove(entries_[j].target, ignored);
+    roll_back(i, kept);
     throw Error("cannot write " + entries_[i].target + ": " + ec.message() +
-                (i > 0 ? " (the outputs written before it were removed again)" : ""));
+                (i > 0 ? " (the outputs written before it were put back as they were)" : ""));
   }
+  std::error_code ignored;
+  for (const std::string& k : kept)
+    if (!k.empty()) fs::remove(k, ignored);
   entries_.clear();
 }
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "solvers/base/cleanup.h"
+
 namespace db {
 
 //! Calls write(stream) on a temporary file next to path, then renames it to path (a StagedOutputs temporary is
@@ -17,8 +19,9 @@ void write_atomically(const std::string& path, const std::function<void(std::ost
 
 //! All or nothing for the outputs of one run: each is written to a temporary next to its target (the same
 //! extension, so writers that go by it still work) and commit() renames them all into place at the end. When a
-//! rename fails, the targets already renamed are removed again; the destructor removes temporaries never
-//! committed (a run that failed halfway leaves no output).
+//! rename fails, the targets already renamed are put back as they were before the run (the earlier file, or none);
+//! the destructor removes temporaries never committed (a run that failed halfway leaves no output), and so does a
+//! SIGINT / SIGTERM (cleanup.h), which waits for a commit under way to finish.
 class StagedOutputs {
  public:
   StagedOutputs() = default;
@@ -28,14 +31,16 @@ class StagedOutputs {
 
   //! The temporary to write instead of `target` ("DIR/NAME.tmp.PID.EXT").
   std::string stage(const std::string& target);
-  //! Renames every staged temporary to its target. \throw Error naming the target that failed (none of the
-  //! targets is then left).
+  //! Renames every staged temporary to its target. \throw Error naming the target that failed (every target is
+  //! then as it was before: the earlier file, or none).
   void commit();
 
  private:
   struct Entry {
     std::string target, temporary;
+    cleanup::ScratchPath on_signal;  // the temporary, removed on SIGINT / SIGTERM
   };
+  void roll_back(std::size_t committed, const std::vector<std::string>& kept);
   std::vector<Entry> entries_;
 };
 
