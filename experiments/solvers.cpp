@@ -63,6 +63,7 @@ bool contains(const std::vector<std::string>& v, const std::string& s) {
 struct Options {
   std::string data = "data", results, out, cache, factor_dir, edit;
   std::vector<std::string> matrix;  // A.mtx[,B.mtx]
+  int matrix_block = 1;
   DeformOptionValues edit_values;   // --edit's method, constraint and weight options
   DeformOptions edit_options;
   bool full = false, dry_run = false;
@@ -110,6 +111,9 @@ void define_options(CLI::App& app, Options& o) {
   app.add_option("--matrix", o.matrix, "the study on this SPD system instead of the tiers: A.mtx[,B.mtx] (Matrix "
                  "Market; B: right-hand sides, else a synthetic one)")
       ->delimiter(',')->type_name("A.mtx[,B.mtx]")->expected(1, 2)->excludes("--edit");
+  app.add_option("--matrix-block", o.matrix_block, "--matrix: unknowns per vertex block, what the backends compress "
+                 "their graph by (3 for a tf system; `deformbench export-system` prints it)")
+      ->transform(cli::Integer(1, 64))->capture_default_str();
   add_deform_option_flags(app, o.edit_values, system_option_groups());
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))->capture_default_str();
   app.add_option("--cell-memory-mb", o.cell_memory_mb, "a cell's address-space limit")->check(cli::Real(64, 1e9))
@@ -134,6 +138,7 @@ void check_sources(const CLI::App& app, Options& o) {
   for (const DeformOptionDef& d : deform_option_defs())
     if (const CLI::Option* opt = app.get_option_no_throw(d.flag); opt && opt->count() > 0) method_options = true;
   if (method_options && o.edit.empty()) throw UsageError("the method, constraint and weight options go with --edit");
+  if (app.count("--matrix-block") > 0 && o.matrix.empty()) throw UsageError("--matrix-block goes with --matrix");
   if (!o.edit.empty()) {
     o.edit_options = deform_options_given(app, o.edit_values);
     load_edit_case(o.edit);
@@ -141,6 +146,9 @@ void check_sources(const CLI::App& app, Options& o) {
   if (!o.matrix.empty()) {
     const SpMat K = read_market_spd(o.matrix[0]);
     if (o.matrix.size() > 1) read_market_array(o.matrix[1], K.rows());
+    if (K.rows() % o.matrix_block != 0)
+      throw UsageError(fmt::format("--matrix-block {}: the matrix's {} rows are not whole blocks", o.matrix_block,
+                                   K.rows()));
   }
 }
 
@@ -161,7 +169,7 @@ void finish_options(const CLI::App& app, Options& o) {
   // The reference runs first: its positions are what every other cell is compared with.
   if (auto it = std::find(o.backends.begin(), o.backends.end(), kReferenceBackend); it != o.backends.end())
     std::rotate(o.backends.begin(), it, it + 1);
-  if (!o.edit.empty() || !o.matrix.empty()) check_sources(app, o);
+  check_sources(app, o);
 }
 
 // The label of a file's rows: its name without the extension (a BS08 stem: its last part).
@@ -322,7 +330,7 @@ std::vector<Planned> plan(const Options& o) {
                          ordering, o.solve_reps, o.factor_reps, o.rep_seconds, o.seed, "", ""};
             if (backend != kLeastSquaresBackend && solver_info(backend).out_of_core) c.factor_dir = o.factor_dir;
             if (!o.edit.empty()) c.source = "edit", c.options = option_items_text(o.edit_options);
-            if (!o.matrix.empty()) c.source = "matrix", c.rhs = o.matrix.size() > 1 ? o.matrix[1] : "";
+            if (!o.matrix.empty()) c.source = "matrix", c.rhs = o.matrix.size() > 1 ? o.matrix[1] : "", c.block = o.matrix_block;
             c.threads = o.threads.size() > 1 || threads > 0 ? threads : 0;
             g.push_back({t, c});
           }

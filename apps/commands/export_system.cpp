@@ -88,14 +88,16 @@ int run_export(const CLI::App& e, ExportArgs& a) {
   }
   const std::vector<EditSystem> systems = edit_systems(ec.mesh, ec.edit, o);
   const EditSystem& sys = systems[a.system == "positions" ? 1 : 0];
+  const std::string what = fmt::format("{} K (unknowns in blocks of {})", sys.name, sys.block);
   write_atomically(outputs.stage(a.out),
-                   [&](std::ostream& s) { write_market_symmetric(s, sys.K, provenance_comment(a, o, sys.name + " K")); });
+                   [&](std::ostream& s) { write_market_symmetric(s, sys.K, provenance_comment(a, o, what)); });
   if (!a.rhs.empty())
     write_atomically(outputs.stage(a.rhs), [&](std::ostream& s) {
       write_market_array(s, sys.rhs, provenance_comment(a, o, sys.name + " right-hand side"));
     });
   outputs.commit();
-  fmt::print("wrote {}: system {} (block {}), n {}, {} entries in the upper triangle{}\n", a.out, sys.name, sys.block,
+  fmt::print("wrote {}: system {} (block {}: exp_solvers --matrix-block {}), n {}, {} entries in the upper triangle{}\n",
+             a.out, sys.name, sys.block, sys.block,
              sys.K.rows(), sys.K.nonZeros(),
              a.rhs.empty() ? "" : fmt::format("; {}: {} x {}", a.rhs, sys.rhs.rows(), sys.rhs.cols()));
   return 0;

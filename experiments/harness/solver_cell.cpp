@@ -328,13 +328,14 @@ CellSpec SolverCell::to_spec() const {
   if (!source.empty()) s.set("source", source);
   if (!options.empty()) s.set("options", options);
   if (!rhs.empty()) s.set("rhs", rhs);
+  if (block != 1) s.set("block", block);
   if (threads > 0) s.set("threads", threads);
   return s;
 }
 
 SolverCell SolverCell::from_spec(const CellSpec& s) {
   s.check_keys({"model", "mesh", "system", "backend", "ordering", "solve_reps", "factor_reps", "rep_seconds", "seed",
-                "positions", "factor_dir", "source", "options", "rhs", "threads"});
+                "positions", "factor_dir", "source", "options", "rhs", "block", "threads"});
   SolverCell c;
   c.mesh = s.get("mesh");
   c.model = s.get("model", c.mesh);
@@ -352,6 +353,7 @@ SolverCell SolverCell::from_spec(const CellSpec& s) {
     throw UsageError("source=" + c.source + ": not edit or matrix");
   c.options = s.get("options", "");
   c.rhs = s.get("rhs", "");
+  c.block = static_cast<int>(s.integer("block", 1, 1, 64));
   c.threads = static_cast<int>(s.integer("threads", 0, 0, 4096));
   return c;
 }
@@ -434,6 +436,8 @@ CellResult measure_other_source(const SolverCell& c, DenseMat& x) {
     Timer t;
     const CpuTimer tc;
     K = read_market_spd(c.mesh);
+    block = c.block;
+    if (K.rows() % block != 0) throw UsageError(fmt::format("block={}: {} rows are not whole blocks", block, K.rows()));
     if (!c.rhs.empty()) rhs = read_market_array(c.rhs, K.rows());
     f.build_s = t.seconds();  // reading the files
     f.build_cpu_s = tc.seconds();

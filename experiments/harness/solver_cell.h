@@ -22,7 +22,8 @@
 //! Other systems than the thesis edit's (source=...): "edit" takes `mesh` as an edit (a .edit file or BS08 stem,
 //! edit/edit_io.h) and `options` as deform options ("key=value;key=value", methods/deform_options.h), and
 //! `system` names one of the method's systems (methods/edit_system.h: lap, tf, lri-frames, lri-positions);
-//! "matrix" takes `mesh` as a Matrix Market SPD matrix and `rhs` (optional) as its right-hand sides
+//! "matrix" takes `mesh` as a Matrix Market SPD matrix, `rhs` (optional) as its right-hand sides and `block` as
+//! its unknowns per vertex
 //! (systems/matrix_market.h). Their cells run the registry's backends with the backends' own orderings; without
 //! a right-hand side (lri, a matrix alone) the deformation's is the synthetic one. `threads` is recorded (the
 //! parent sets the environment, harness/thread_policy.h) and checked against what the child's libraries use.
@@ -53,6 +54,7 @@ struct SolverCell {
   std::string source;        //!< "" (the thesis edit on `mesh`), "edit" or "matrix"
   std::string options;       //!< source=edit: deform options, "key=value;key=value"
   std::string rhs;           //!< source=matrix: the right-hand sides' file ("" = none)
+  int block = 1;             //!< source=matrix: unknowns per vertex block (SolverOptions::block_size)
   int threads = 0;           //!< the count the parent set (0: as inherited)
 
   CellSpec to_spec() const;
