@@ -3,7 +3,11 @@
 // LDL^T; least squares on A itself (SPQR, A^T A never formed) as the alternative to normal equations.
 //
 // Grid: the tiers of a config (data/experiments/solvers.toml) x systems (lap, tf) x backends (every backend of the
-// registry and spqr) x orderings (every one a backend accepts, plus "vertex-metis", see harness/solver_cell.h).
+// registry and spqr) x orderings (every one a backend accepts, plus "vertex-metis", see harness/solver_cell.h) x
+// thread counts (--threads; each cell's OpenMP, BLAS and own threads set per backend by harness/thread_policy.h,
+// speedup and parallel_efficiency against the smallest count). Instead of the tiers, --edit runs an edit's systems
+// (any .edit or BS08 stem, lap / tf / lri with deform's method, constraint and weight options) and --matrix any
+// SPD system of a Matrix Market file (checked before any cell).
 // Every cell (harness/solver_cell.h) runs in a fresh child process, so peak RSS and timings are per cell; a
 // failing or crashing backend is a row with its status, never a dead driver. Orderings that fill in badly run only
 // up to --poor-ordering-max-n unknowns: "natural" (the file's vertex order) for every sparse direct backend, and
@@ -11,7 +15,7 @@
 // COLAMD). error_vs_cholmod compares each cell's deformed positions with those of the CHOLMOD
 // supernodal / default-ordering cell of the same tier and system, after the cells have run.
 //
-// Writes --out (default RESULTS/solvers.csv, long: one row per cell x measure; the provenance columns record the
+// Writes --out (default RESULTS/solvers.csv, --results required, long: one row per cell x measure; the provenance columns record the
 // BLAS core of this run). results/solvers.md is the report step's (python/dbtools/). Options: --help.
 // Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing every row.
 #include <unistd.h>
@@ -189,9 +193,9 @@ std::vector<MeshSource> tier_sources(const Options& o) {
 
 // Pins the thread counts of this run by re-executing the driver with OMP_NUM_THREADS, OPENBLAS_NUM_THREADS and
 // DEFORMBENCH_THREADS set: the libraries read them when they load, and the provenance columns then record what the
-// driver used (each cell's own, set per backend by harness/thread_policy.h, are its threads and thread_env columns). Why 1 by default: on a shared 2-core machine a parallel region waits for a
-// descheduled thread (CG ran orders of magnitude slower with 2 threads than with 1), and one thread compares
-// algorithms, not schedulers.
+// driver used (each cell's own, set per backend by harness/thread_policy.h, are its threads and thread_env
+// columns). Why 1 by default: on a shared 2-core machine a parallel region waits for a descheduled thread (CG
+// ran orders of magnitude slower with 2 threads than with 1), and one thread compares algorithms, not schedulers.
 void pin_threads(const std::vector<int>& counts, char** argv) {
   if (counts.size() != 1 || counts[0] <= 0) return;  // several: each cell's are set when it starts
   const int threads = counts[0];
@@ -310,7 +314,6 @@ struct Planned {
   SolverCell cell;
 };
 
-//! The grid, a plain list: tiers x systems x backends x orderings (the reference backend first in each group).
 // The systems of the grid: --systems for the tiers, the method's for --edit, "matrix" for --matrix.
 std::vector<std::string> systems_of(const Options& o) {
   if (!o.matrix.empty()) return {"matrix"};
@@ -319,6 +322,8 @@ std::vector<std::string> systems_of(const Options& o) {
   return {to_string(o.edit_options.method)};
 }
 
+//! The grid, a plain list: tiers x systems x backends x orderings x thread counts (the reference backend first in
+//! each group).
 std::vector<Planned> plan(const Options& o) {
   std::vector<Planned> g;
   for (const MeshSource& t : tier_sources(o))
@@ -331,7 +336,7 @@ std::vector<Planned> plan(const Options& o) {
             if (backend != kLeastSquaresBackend && solver_info(backend).out_of_core) c.factor_dir = o.factor_dir;
             if (!o.edit.empty()) c.source = "edit", c.options = option_items_text(o.edit_options);
             if (!o.matrix.empty()) c.source = "matrix", c.rhs = o.matrix.size() > 1 ? o.matrix[1] : "", c.block = o.matrix_block;
-            c.threads = o.threads.size() > 1 || threads > 0 ? threads : 0;
+            c.threads = threads;
             g.push_back({t, c});
           }
   return g;

@@ -8,21 +8,11 @@ set -u
 DB=$1
 EXP=$2
 SRC=$3
-. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, expect, $fails
 cd "$SRC" || exit 1
 E=data/bs08/cactus
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=python3
-
-# expect NAME EXIT_CODE MESSAGE_REGEX -- command...
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  "$@" >"$T/stdout" 2>"$T/stderr"
-  local got=$?
-  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(head -c 300 "$T/stderr")"; return; fi
-  if ! grep -Eqi -- "$re" "$T/stdout" "$T/stderr"; then fail "$name: output does not match /$re/"; return; fi
-  ok "$name"
-}
 
 # ---------------------------------------------------------------- export
 for m in "lap --constraints hard" "tf --constraints soft --soft-weight 2"; do

@@ -26,7 +26,8 @@
 //! its unknowns per vertex
 //! (systems/matrix_market.h). Their cells run the registry's backends with the backends' own orderings; without
 //! a right-hand side (lri, a matrix alone) the deformation's is the synthetic one. `threads` is recorded (the
-//! parent sets the environment, harness/thread_policy.h) and checked against what the child's libraries use.
+//! parent sets the environment, harness/thread_policy.h) beside what the child's libraries report:
+//! blas_threads_used, omp_threads_used, own_threads_used.
 //!
 //! Backend "spqr" is least squares on the naive build's A itself (solvers/least_squares.h: QR, A^T A never
 //! formed): its analyze is part of its factorize (analyze_s = 0), its residuals are those of the normal
