@@ -138,10 +138,9 @@ void define_options(CLI::App& app, Options& o) {
 // --edit's options (checked together) and the other sources' files, before any work: a bad edit or matrix is one
 // clear error (exit 2), not a failed cell per backend.
 void check_sources(const CLI::App& app, Options& o) {
-  bool method_options = false;
-  for (const DeformOptionDef& d : deform_option_defs())
-    if (const CLI::Option* opt = app.get_option_no_throw(d.flag); opt && opt->count() > 0) method_options = true;
-  if (method_options && o.edit.empty()) throw UsageError("the method, constraint and weight options go with --edit");
+  const std::vector<std::string> given = deform_option_keys_given(app, o.edit_values);
+  if (!given.empty() && o.edit.empty())
+    throw UsageError(deform_option_def(given.front()).flag + ": the method, constraint and weight options go with --edit");
   if (app.count("--matrix-block") > 0 && o.matrix.empty()) throw UsageError("--matrix-block goes with --matrix");
   if (!o.edit.empty()) {
     o.edit_options = deform_options_given(app, o.edit_values);

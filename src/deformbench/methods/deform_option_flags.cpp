@@ -28,14 +28,19 @@ void add_deform_option_flags(CLI::App& app, DeformOptionValues& values, const st
   }
 }
 
+std::vector<std::string> deform_option_keys_given(const CLI::App& app, const DeformOptionValues& values) {
+  std::vector<std::string> given;
+  for (const DeformOptionDef& def : deform_option_defs()) {
+    if (values.count(def.key) == 0) continue;  // not one of this app's (a switch: not given)
+    if (const CLI::Option* opt = app.get_option_no_throw(def.flag); opt && opt->count() > 0) given.push_back(def.key);
+  }
+  return given;
+}
+
 DeformOptions deform_options_given(const CLI::App& app, const DeformOptionValues& values) {
   DeformOptions o;
-  std::vector<std::string> given;
-  for (const DeformOptionDef& def : deform_option_defs())
-    if (const CLI::Option* opt = app.get_option_no_throw(def.flag); opt && opt->count() > 0) {
-      def.set(o, values.at(def.key));
-      given.push_back(def.key);
-    }
+  const std::vector<std::string> given = deform_option_keys_given(app, values);
+  for (const std::string& key : given) deform_option_def(key).set(o, values.at(key));
   return resolve_options(o, given);
 }
 

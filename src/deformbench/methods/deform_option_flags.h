@@ -23,6 +23,9 @@ const std::vector<std::string>& system_option_groups();
 //! (which must outlive the app).
 void add_deform_option_flags(CLI::App& app, DeformOptionValues& values, const std::vector<std::string>& groups = {});
 
+//! The keys of the table's options given on `app` (those add_deform_option_flags added to it), in table order.
+std::vector<std::string> deform_option_keys_given(const CLI::App& app, const DeformOptionValues& values);
+
 //! The options given on `app`, set from their text and checked together (resolve_options, with the keys given).
 //! \throw UsageError as resolve_options.
 DeformOptions deform_options_given(const CLI::App& app, const DeformOptionValues& values);
