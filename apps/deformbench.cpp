@@ -4,6 +4,7 @@
 //   deformbench provenance                           what result rows record about this machine and build
 //   deformbench deform-options                       the deform options as Markdown (docs/cli.md)
 //   deformbench coat|transplant SOURCE TARGET --out FILE   the applications
+//   deformbench export-system EDIT --out A.mtx [--rhs B.mtx]  an edit's linear system as Matrix Market files
 // Each subcommand that does work has its file in apps/commands/.
 //   mpirun -np N deformbench deform <edit> --solver mumps ...   one edit on N ranks (MUMPS distributed; rank 0
 //                                                                prints and writes; the other subcommands refuse)
@@ -57,7 +58,8 @@ int main(int argc, char** argv) {
   CLI::App* solvers = app.add_subcommand("solvers", "list the linear-solver backends and the orderings each accepts");
   CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");
   const std::vector<commands::Command> subcommands = {deform, commands::add_deform_options_listing(app),
-                                                      commands::add_coat(app), commands::add_transplant(app)};
+                                                      commands::add_coat(app), commands::add_transplant(app),
+                                                      commands::add_export_system(app)};
   const int code = cli::run(app, argc, argv, [&] {
     // Only deform runs on ranks; another subcommand would run once per rank, each writing the same output.
     if (!deform.app->parsed() && mpi::launched() && mpi::size() > 1)

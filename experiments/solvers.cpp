@@ -3,7 +3,11 @@
 // LDL^T; least squares on A itself (SPQR, A^T A never formed) as the alternative to normal equations.
 //
 // Grid: the tiers of a config (data/experiments/solvers.toml) x systems (lap, tf) x backends (every backend of the
-// registry and spqr) x orderings (every one a backend accepts, plus "vertex-metis", see harness/solver_cell.h).
+// registry and spqr) x orderings (every one a backend accepts, plus "vertex-metis", see harness/solver_cell.h) x
+// thread counts (--threads; each cell's OpenMP, BLAS and own threads set per backend by harness/thread_policy.h,
+// speedup and parallel_efficiency against the smallest count). Instead of the tiers, --edit runs an edit's systems
+// (any .edit or BS08 stem, lap / tf / lri with deform's method, constraint and weight options) and --matrix any
+// SPD system of a Matrix Market file (checked before any cell).
 // Every cell (harness/solver_cell.h) runs in a fresh child process, so peak RSS and timings are per cell; a
 // failing or crashing backend is a row with its status, never a dead driver. Orderings that fill in badly run only
 // up to --poor-ordering-max-n unknowns: "natural" (the file's vertex order) for every sparse direct backend, and
@@ -11,7 +15,7 @@
 // COLAMD). error_vs_cholmod compares each cell's deformed positions with those of the CHOLMOD
 // supernodal / default-ordering cell of the same tier and system, after the cells have run.
 //
-// Writes --out (default RESULTS/solvers.csv, long: one row per cell x measure; the provenance columns record the
+// Writes --out (default RESULTS/solvers.csv, --results required, long: one row per cell x measure; the provenance columns record the
 // BLAS core of this run). results/solvers.md is the report step's (python/dbtools/). Options: --help.
 // Exits with kCellsFailedExit (harness/driver.h) when a cell failed, after writing every row.
 #include <unistd.h>
@@ -28,6 +32,7 @@
 #include "core/csv.h"
 #include "solvers/base/error.h"
 #include "core/provenance.h"
+#include "core/spread.h"
 #include "harness/driver.h"
 #include "harness/mesh_source.h"
 #include "harness/positions.h"
@@ -35,6 +40,11 @@
 #include "harness/shards.h"
 #include "harness/solver_cell.h"
 #include "harness/subprocess.h"
+#include "harness/thread_policy.h"
+#include "edit/edit_io.h"
+#include "methods/deform_option_flags.h"
+#include "methods/edit_system.h"
+#include "systems/matrix_market.h"
 #include "mesh/mesh_io.h"
 #include "solvers/linear_solver.h"
 
@@ -55,12 +65,17 @@ bool contains(const std::vector<std::string>& v, const std::string& s) {
 
 // ------------------------------------------------------------------------------------------------ options
 struct Options {
-  std::string data = "data", results = "results", out, cache, factor_dir;
+  std::string data = "data", results, out, cache, factor_dir, edit;
+  std::vector<std::string> matrix;  // A.mtx[,B.mtx]
+  int matrix_block = 1;
+  DeformOptionValues edit_values;   // --edit's method, constraint and weight options
+  DeformOptions edit_options;
   bool full = false, dry_run = false;
   std::vector<std::string> tiers, full_tiers, meshes, only, systems = {"lap", "tf"}, backends, orderings;
   double dense_max_n = 4000, poor_ordering_max_n = 20000, iterative_max_n = 20000, cell_timeout_s = 300,
          cell_memory_mb = 6144;
-  int threads = 1, solve_reps = 10, factor_reps = 5;
+  std::vector<int> threads = {1};
+  int solve_reps = 10, factor_reps = 5;
   double rep_seconds = 2.0;
   unsigned seed = 1;
   ShardOptions shards;
@@ -71,7 +86,8 @@ void define_options(CLI::App& app, Options& o) {
   backends.push_back(kLeastSquaresBackend);
   add_config_option(app, "data/experiments/solvers.toml");
   app.add_option("--data", o.data, "data directory; relative mesh paths of --tier are inside it")->capture_default_str();
-  app.add_option("--results", o.results, "results directory")->capture_default_str();
+  app.add_option("--results", o.results, "where solvers.csv and the cells' scratch files go (required: the study "
+                 "writes into the repository's results/ only when asked)");
   app.add_option("--out", o.out, "the CSV (default RESULTS/solvers.csv)");
   app.add_option("--tier", o.tiers, "a tier: NAME=MESH[+loopK] (MESH relative to --data)")->delimiter(',');
   app.add_option("--full-tier", o.full_tiers, "tiers --full adds (same form)")->delimiter(',');
@@ -90,8 +106,19 @@ void define_options(CLI::App& app, Options& o) {
       ->check(cli::Real(0, 1e9))->capture_default_str();
   app.add_option("--iterative-max-n", o.iterative_max_n, "iterative backends up to this n")->check(cli::Real(0, 1e9))
       ->capture_default_str();
-  app.add_option("--threads", o.threads, "BLAS, OpenMP and assembly threads (0: as the environment says)")
-      ->transform(cli::Integer(0, 4096))->capture_default_str();
+  app.add_option("--threads", o.threads, "thread counts: every cell runs at each (harness/thread_policy.h sets "
+                 "OpenMP, BLAS and assembly threads per backend; 0: as the environment says)")
+      ->delimiter(',')->transform(cli::Integer(0, 4096))->capture_default_str();
+  app.add_option("--edit", o.edit, "the study on this edit's systems instead of the tiers: a .edit file or a BS08 "
+                 "stem, with the method, constraint and weight options below (deformbench deform's)")
+      ->type_name("EDIT");
+  app.add_option("--matrix", o.matrix, "the study on this SPD system instead of the tiers: A.mtx[,B.mtx] (Matrix "
+                 "Market; B: right-hand sides, else a synthetic one)")
+      ->delimiter(',')->type_name("A.mtx[,B.mtx]")->expected(1, 2)->excludes("--edit");
+  app.add_option("--matrix-block", o.matrix_block, "--matrix: unknowns per vertex block, what the backends compress "
+                 "their graph by (3 for a tf system; `deformbench export-system` prints it)")
+      ->transform(cli::Integer(1, 64))->capture_default_str();
+  add_deform_option_flags(app, o.edit_values, system_option_groups());
   app.add_option("--cell-timeout-s", o.cell_timeout_s, "kill a cell after this")->check(cli::Real(1, 1e7))->capture_default_str();
   app.add_option("--cell-memory-mb", o.cell_memory_mb, "a cell's address-space limit")->check(cli::Real(64, 1e9))
       ->capture_default_str();
@@ -108,7 +135,31 @@ void define_options(CLI::App& app, Options& o) {
   add_shard_options(app, o.shards);
 }
 
-void finish_options(Options& o) {
+// --edit's options (checked together) and the other sources' files, before any work: a bad edit or matrix is one
+// clear error (exit 2), not a failed cell per backend.
+void check_sources(const CLI::App& app, Options& o) {
+  const std::vector<std::string> given = deform_option_keys_given(app, o.edit_values);
+  if (!given.empty() && o.edit.empty())
+    throw UsageError(deform_option_def(given.front()).flag + ": the method, constraint and weight options go with --edit");
+  if (app.count("--matrix-block") > 0 && o.matrix.empty()) throw UsageError("--matrix-block goes with --matrix");
+  if (!o.edit.empty()) {
+    o.edit_options = deform_options_given(app, o.edit_values);
+    load_edit_case(o.edit);
+  }
+  if (!o.matrix.empty()) {
+    const SpMat K = read_market_spd(o.matrix[0]);
+    if (o.matrix.size() > 1) read_market_array(o.matrix[1], K.rows());
+    if (K.rows() % o.matrix_block != 0)
+      throw UsageError(fmt::format("--matrix-block {}: the matrix's {} rows are not whole blocks", o.matrix_block,
+                                   K.rows()));
+  }
+}
+
+void finish_options(const CLI::App& app, Options& o) {
+  if (o.results.empty() && !o.dry_run)
+    throw UsageError("--results DIR is required: where solvers.csv and the cells' scratch files go (`./run "
+                     "reproduce` passes the repository's results/)");
+  if (o.results.empty()) o.results = ".";
   check_output_dir("--results", o.results);
   if (o.out.empty()) o.out = (fs::path(o.results) / "solvers.csv").string();
   else cli::check_output("--out", o.out, {".csv"});
@@ -121,9 +172,15 @@ void finish_options(Options& o) {
   // The reference runs first: its positions are what every other cell is compared with.
   if (auto it = std::find(o.backends.begin(), o.backends.end(), kReferenceBackend); it != o.backends.end())
     std::rotate(o.backends.begin(), it, it + 1);
+  check_sources(app, o);
 }
 
+// The label of a file's rows: its name without the extension (a BS08 stem: its last part).
+std::string label_of(const std::string& path) { return fs::path(path).stem().string(); }
+
 std::vector<MeshSource> tier_sources(const Options& o) {
+  if (!o.edit.empty()) return {{label_of(o.edit), o.edit, 0, ""}};
+  if (!o.matrix.empty()) return {{label_of(o.matrix[0]), o.matrix[0], 0, ""}};
   std::vector<MeshSource> all;
   for (const auto& t : o.tiers) all.push_back(parse_mesh_source(t, o.data));
   if (o.full)
@@ -133,13 +190,14 @@ std::vector<MeshSource> tier_sources(const Options& o) {
   return select_sources(all, o.only);
 }
 
-// Pins the thread counts of this run (children inherit them) by re-executing the driver with OMP_NUM_THREADS,
-// OPENBLAS_NUM_THREADS and DEFORMBENCH_THREADS set: the libraries read them when they load, and the provenance
-// columns then record what was used. Why 1 by default: on a shared 2-core machine a parallel region waits for a
-// descheduled thread (CG ran orders of magnitude slower with 2 threads than with 1), and one thread compares
-// algorithms, not schedulers.
-void pin_threads(int threads, char** argv) {
-  if (threads <= 0) return;
+// Pins the thread counts of this run by re-executing the driver with OMP_NUM_THREADS, OPENBLAS_NUM_THREADS and
+// DEFORMBENCH_THREADS set: the libraries read them when they load, and the provenance columns then record what the
+// driver used (each cell's own, set per backend by harness/thread_policy.h, are its threads and thread_env
+// columns). Why 1 by default: on a shared 2-core machine a parallel region waits for a descheduled thread (CG
+// ran orders of magnitude slower with 2 threads than with 1), and one thread compares algorithms, not schedulers.
+void pin_threads(const std::vector<int>& counts, char** argv) {
+  if (counts.size() != 1 || counts[0] <= 0) return;  // several: each cell's are set when it starts
+  const int threads = counts[0];
   const std::string want = std::to_string(threads);
   auto is = [&](const char* k) {
     const char* v = std::getenv(k);
@@ -165,7 +223,7 @@ std::vector<std::string> orderings_for(const Options& o, const std::string& back
   const std::string family = solver_family(backend);
   std::vector<std::string> v = solver_orderings(backend);
   const bool sparse_direct = family == "sparse-cholesky" || family == "sparse-lu";
-  if (sparse_direct && contains(v, "natural")) v.push_back(kVertexOrdering);
+  if (sparse_direct && contains(v, "natural") && o.edit.empty() && o.matrix.empty()) v.push_back(kVertexOrdering);
   if (!sparse_direct) v = {"default"};  // dense and iterative: nothing to order; spqr: its own choice
   // The refined backends factor as multifrontal or mumps does (their orderings' rows say what they cost); their rows
   // are about precision: the default ordering only.
@@ -255,18 +313,31 @@ struct Planned {
   SolverCell cell;
 };
 
-//! The grid, a plain list: tiers x systems x backends x orderings (the reference backend first in each group).
+// The systems of the grid: --systems for the tiers, the method's for --edit, "matrix" for --matrix.
+std::vector<std::string> systems_of(const Options& o) {
+  if (!o.matrix.empty()) return {"matrix"};
+  if (o.edit.empty()) return o.systems;
+  if (o.edit_options.method == Method::Lri) return {"lri-frames", "lri-positions"};
+  return {to_string(o.edit_options.method)};
+}
+
+//! The grid, a plain list: tiers x systems x backends x orderings x thread counts (the reference backend first in
+//! each group).
 std::vector<Planned> plan(const Options& o) {
   std::vector<Planned> g;
   for (const MeshSource& t : tier_sources(o))
-    for (const auto& system : o.systems)
+    for (const auto& system : systems_of(o))
       for (const auto& backend : o.backends)
-        for (const auto& ordering : orderings_for(o, backend)) {
-          SolverCell c{t.label, t.levels ? fmt::format("{}+loop{}", t.path, t.levels) : t.path, system, backend,
-                       ordering, o.solve_reps, o.factor_reps, o.rep_seconds, o.seed, "", ""};
-          if (backend != kLeastSquaresBackend && solver_info(backend).out_of_core) c.factor_dir = o.factor_dir;
-          g.push_back({t, c});
-        }
+        for (const auto& ordering : orderings_for(o, backend))
+          for (int threads : o.threads) {
+            SolverCell c{t.label, t.levels ? fmt::format("{}+loop{}", t.path, t.levels) : t.path, system, backend,
+                         ordering, o.solve_reps, o.factor_reps, o.rep_seconds, o.seed, "", ""};
+            if (backend != kLeastSquaresBackend && solver_info(backend).out_of_core) c.factor_dir = o.factor_dir;
+            if (!o.edit.empty()) c.source = "edit", c.options = option_items_text(o.edit_options);
+            if (!o.matrix.empty()) c.source = "matrix", c.rhs = o.matrix.size() > 1 ? o.matrix[1] : "", c.block = o.matrix_block;
+            c.threads = threads;
+            g.push_back({t, c});
+          }
   return g;
 }
 
@@ -278,6 +349,12 @@ struct Tier {
 
 Tier load_tier(const Options& o, const MeshSource& t) {
   Tier r;
+  r.path = t.path;
+  if (!o.matrix.empty()) return r;  // checked in check_sources; n comes from its cells
+  if (!o.edit.empty()) {
+    r.vertices = load_edit_case(t.path).mesh.num_vertices();
+    return r;
+  }
   try {
     r.path = resolve_mesh(t, (fs::path(o.data) / "generated").string(), o.cache, self_executable());
     r.vertices = read_mesh(r.path).num_vertices();
@@ -289,12 +366,18 @@ Tier load_tier(const Options& o, const MeshSource& t) {
 
 // Runs one cell of the grid; `default_used` is what "default" resolved to for its backend (from that cell).
 Record run_planned(const Options& o, const Planned& p, const Tier& tier, std::string& default_used) {
-  Record r{p.cell, solver_family(p.cell.backend), tier.vertices, tier.vertices * (p.cell.system == "lap" ? 1 : 3), {}};
+  const int block = p.cell.system == "lap" || p.cell.system == "lri-positions" ? 1 : 3;
+  Record r{p.cell, solver_family(p.cell.backend), tier.vertices, tier.vertices * block, {}};
   r.cell.mesh = tier.path;
   r.cell.positions = (fs::path(o.results) / "cells" / "solvers" /
-                      fmt::format("{}_{}__{}_{}.pos", r.cell.model, r.cell.system, r.cell.backend, r.cell.ordering))
+                      fmt::format("{}_{}__{}_{}_t{}.pos", r.cell.model, r.cell.system, r.cell.backend, r.cell.ordering,
+                                  r.cell.threads))
                          .string();
-  const std::string skip = tier.error.empty() ? skip_reason(o, r, default_used) : "";
+  std::string skip = tier.error.empty() ? skip_reason(o, r, default_used) : "";
+  if (skip.empty() && !r.cell.source.empty() && r.cell.backend == kLeastSquaresBackend)
+    skip = "skipped: least squares (spqr) needs A itself: the tiers' cells only (`deformbench export-system "
+           "--least-squares` writes an edit's A)";
+  if (r.cell.threads > 0) export_thread_settings(thread_settings(r.cell.backend, r.cell.threads));
   RunOptions ro;
   ro.timeout_s = o.cell_timeout_s;
   ro.address_space_bytes = static_cast<std::size_t>(o.cell_memory_mb * kMiB);
@@ -326,6 +409,26 @@ std::vector<Record> run_grid(const Options& o, const std::vector<Planned>& grid)
   return recs;
 }
 
+// speedup and parallel_efficiency of every cell run at several thread counts: its factorize time (the fastest
+// repetition) against the same cell's at the smallest count, efficiency = speedup * smallest / threads.
+void add_parallel_efficiency(std::vector<Record>& recs) {
+  auto same = [](const SolverCell& a, const SolverCell& b) {
+    return a.model == b.model && a.system == b.system && a.backend == b.backend && a.ordering == b.ordering;
+  };
+  for (Record& r : recs) {
+    if (!r.res.ok() || r.cell.threads <= 0) continue;
+    const Record* base = nullptr;
+    for (const Record& b : recs)
+      if (same(b.cell, r.cell) && b.res.ok() && b.cell.threads > 0 && (!base || b.cell.threads < base->cell.threads))
+        base = &b;
+    const double t0 = base ? base->res.get(spread_name("factorize_s", "min")) : kNaN,
+                 t = r.res.get(spread_name("factorize_s", "min"));
+    if (!base || base == &r || !(t0 > 0) || !(t > 0)) continue;
+    r.res.set("speedup", t0 / t, "ratio");
+    r.res.set("parallel_efficiency", t0 / t * base->cell.threads / r.cell.threads, "ratio");
+  }
+}
+
 // ------------------------------------------------------------------------------------------------ CSV
 // The schema of solvers.csv: Always rows for every cell (empty where not measured), the others where measured.
 const std::vector<MeasureDef>& solver_measures() {
@@ -346,6 +449,9 @@ const std::vector<MeasureDef>& solver_measures() {
       {"error_exact", "relative", A},    {"error_vs_cholmod", "relative", M},
       {"error_vs_double", "diagonal", M}, {"error_vs_refined", "diagonal", M},
       {"cell_wall_s", "s", M},           {"load_avg_1m", "count", M},
+      {"speedup", "ratio", M},           {"parallel_efficiency", "ratio", M},  // --threads with several counts
+      {"blas_threads_used", "count", M}, {"omp_threads_used", "count", M},
+      {"own_threads_used", "count", M},
   };
   return d;
 }
@@ -362,7 +468,9 @@ void write_csv(const std::string& path, std::vector<Record> recs) {
                       {"backend", r.cell.backend},
                       {"family", r.family},
                       {"ordering", r.cell.ordering},
-                      {"ordering_used", r.res.text("ordering_used")}},
+                      {"ordering_used", r.res.text("ordering_used")},
+                      {"threads", r.cell.threads > 0 ? std::to_string(r.cell.threads) : ""},
+                      {"thread_env", r.cell.threads > 0 ? thread_settings(r.cell.backend, r.cell.threads).text() : ""}},
                      r.res, solver_measures());
   }
   if (!csv.empty()) csv.write(path);
@@ -391,8 +499,8 @@ std::vector<Planned> shard_of(Options& o, const std::vector<Planned>& grid) {
   return shard_slice(grid, s, group_of);
 }
 
-int run(Options& o, char** argv) {
-  finish_options(o);
+int run(const CLI::App& app, Options& o, char** argv) {
+  finish_options(app, o);
   const std::vector<Planned> all = plan(o);  // the tiers are checked before any work
   if (o.shards.merge > 0) return merge_shards(o, all);
   const std::vector<Planned> grid = shard_of(o, all);
@@ -403,7 +511,8 @@ int run(Options& o, char** argv) {
   pin_threads(o.threads, argv);
   fs::create_directories(o.results);
   std::cerr << "[solvers] " << provenance_summary() << "\n";
-  const std::vector<Record> recs = run_grid(o, grid);
+  std::vector<Record> recs = run_grid(o, grid);
+  add_parallel_efficiency(recs);
   write_csv(o.out, recs);
   std::cerr << "[solvers] wrote " << o.out << "\n";
   FailedCells failed("solvers");
@@ -420,5 +529,5 @@ int main(int argc, char** argv) {
                "exp_solvers");
   Options o;
   define_options(app, o);
-  return cli::run(app, argc, argv, [&] { return run(o, argv); });
+  return cli::run(app, argc, argv, [&] { return run(app, o, argv); });
 }

@@ -7,7 +7,7 @@
 set -u
 SRC=$1
 BIN=$2
-. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
+. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, expect, $fails
 cd "$SRC" || exit 1
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=python3
@@ -15,15 +15,6 @@ export PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1  # the one Python pack
 report() { "$PY" -m dbtools.report "$@"; }  # the report step
 
 
-# expect NAME EXIT_CODE MESSAGE_REGEX -- driver args...
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  "$@" >"$T/stdout" 2>"$T/stderr"
-  local got=$?
-  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(head -c 300 "$T/stderr")"; return; fi
-  if ! grep -Eqi -- "$re" "$T/stdout" "$T/stderr"; then fail "$name: output does not match /$re/"; return; fi
-  ok "$name"
-}
 
 # ---------------------------------------------------------------- strict command lines, configs
 for d in table_2_1 solvers frames deform_cases; do
@@ -226,6 +217,28 @@ grep -q ",error," "$T/failed_results/table_2_1.csv" && ok "table_2_1.csv has the
   fail "table_2_1.csv lacks the failed cell"
 expect "solvers with a failing cell" 5 "FAILED kind=solve model=broken" -- "$BIN/exp_solvers" --mesh broken="$T/broken.off" \
   --only broken --systems lap --backends cholmod_supernodal --orderings default --results "$T/failed_results"
+# The solver study on an edit (issue 30): lri's two systems at two thread counts, the report's summary first and its
+# Threads section; no --results: refused before any work (the repository's results/ is written only when asked).
+expect "solvers without --results refused" 1 "--results DIR is required" -- "$BIN/exp_solvers" --backends cholmod_supernodal
+expect "solvers --edit of no edit" 2 "nostem" -- "$BIN/exp_solvers" --edit bs08/nostem --results "$T/edit"
+expect "solvers --edit lri at 1,2 threads" 0 "wrote" -- "$BIN/exp_solvers" --edit data/bs08/bar --method lri \
+  --constraints soft --backends cholmod_supernodal,multifrontal --orderings default --threads 1,2 --factor-reps 1 \
+  --solve-reps 1 --rep-seconds 0 --results "$T/edit"
+for want in "bar,.*,lri-frames,cholmod_supernodal,.*,1,omp=1 blas=1 own=1,nnz_factor," \
+            "bar,.*,lri-positions,multifrontal,.*,2,omp=1 blas=2 own=2,parallel_efficiency,[0-9]" \
+            "bar,.*,lri-positions,cholmod_supernodal,.*,2,omp=1 blas=2 own=2,blas_threads_used,2,"; do
+  grep -Eq "^$want" "$T/edit/solvers.csv" && ok "solvers --edit: a row $want" || fail "solvers --edit: no row $want"
+done
+report --results "$T/edit" --only solvers >/dev/null 2>&1
+fastest=$(grep -n "^## Fastest choice" "$T/edit/solvers.md" | cut -d: -f1)
+verdict=$(grep -n "^## Verdict" "$T/edit/solvers.md" | cut -d: -f1)
+[ -n "$fastest" ] && [ -n "$verdict" ] && [ "$fastest" -lt "$verdict" ] && ok "solvers.md: the fastest choice first" ||
+  fail "solvers.md: the fastest choice is not first"
+grep -Eq "^\| bar \| lri-frames \| [a-z_]+/default \| .* \| [0-9.]+ \| [0-9.]+ \| [0-9.e+-]+ \((vs refined|exact)\) \|" \
+  "$T/edit/solvers.md" && ok "solvers.md: the fastest choice with memory and accuracy" ||
+  fail "solvers.md: the fastest choice lacks memory or accuracy"
+grep -Eq "^\| bar \| lri-positions \| multifrontal \| default \| 2 \| omp=1 blas=2 own=2 \| .* \| [0-9.]+ \| [0-9.]+ \| ok \|" \
+  "$T/edit/solvers.md" && ok "solvers.md: the Threads section" || fail "solvers.md: no Threads row"
 expect "applications with a failing cell" 5 "FAILED kind=application name=broken" -- "$BIN/exp_applications" \
   --case "flat: coat source=bs08/plane.off target=plane:20:20:1:0:1 target_region=sphere:0,0,0,0.4" \
   --case "broken: coat source=$T/broken.off target=plane:20:20:1:0:1" --out "$T/apps_failed.csv"

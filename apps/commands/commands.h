@@ -20,5 +20,7 @@ Command add_deform_options_listing(CLI::App& tool);
 Command add_coat(CLI::App& tool);
 //! `deformbench transplant SOURCE TARGET --out FILE ...` (apps/commands/transplant.cpp).
 Command add_transplant(CLI::App& tool);
+//! `deformbench export-system EDIT --out A.mtx ...` (apps/commands/export_system.cpp).
+Command add_export_system(CLI::App& tool);
 
 }  // namespace db::commands

@@ -3,7 +3,6 @@
 // before a mesh is read; the CSV row is the deformation's record (methods/deform_record.h).
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +21,7 @@
 #include "edit/edit_io.h"
 #include "edit/transform.h"
 #include "mesh/mesh_io.h"
+#include "methods/deform_option_flags.h"
 #include "methods/deform_options.h"
 #include "methods/deform_record.h"
 #include "methods/deformer.h"
@@ -36,7 +36,7 @@ struct DeformArgs {
   std::string edit, out, csv, transform;
   long long frames = 1;
   bool vs_double = false;
-  std::map<std::string, std::string> values;  // deform option key -> its text as given
+  DeformOptionValues values;  // deform option key -> its text as given
 };
 
 // --transform is checked as text here (a usage error); a def:FILE is read with the edit (a bad file: exit 2).
@@ -54,23 +54,6 @@ CLI::Validator TransformSpec() {
       "");
 }
 
-// One command-line option per row of the deform options' table.
-void add_option_table(CLI::App& d, DeformArgs& a) {
-  const DeformOptions defaults;
-  for (const DeformOptionDef& def : deform_option_defs()) {
-    CLI::Option* opt = nullptr;
-    if (def.is_switch) {
-      opt = d.add_flag_callback(def.flag, [&a, key = def.key] { a.values[key] = "1"; }, def.help);
-    } else {
-      opt = d.add_option(def.flag, a.values[def.key], def.help);
-      opt->transform(def.choices.empty() ? CLI::Validator(def.check, "") : cli::OneOf(def.choices));
-      if (!def.value_name.empty()) opt->type_name(def.value_name);
-      if (const std::string value = def.get(defaults); !value.empty()) opt->default_str(value);
-    }
-    if (!def.group.empty()) opt->group(def.group);
-  }
-}
-
 void add_deform_options(CLI::App& d, DeformArgs& a) {
   d.add_option("edit", a.edit, "a Botsch-Sorkine stem (STEM.off|.ply|.obj + STEM.sel + STEM.def) or a .edit file")
       ->type_name("EDIT")->required();
@@ -85,7 +68,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
                "replace the edit's handle transform: translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | "
                "matrix:16 values | def:FILE")
       ->type_name("SPEC")->check(TransformSpec());
-  add_option_table(d, a);
+  add_deform_option_flags(d, a.values);
   d.add_flag("--vs-double", a.vs_double,
              "mixed: deform again with the double factor afterwards and report the largest difference")
       ->group("Precision");
@@ -94,14 +77,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
 // The options as given, checked together, the solver resolved (resolve_options); --vs-double refused where the
 // refinement options are.
 DeformOptions options_of(const CLI::App& d, const DeformArgs& a) {
-  DeformOptions o;
-  std::vector<std::string> given;
-  for (const DeformOptionDef& def : deform_option_defs())
-    if (d.count(def.flag) > 0) {
-      def.set(o, a.values.at(def.key));
-      given.push_back(def.key);
-    }
-  o = resolve_options(o, given);
+  const DeformOptions o = deform_options_given(d, a.values);
   if (a.vs_double)
     if (const std::string why = deform_option_def("refine_tolerance").unused(o); !why.empty())
       throw UsageError("--vs-double" + why);

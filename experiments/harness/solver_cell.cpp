@@ -10,16 +10,22 @@
 
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
+#include "core/provenance.h"
 #include "core/timer.h"
+#include "edit/edit_io.h"
 #include "harness/cpu_timer.h"
 #include "harness/positions.h"
 #include "harness/thesis_edit.h"
 #include "mesh/mesh_io.h"
+#include "methods/deform_option_flags.h"
+#include "methods/deform_options.h"
 #include "methods/deformer.h"
+#include "methods/edit_system.h"
 #include "methods/normalization.h"
 #include "operators/energy_operator.h"
 #include "solvers/least_squares.h"
 #include "solvers/linear_solver.h"
+#include "systems/matrix_market.h"
 #include "systems/normal_system.h"
 #include "systems/vertex_ordering.h"
 
@@ -128,15 +134,20 @@ Reps repeat_timed(int reps, double budget_s, F&& f) {
   return r;
 }
 
-void add_system(CellResult& r, const Problem& p, const NormalSystem& sys, double build_s, double build_cpu_s) {
-  r.set("vertices", p.mesh.num_vertices(), "count");
-  r.set("n", static_cast<double>(sys.n()), "count");
-  r.set("nnz", double(sys.K.nonZeros()), "count");
-  r.set("rhs_cols", sys.rhs_cols, "count");
-  r.set("build_s", build_s, "s");
-  r.set("build_cpu_s", build_cpu_s, "s");
-  r.set("order_s", p.order_s, "s");
-  r.set("matrix_bytes", double(sparse_bytes(sys.K)), "bytes");
+// What a cell's system is, whichever source built it.
+struct SystemFacts {
+  double vertices = kNaN, build_s = 0, build_cpu_s = 0, order_s = 0, order_cpu_s = 0;
+};
+
+void add_system(CellResult& r, const SystemFacts& f, const SpMat& K, int rhs_cols) {
+  r.set("vertices", f.vertices, "count");
+  r.set("n", static_cast<double>(K.rows()), "count");
+  r.set("nnz", double(K.nonZeros()), "count");
+  r.set("rhs_cols", rhs_cols, "count");
+  r.set("build_s", f.build_s, "s");
+  r.set("build_cpu_s", f.build_cpu_s, "s");
+  r.set("order_s", f.order_s, "s");
+  r.set("matrix_bytes", double(sparse_bytes(K)), "bytes");
   r.set("baseline_rss_bytes", double(current_rss_bytes()), "bytes");
 }
 
@@ -202,29 +213,25 @@ long long ThesisPattern::nnz_upper() const {
 
 namespace {
 
-// A registry backend on the structured K: analyze, factorize (repeated), solve (repeated).
-CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat& x) {
-  const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});
-  const CpuTimer tbc;
-  Timer tb;
-  const NormalSystem sys = build_normal_system(op, p.unk, Build::Structured);
+// A registry backend on K (upper triangle): analyze, factorize (repeated), solve (repeated) of `rhs` into x, and
+// one solve of b = K x_ref for the error.
+CellResult measure_on(const SolverCell& c, const SystemFacts& f, const SpMat& K, int block, const DenseMat& rhs,
+                      const DenseMat& xref, DenseMat& x) {
   CellResult r;
-  add_system(r, p, sys, tb.seconds(), tbc.seconds());
-  const DenseMat rhs = drag_rhs(p, sys), xref = reference_solution(p, c.seed, sys.rhs_cols);
-  const DenseMat bsyn = sys.K.selfadjointView<Eigen::Upper>() * xref;
-
+  add_system(r, f, K, int(rhs.cols()));
+  const DenseMat bsyn = K.selfadjointView<Eigen::Upper>() * xref;
   SolverOptions so;
-  so.block_size = p.block;
+  so.block_size = block;
   so.ordering = c.ordering.rfind("vertex-", 0) == 0 ? "natural" : c.ordering;
   so.factor_dir = c.factor_dir;
   auto solver = make_solver(c.backend, so);
   Phases ph;
   const CpuTimer tac;
   Timer ta;
-  solver->analyze(sys.K);
-  ph.analyze_s = p.order_s + ta.seconds();
-  ph.analyze_cpu_s = p.order_cpu_s + tac.seconds();
-  ph.factorize = repeat_timed(c.factor_reps, c.rep_seconds, [&] { solver->factorize(sys.K); });
+  solver->analyze(K);
+  ph.analyze_s = f.order_s + ta.seconds();
+  ph.analyze_cpu_s = f.order_cpu_s + tac.seconds();
+  ph.factorize = repeat_timed(c.factor_reps, c.rep_seconds, [&] { solver->factorize(K); });
   ph.solve = repeat_timed(c.solve_reps, c.rep_seconds, [&] { solver->solve(rhs, x); });
   ph.stats = solver->stats();
   DenseMat xs;
@@ -235,10 +242,20 @@ CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat
   if (solver_info(c.backend).family == "iterative" || ph.stats.iterations > 0)
     r.set("iterations", ph.stats.iterations, "count");
   r.set_text("ordering_used", ph.stats.ordering_used);
-  r.set("residual", rel_residual(sys.K, x, rhs), "relative");
-  r.set("residual_synthetic", rel_residual(sys.K, xs, bsyn), "relative");
+  r.set("residual", rel_residual(K, x, rhs), "relative");
+  r.set("residual_synthetic", rel_residual(K, xs, bsyn), "relative");
   r.set("error_exact", (xs - xref).norm() / xref.norm(), "relative");
   return r;
+}
+
+// The thesis edit's structured K for a registry backend.
+CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat& x) {
+  const EnergyOperator op(p.Vn, p.mesh.F, p.adj, p.kind, EnergyOptions{});
+  const CpuTimer tbc;
+  Timer tb;
+  const NormalSystem sys = build_normal_system(op, p.unk, Build::Structured);
+  const SystemFacts f{double(p.mesh.num_vertices()), tb.seconds(), tbc.seconds(), p.order_s, p.order_cpu_s};
+  return measure_on(c, f, sys.K, p.block, drag_rhs(p, sys), reference_solution(p, c.seed, sys.rhs_cols), x);
 }
 
 // The least-squares matrix [A_u; w S] of the naive build (S selects the soft unknowns) and its right-hand side
@@ -274,7 +291,7 @@ CellResult measure_least_squares(const SolverCell& c, const Problem& p, DenseMat
   const NormalSystem sys = build_normal_system(op, p.unk, Build::Naive);
   auto [A, b_ls] = least_squares_system(p, sys);
   CellResult r;
-  add_system(r, p, sys, tb.seconds(), tbc.seconds());
+  add_system(r, {double(p.mesh.num_vertices()), tb.seconds(), tbc.seconds(), p.order_s}, sys.K, sys.rhs_cols);
   r.set("matrix_bytes", double(sparse_bytes(A)), "bytes");
   const DenseMat rhs = drag_rhs(p, sys), xref = reference_solution(p, c.seed, sys.rhs_cols);
   const DenseMat bsyn = A * xref;
@@ -306,12 +323,17 @@ CellSpec SolverCell::to_spec() const {
   s.set("seed", static_cast<double>(seed));
   if (!positions.empty()) s.set("positions", positions);
   if (!factor_dir.empty()) s.set("factor_dir", factor_dir);
+  if (!source.empty()) s.set("source", source);
+  if (!options.empty()) s.set("options", options);
+  if (!rhs.empty()) s.set("rhs", rhs);
+  if (block != 1) s.set("block", block);
+  if (threads > 0) s.set("threads", threads);
   return s;
 }
 
 SolverCell SolverCell::from_spec(const CellSpec& s) {
   s.check_keys({"model", "mesh", "system", "backend", "ordering", "solve_reps", "factor_reps", "rep_seconds", "seed",
-                "positions", "factor_dir"});
+                "positions", "factor_dir", "source", "options", "rhs", "block", "threads"});
   SolverCell c;
   c.mesh = s.get("mesh");
   c.model = s.get("model", c.mesh);
@@ -324,10 +346,19 @@ SolverCell SolverCell::from_spec(const CellSpec& s) {
   c.seed = static_cast<unsigned>(s.integer("seed", c.seed, 0, 4294967295LL));
   c.positions = s.get("positions", "");
   c.factor_dir = s.get("factor_dir", "");
+  c.source = s.get("source", "");
+  if (!c.source.empty() && c.source != "edit" && c.source != "matrix")
+    throw UsageError("source=" + c.source + ": not edit or matrix");
+  c.options = s.get("options", "");
+  c.rhs = s.get("rhs", "");
+  c.block = static_cast<int>(s.integer("block", 1, 1, 64));
+  c.threads = static_cast<int>(s.integer("threads", 0, 0, 4096));
   return c;
 }
 
-std::string SolverCell::key() const { return fmt::format("{}/{}/{}/{}", model, system, backend, ordering); }
+std::string SolverCell::key() const {
+  return fmt::format("{}/{}/{}/{}{}", model, system, backend, ordering, threads > 0 ? fmt::format("/t{}", threads) : "");
+}
 
 std::string solver_family(const std::string& backend) {
   return backend == kLeastSquaresBackend ? "least-squares" : solver_info(backend).family;
@@ -338,13 +369,107 @@ std::vector<std::string> solver_orderings(const std::string& backend) {
   return solver_info(backend).orderings;
 }
 
+DeformOptions parse_option_items(const std::string& text) {
+  DeformOptions o;
+  std::vector<std::string> given;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t end = std::min(text.find(';', at), text.size()), eq = text.find('=', at);
+    if (eq == std::string::npos || eq > end) throw UsageError("options=" + text + ": not key=value;key=value");
+    const std::string key = text.substr(at, eq - at);
+    set_deform_option(o, key, text.substr(eq + 1, end - eq - 1));
+    given.push_back(key);
+    at = end + 1;
+  }
+  return resolve_options(o, given);
+}
+
+std::string option_items_text(const DeformOptions& o) {
+  std::string s;
+  const std::vector<std::string>& groups = system_option_groups();  // the rest does not shape the system
+  for (const auto& [k, v] : deform_option_items(o))
+    if (std::count(groups.begin(), groups.end(), deform_option_def(k).group) > 0) s += (s.empty() ? "" : ";") + k + "=" + v;
+  return s;
+}
+
+namespace {
+
+// x_ref of a system without vertices: seeded, uniform in [-1, 1].
+DenseMat random_solution(unsigned seed, Eigen::Index rows, Eigen::Index cols) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  DenseMat x(rows, cols);
+  for (Eigen::Index i = 0; i < rows; ++i)
+    for (Eigen::Index j = 0; j < cols; ++j) x(i, j) = uni(rng);
+  return x;
+}
+
+// A solution as rows of three (zero-padded) for the parent's comparisons between cells.
+Points as_rows_of_three(const DenseMat& x) {
+  const Eigen::Index n = x.size();
+  Points P = Points::Zero((n + 2) / 3, 3);
+  for (Eigen::Index k = 0; k < n; ++k) P(k / 3, k % 3) = x(k % x.rows(), k / x.rows());
+  return P;
+}
+
+// The edit's system `c.system` (source=edit) or the Matrix Market one (source=matrix).
+CellResult measure_other_source(const SolverCell& c, DenseMat& x) {
+  SystemFacts f;
+  SpMat K;
+  DenseMat rhs;
+  int block = 1;
+  if (c.source == "edit") {
+    const EditCase ec = load_edit_case(c.mesh);
+    f.vertices = ec.mesh.num_vertices();
+    const CpuTimer tc;
+    std::vector<EditSystem> systems = edit_systems(ec.mesh, ec.edit, parse_option_items(c.options));
+    f.build_cpu_s = tc.seconds();
+    auto it = std::find_if(systems.begin(), systems.end(), [&](const EditSystem& e) { return e.name == c.system; });
+    if (it == systems.end()) throw UsageError(fmt::format("system={}: not one of this method's systems", c.system));
+    f.build_s = it->build_s;
+    K.swap(it->K);
+    rhs = std::move(it->rhs);
+    block = it->block;
+  } else {
+    Timer t;
+    const CpuTimer tc;
+    K = read_market_spd(c.mesh);
+    block = c.block;
+    if (K.rows() % block != 0) throw UsageError(fmt::format("block={}: {} rows are not whole blocks", block, K.rows()));
+    if (!c.rhs.empty()) rhs = read_market_array(c.rhs, K.rows());
+    f.build_s = t.seconds();  // reading the files
+    f.build_cpu_s = tc.seconds();
+  }
+  const DenseMat xref = random_solution(c.seed, K.rows(), rhs.cols() > 0 ? rhs.cols() : 1);
+  if (rhs.cols() == 0) rhs = K.selfadjointView<Eigen::Upper>() * xref;  // no right-hand side: the synthetic one
+  return measure_on(c, f, K, block, rhs, xref, x);
+}
+
+// What the child's libraries actually use (the parent set the environment).
+void add_threads_used(CellResult& r) {
+  r.set("blas_threads_used", provenance().blas_threads, "count");
+  r.set("own_threads_used", worker_threads(), "count");
+  const char* omp = std::getenv("OMP_NUM_THREADS");
+  r.set("omp_threads_used", omp && *omp ? std::atof(omp) : kNaN, "count");
+}
+
+}  // namespace
+
 CellResult measure_solver_cell(const CellSpec& spec) {
   const SolverCell c = SolverCell::from_spec(spec);
-  const Problem p = make_problem(c);
   DenseMat x;
-  CellResult r = c.backend == kLeastSquaresBackend ? measure_least_squares(c, p, x) : measure_linear_solver(c, p, x);
-  if (c.ordering.rfind("vertex-", 0) == 0) r.set_text("ordering_used", c.ordering.substr(7) + "-vertex-graph");
-  if (!c.positions.empty()) write_positions(c.positions, to_vertices(x, p));
+  CellResult r;
+  if (!c.source.empty()) {
+    if (c.backend == kLeastSquaresBackend) throw UsageError("backend=spqr: the thesis edit's cells only");
+    r = measure_other_source(c, x);
+    if (!c.positions.empty()) write_positions(c.positions, as_rows_of_three(x));
+  } else {
+    const Problem p = make_problem(c);
+    r = c.backend == kLeastSquaresBackend ? measure_least_squares(c, p, x) : measure_linear_solver(c, p, x);
+    if (c.ordering.rfind("vertex-", 0) == 0) r.set_text("ordering_used", c.ordering.substr(7) + "-vertex-graph");
+    if (!c.positions.empty()) write_positions(c.positions, to_vertices(x, p));
+  }
+  add_threads_used(r);
   return r;
 }
 

@@ -19,6 +19,16 @@
 //! unknowns renumbered on the vertex graph before assembly and the solver run with the natural ordering (its cost
 //! is order_s, counted into analyze_s).
 //!
+//! Other systems than the thesis edit's (source=...): "edit" takes `mesh` as an edit (a .edit file or BS08 stem,
+//! edit/edit_io.h) and `options` as deform options ("key=value;key=value", methods/deform_options.h), and
+//! `system` names one of the method's systems (methods/edit_system.h: lap, tf, lri-frames, lri-positions);
+//! "matrix" takes `mesh` as a Matrix Market SPD matrix, `rhs` (optional) as its right-hand sides and `block` as
+//! its unknowns per vertex
+//! (systems/matrix_market.h). Their cells run the registry's backends with the backends' own orderings; without
+//! a right-hand side (lri, a matrix alone) the deformation's is the synthetic one. `threads` is recorded (the
+//! parent sets the environment, harness/thread_policy.h) beside what the child's libraries report:
+//! blas_threads_used, omp_threads_used, own_threads_used.
+//!
 //! Backend "spqr" is least squares on the naive build's A itself (solvers/least_squares.h: QR, A^T A never
 //! formed): its analyze is part of its factorize (analyze_s = 0), its residuals are those of the normal
 //! equations its solution satisfies, and error_exact uses b = A x_ref.
@@ -27,6 +37,7 @@
 #include "solvers/base/types.h"
 #include "harness/cell.h"
 #include "harness/runner.h"
+#include "methods/deform_options.h"
 #include "systems/normal_system.h"
 
 namespace db::harness {
@@ -41,6 +52,11 @@ struct SolverCell {
   unsigned seed = 1;
   std::string positions;     //!< where to write the deformed positions ("" = nowhere)
   std::string factor_dir;    //!< out of core: SolverOptions::factor_dir ("" = the factor in memory)
+  std::string source;        //!< "" (the thesis edit on `mesh`), "edit" or "matrix"
+  std::string options;       //!< source=edit: deform options, "key=value;key=value"
+  std::string rhs;           //!< source=matrix: the right-hand sides' file ("" = none)
+  int block = 1;             //!< source=matrix: unknowns per vertex block (SolverOptions::block_size)
+  int threads = 0;           //!< the count the parent set (0: as inherited)
 
   CellSpec to_spec() const;
   //! \throw UsageError on an unknown key or a malformed number.
@@ -79,6 +95,13 @@ struct ThesisPattern {
 };
 //! \throw InputError as build_thesis_system.
 ThesisPattern build_thesis_pattern(const std::string& mesh, const std::string& system);
+
+//! source=edit's options: "key=value;key=value" (deform option keys) set and checked together (resolve_options).
+//! \throw UsageError naming the option.
+DeformOptions parse_option_items(const std::string& text);
+//! The options that shape the system (methods/deform_option_flags.h, system_option_groups) and differ from the
+//! defaults, in that form.
+std::string option_items_text(const DeformOptions& o);
 
 CellResult measure_solver_cell(const CellSpec& spec);
 inline CellKind solver_kind() { return {"solve", measure_solver_cell}; }

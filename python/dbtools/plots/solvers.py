@@ -31,16 +31,21 @@ FAMILY_STYLE = {"sparse-cholesky": "-", "sparse-lu": "--", "dense": ":", "iterat
 
 
 def load(path):
-    """(model, system, backend, ordering) -> {measure: value} for ok cells, plus per-cell metadata."""
+    """(model, system, backend, ordering) -> {measure: value} for ok cells, plus per-cell metadata; a run at several
+    thread counts (--threads) at its smallest, as results/solvers.md reads it."""
     cells = defaultdict(dict)
     meta = {}
     with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            key = (row["model"], row["system"], row["backend"], row["ordering"])
-            meta[key] = row
-            if row["status"] != "ok" or row["value"] == "":
-                continue
-            cells[key][row["measure"]] = float(row["value"])
+        rows = list(csv.DictReader(f))
+    counts = sorted({int(r["threads"]) for r in rows if r.get("threads")})
+    for row in rows:
+        if counts and row.get("threads") and int(row["threads"]) != counts[0]:
+            continue
+        key = (row["model"], row["system"], row["backend"], row["ordering"])
+        meta[key] = row
+        if row["status"] != "ok" or row["value"] == "":
+            continue
+        cells[key][row["measure"]] = float(row["value"])
     return cells, meta
 
 

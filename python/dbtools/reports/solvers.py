@@ -1,22 +1,31 @@
 """results/solvers.md from the CSVs exp_solvers wrote (solvers.csv, and solvers_blas_*.csv: the same driver under
 other OPENBLAS_CORETYPE values): the verdict on the thesis' claim that Cholesky is slightly faster than LU and
 Bunch-Kaufman, least squares on A against the normal equations, every backend, the orderings, the fastest choice
-per tier and the BLAS kernel sets. Reads CSVs only, never measures."""
+per tier (first, with its memory and accuracy), the thread counts (--threads) and the BLAS kernel sets. Reads CSVs
+only, never measures."""
 import os
 
 from .common import (MIB, NAN, SPREAD_NOTE, cells, count_flagged, fmt, geomean, isnan, mark, median, minmax, number,
                     provenance, read_rows, spread_text, write_atomically)
 from .kernel_sets import kernel_sets
 
-KEY = ("model", "system", "backend", "family", "ordering", "ordering_used")
+KEY = ("model", "system", "backend", "family", "ordering", "ordering_used", "threads", "thread_env")
 # The summary reads the minimum over a cell's repetitions: on a shared machine interference only adds time.
 FACTOR, SOLVE = "factorize_min_s", "solve_min_s"
+
+
+def thread_count(c):
+    return number(c.threads) if getattr(c, "threads", "") else NAN
 
 
 class Run:
     def __init__(self, rows):
         self.rows = rows
-        self.cells = cells(rows, KEY)
+        self.all_cells = cells(rows, KEY)
+        # Every section but the threads one reads each cell at its smallest thread count (the study's --threads
+        # runs every cell at each count).
+        self.counts = sorted({thread_count(c) for c in self.all_cells if not isnan(thread_count(c))})
+        self.cells = [c for c in self.all_cells if isnan(thread_count(c)) or thread_count(c) == self.counts[0]]
         self.models, self.systems, self.backends = [], [], []
         for c in self.cells:
             for lst, v in ((self.models, c.model), (self.systems, c.system), (self.backends, c.backend)):
@@ -105,7 +114,9 @@ def header(run, p):
            "- Systems: the thesis edit of every tier (whole-mesh ROI, 100 handle vertices at one extreme of the longest "
            "axis, 100 anchors at the other), soft constraints (w = 1), structured build: K is #V x #V (lap, 3 "
            "right-hand-side columns) or 3#V x 3#V (tf, 1 column). `spqr` solves the least-squares problem on the naive "
-           "build's A itself (QR, A^T A never formed).",
+           "build's A itself (QR, A^T A never formed). A run with `--edit` has that edit's systems instead (its "
+           "method, constraints and weights; lri: `lri-frames` and `lri-positions`), one with `--matrix` the system "
+           "of that file (`matrix`).",
            f"- Every cell (tier, system, backend, ordering) ran in its own child process: peak RSS is that process' "
            "VmHWM (mesh + system + solver). Factorize and solve (of the deformation's right-hand side) repeat up to "
            "--factor-reps / --solve-reps times, each phase no longer than --rep-seconds; from three repetitions on the "
@@ -332,20 +343,58 @@ def orderings(run):
     return "\n".join(out) + "\n"
 
 
+def accuracy(c):
+    """The distance from the refined (exact to its tolerance) solution where measured, else error_exact."""
+    e = value(c, "error_vs_refined")
+    return (fmt(e, "{:.1e}") + " (vs refined)") if not isnan(e) else (fmt(value(c, "error_exact"), "{:.1e}") + " (exact)")
+
+
 def fastest(run):
-    """Best (backend, ordering) per system and tier for the interactive split: factorize once, solve per frame."""
-    out = ["## Fastest choice per tier and system\n\n| tier | system | fastest factorize (backend/ordering) | time | "
-           "fastest solve | time | fastest analyze+factorize+20 solves | time |\n|---|---|---|---:|---|---:|---|---:|"]
+    """Best (backend, ordering) per system and tier for the interactive split (factorize once, solve per frame),
+    with what it costs in memory and what it gives in accuracy; then the fastest factorize and solve, and the
+    smallest peak RSS."""
+    at = f" at {run.counts[0]:.0f} thread(s)" if run.counts else ""
+    out = [f"## Fastest choice per tier and system{at}\n\n| tier | system | fastest analyze+factorize+20 solves "
+           "(backend/ordering) | time | peak RSS MiB | factor MiB | error | fastest factorize | time | fastest solve "
+           "| time | least peak RSS | MiB |\n|---|---|---|---:|---:|---:|---|---|---:|---|---:|---|---:|"]
     name = lambda c: f"{c.backend}/{c.ordering}" if c is not None else "-"  # noqa: E731
+    mib = lambda c, k: fmt(value(c, k) / MIB, "{:.1f}") if c is not None else "-"  # noqa: E731
     for m in run.models:
         for sys in run.systems:
             ok = [c for c in run.cells if c.model == m and c.system == sys and c.ok()]
+            if not ok:
+                continue
             total = lambda c: c.get("analyze_s") + c.get(FACTOR) + 20 * c.get(SOLVE)  # noqa: E731
             pick = lambda cs, f: min(cs, key=f) if cs else None  # noqa: E731
             bf = pick([c for c in ok if c.family != "iterative"], lambda c: c.get(FACTOR))
-            bs, bt = pick(ok, lambda c: c.get(SOLVE)), pick(ok, total)
-            out.append(f"| {m} | {sys} | {name(bf)} | {fsec(bf.get(FACTOR)) if bf else '-'} | {name(bs)} | "
-                       f"{fsec(bs.get(SOLVE)) if bs else '-'} | {name(bt)} | {fsec(total(bt)) if bt else '-'} |")
+            bs, bt, bm = pick(ok, lambda c: c.get(SOLVE)), pick(ok, total), pick(ok, lambda c: c.get("peak_rss_bytes"))
+            out.append(f"| {m} | {sys} | {name(bt)} | {fsec(total(bt))} | {mib(bt, 'peak_rss_bytes')} | "
+                       f"{mib(bt, 'factor_bytes')} | {accuracy(bt)} | {name(bf)} | "
+                       f"{fsec(bf.get(FACTOR)) if bf else '-'} | {name(bs)} | {fsec(bs.get(SOLVE))} | {name(bm)} | "
+                       f"{mib(bm, 'peak_rss_bytes')} |")
+    out.append("\nerror: the largest coordinate difference from the multifrontal_refined cell's solution (bounding-box "
+               "diagonals; `vs refined`) where that cell ran, else `error_exact` (||x - x_ref|| / ||x_ref|| for a "
+               "right-hand side with a known solution).\n")
+    return "\n".join(out) + "\n"
+
+
+def threads(run):
+    """Each cell at each thread count (--threads): factorize time, GFlop/s (factor flops / fastest factorize) and
+    parallel efficiency against the smallest count, with the threading each layer got (harness/thread_policy.h)."""
+    if len(run.counts) < 2:
+        return ""
+    out = ["## Threads\n\nEvery cell ran at each count; `thread env`: the OpenMP, BLAS and project (assembly, "
+           "multifrontal tasks) threads the harness gave the backend. speedup = factorize at the smallest count / "
+           f"factorize here; efficiency = speedup x {run.counts[0]:.0f} / threads.\n\n| tier | system | backend | "
+           "ordering | threads | thread env | factorize | GFlop/s | speedup | efficiency | status |\n"
+           "|---|---|---|---|---:|---|---:|---:|---:|---:|---|"]
+    for c in run.all_cells:
+        if c.family not in ("sparse-cholesky", "sparse-lu", "dense", "least-squares"):
+            continue
+        out.append(f"| {c.model} | {c.system} | {c.backend} | {c.ordering} | {c.threads} | {c.thread_env} | "
+                   f"{fsec(value(c, FACTOR))} | {fmt(value(c, 'gflops'), '{:.2f}')} | "
+                   f"{fmt(value(c, 'speedup'), '{:.2f}')} | {fmt(value(c, 'parallel_efficiency'), '{:.2f}')} | "
+                   f"{'ok' if c.ok() else c.message} |")
     return "\n".join(out) + "\n"
 
 
@@ -417,7 +466,7 @@ def write(results):
     if not rows:
         return False
     run, p = Run(rows), provenance(rows)
-    parts = [header(run, p), verdict(run), least_squares(run), every_backend(run), mixed_precision(run), orderings(run), fastest(run),
-             blas(run, p, results)]
+    parts = [header(run, p), fastest(run), verdict(run), least_squares(run), every_backend(run), mixed_precision(run),
+             orderings(run), threads(run), blas(run, p, results)]
     write_atomically(os.path.join(results, "solvers.md"), "\n".join(x for x in parts if x))
     return True
