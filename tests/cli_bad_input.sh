@@ -205,6 +205,19 @@ rm -f "$L"/sparse*
 # A targets file's frames are capped as --frames is: 100001 frames of the one handle vertex.
 awk 'BEGIN { for (i = 0; i < 100001; i++) print "0 0 1.1" }' >"$T/drag_long.txt"; write_drag "$T/drag_long.edit" drag_long.txt
 expect targets_over_frames_cap 2 "drag_long.txt: line 100001: more than 100000 target positions \(100000 frames" -- deform "$T/drag_long.edit" --out "$OUT"
+# A long drag says how far it is (--progress; on by default on a terminal): here after every frame, one line each
+# (stderr is no terminal); without --progress, nothing.
+awk 'BEGIN { for (i = 0; i < 5; i++) print "0 0 1.1" }' >"$T/drag_five.txt"; write_drag "$T/drag_five.edit" drag_five.txt
+export DEFORMBENCH_PROGRESS_SECONDS=0
+progress_re='^deform: frame [1-5]/5 \([0-9.]+%\), [0-9]+ s elapsed, about [0-9]+ s left$'
+expect_ok targets_progress out.ply -- deform "$T/drag_five.edit" --progress --out "$OUT"
+if [ "$(grep -Ec "$progress_re" "$L/stderr")" = 5 ] && grep -q '^deform: frame 5/5 (100.0%)' "$L/stderr"; then
+  passes=$((passes + 1)); echo "ok   targets_progress: 5 progress lines"
+else fails=$((fails + 1)); echo "FAIL targets_progress: not 5 progress lines:"; cat "$L/stderr"; fi
+expect_ok targets_no_progress out.ply -- deform "$T/drag_five.edit" --out "$OUT"
+if grep -q 'deform: frame' "$L/stderr"; then fails=$((fails + 1)); echo "FAIL targets_no_progress: progress printed"
+else passes=$((passes + 1)); echo "ok   targets_no_progress: none printed"; fi
+unset DEFORMBENCH_PROGRESS_SECONDS
 
 echo "== 2 bad input: mesh and edit files"
 expect missing_mesh 2 "cannot open|not found|no such|missing" -- deform "$T/nothere" --out "$OUT"

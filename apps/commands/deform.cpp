@@ -15,6 +15,7 @@
 #include "core/csv.h"
 #include "solvers/base/error.h"
 #include "core/input_file.h"
+#include "core/progress.h"
 #include "core/provenance.h"
 #include "solvers/base/resources.h"
 #include "core/spread.h"
@@ -35,7 +36,7 @@ namespace {
 struct DeformArgs {
   std::string edit, out, csv, transform;
   long long frames = 1;
-  bool vs_double = false;
+  bool vs_double = false, progress = false;
   DeformOptionValues values;  // deform option key -> its text as given
 };
 
@@ -68,6 +69,9 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
                "replace the edit's handle transform: translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | "
                "matrix:16 values | def:FILE")
       ->type_name("SPEC")->check(TransformSpec());
+  d.add_flag("--progress", a.progress,
+             "frames done and time left on stderr while the drag runs (on by default when stderr is a terminal); "
+             "at most one line per interval, none for a run shorter than it (docs/cli.md)");
   add_deform_option_flags(d, a.values);
   d.add_flag("--vs-double", a.vs_double,
              "mixed: deform again with the double factor afterwards and report the largest difference")
@@ -248,7 +252,8 @@ int run_deform(const CLI::App& d, const DeformArgs& a) {
   const EditCase ec = load_edit(d, a, transform);
   const long long frames = ec.edit.target_frames() > 0 && d.count("--frames") == 0 ? ec.edit.target_frames() : a.frames;
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
-  const Drag g = drag(*deformer, ec.edit, frames);
+  Progress progress("deform: frame", frames, (a.progress || stderr_is_terminal()) && (ranks <= 1 || mpi::rank() == 0));
+  const Drag g = drag(*deformer, ec.edit, frames, [&progress](long long f) { progress(f); });
   RunExtras extras;
   extras.rss = rank_peak_rss(ranks);
   if (ranks > 1) extras.matrix = mpi::gather_to_root(double(deformer->matrix_bytes()));

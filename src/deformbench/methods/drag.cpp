@@ -27,7 +27,7 @@ Points deform_frame(Deformer& d, const Edit& e, long long f, long long frames) {
   return d.deform_targets(e.targets.middleRows(((f - 1) % given) * h, h));
 }
 
-Drag drag(Deformer& d, const Edit& e, long long frames) {
+Drag drag(Deformer& d, const Edit& e, long long frames, const FrameDone& done) {
   Drag g;
   for (long long f = 1; f <= frames; ++f) {
     const CpuTimer cpu;
@@ -40,6 +40,7 @@ Drag drag(Deformer& d, const Edit& e, long long frames) {
     g.write.push_back(t.write);
     g.response.push_back(t.response);
     g.orthonormalize.push_back(t.orthonormalize);
+    if (done) done(f);
   }
   return g;
 }

@@ -2,6 +2,7 @@
 //! A handle drag: the frames of an interactive edit interpolate the identity to the final handle transform, or
 //! (an edit with per-vertex targets) take its target frames in turn. drag() runs them and keeps every frame's
 //! phase times: the one loop of the command line and the deform cell.
+#include <functional>
 #include <vector>
 
 #include "core/spread.h"
@@ -26,7 +27,11 @@ struct Drag {
   Points V;                       //!< the last frame's positions, #V by 3
 };
 
-//! Runs frames 1..frames of the edit's drag (deform_frame) on `d`, in its current frame mode.
-Drag drag(Deformer& d, const Edit& e, long long frames);
+//! Called after frame f (1..frames) of a drag: e.g. core/progress.h's Progress.
+using FrameDone = std::function<void(long long f)>;
+
+//! Runs frames 1..frames of the edit's drag (deform_frame) on `d`, in its current frame mode; `done` (if any)
+//! after each frame, outside the timed phases.
+Drag drag(Deformer& d, const Edit& e, long long frames, const FrameDone& done = {});
 
 }  // namespace db
