@@ -81,10 +81,10 @@ expect_ok frames_scientific out.ply -- deform "$G" --frames 2.5e1 --out "$OUT"
 expect_ok mixed_precision "out.ply r.csv" -- deform "$G" --precision mixed --vs-double --out "$OUT" --csv "$O/r.csv"
 expect_ok cg_tolerance out.ply -- deform "$G" --solver cg_jacobi --cg-tolerance 1e-12 --out "$OUT"
 # The reference listing (`deformbench deform-options`, derived from the options' table) has every option of the
-# table that `deform --help` shows; the command's own options (edit, outputs, frames, transform) are not in it.
+# table that `deform --help` shows; the command's own options (edit, outputs, frames, transform, progress) are not in it.
 listing=$("$BIN" deform-options)
 for f in $("$BIN" deform --help | grep -oE '^  --[a-z-]+'); do
-  case $f in --help | --out | --csv | --frames | --transform | --vs-double) continue ;; esac
+  case $f in --help | --out | --csv | --frames | --transform | --vs-double | --progress) continue ;; esac
   if grep -qF -- "\`$f\`" <<<"$listing"; then passes=$((passes + 1)); else fails=$((fails + 1)); echo "FAIL deform-options lacks $f"; fi
 done
 for k in 1e200 1e-300; do
