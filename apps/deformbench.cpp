@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
   CLI::App* solvers = app.add_subcommand("solvers", "list the linear-solver backends and the orderings each accepts");
   CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");
   const std::vector<commands::Command> subcommands = {deform, commands::add_deform_options_listing(app),
-                                                      commands::add_coat(app), commands::add_transplant(app)};
+                                                      commands::add_coat(app), commands::add_transplant(app),
+                                                      commands::add_advise(app)};
   const int code = cli::run(app, argc, argv, [&] {
     // Only deform runs on ranks; another subcommand would run once per rank, each writing the same output.
     if (!deform.app->parsed() && mpi::launched() && mpi::size() > 1)

@@ -26,6 +26,7 @@
 #include "methods/deform_record.h"
 #include "methods/deformer.h"
 #include "methods/drag.h"
+#include "methods/run_prediction.h"
 #include "solvers/mumps_mpi.h"
 
 namespace db::commands {
@@ -55,14 +56,18 @@ CLI::Validator TransformSpec() {
 }
 
 // One command-line option per row of the deform options' table.
-void add_option_table(CLI::App& d, DeformArgs& a) {
+}  // namespace
+
+void add_deform_option_table(CLI::App& d, std::map<std::string, std::string>& values,
+                             const std::vector<std::string>& skip) {
   const DeformOptions defaults;
   for (const DeformOptionDef& def : deform_option_defs()) {
+    if (std::find(skip.begin(), skip.end(), def.key) != skip.end()) continue;
     CLI::Option* opt = nullptr;
     if (def.is_switch) {
-      opt = d.add_flag_callback(def.flag, [&a, key = def.key] { a.values[key] = "1"; }, def.help);
+      opt = d.add_flag_callback(def.flag, [&values, key = def.key] { values[key] = "1"; }, def.help);
     } else {
-      opt = d.add_option(def.flag, a.values[def.key], def.help);
+      opt = d.add_option(def.flag, values[def.key], def.help);
       opt->transform(def.choices.empty() ? CLI::Validator(def.check, "") : cli::OneOf(def.choices));
       if (!def.value_name.empty()) opt->type_name(def.value_name);
       if (const std::string value = def.get(defaults); !value.empty()) opt->default_str(value);
@@ -70,6 +75,8 @@ void add_option_table(CLI::App& d, DeformArgs& a) {
     if (!def.group.empty()) opt->group(def.group);
   }
 }
+
+namespace {
 
 void add_deform_options(CLI::App& d, DeformArgs& a) {
   d.add_option("edit", a.edit, "a Botsch-Sorkine stem (STEM.off|.ply|.obj + STEM.sel + STEM.def) or a .edit file")
@@ -85,7 +92,7 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
                "replace the edit's handle transform: translate:x,y,z | rotate:DEG:ax,ay,az[:px,py,pz] | "
                "matrix:16 values | def:FILE")
       ->type_name("SPEC")->check(TransformSpec());
-  add_option_table(d, a);
+  add_deform_option_table(d, a.values);
   d.add_flag("--vs-double", a.vs_double,
              "mixed: deform again with the double factor afterwards and report the largest difference")
       ->group("Precision");
@@ -240,6 +247,22 @@ void check_input_budget(const DeformArgs& a, const DeformOptions& o, const std::
                                   bytes / 1e6, budget / 1000000));
 }
 
+// The run's predicted peak memory (methods/run_prediction.h; the vertex graph AMD-ordered, cheap) against the
+// budget, before anything is built: --memory-budget-mb, else the memory available when the run starts.
+void check_predicted_memory(const CLI::App& d, const EditCase& ec, const DeformOptions& o) {
+  if (o.memory_budget == 0) return;
+  const RunPrediction p = predict_run(ec.mesh, ec.edit, o, MachineCalibration::load(calibration_path()), 1, false);
+  if (p.peak_bytes <= static_cast<double>(o.memory_budget)) return;
+  throw BudgetError(fmt::format(
+      "{} {} with {} is predicted to peak at {:.1f} MB (system {:.1f} MB, factor {:.1f} MB), over {}; not started",
+      to_string(o.method), to_string(o.build), resolve_options(o).solver, p.peak_bytes / 1e6, p.build_bytes / 1e6,
+      (p.factor_bytes + p.workspace_bytes) / 1e6,
+      d.count("--memory-budget-mb") > 0
+          ? fmt::format("--memory-budget-mb {}", o.memory_budget / 1000000)
+          : fmt::format("the memory available ({:.1f} MB, the default budget; --memory-budget-mb overrides it)",
+                        o.memory_budget / 1e6)));
+}
+
 // The edit with --transform applied; --handle-limit and --transform refused where the edit leaves them unused.
 EditCase load_edit(const CLI::App& d, const DeformArgs& a, const Mat4& transform) {
   EditCase ec = load_edit_case(a.edit);
@@ -256,6 +279,7 @@ EditCase load_edit(const CLI::App& d, const DeformArgs& a, const Mat4& transform
 
 int run_deform(const CLI::App& d, const DeformArgs& a) {
   DeformOptions o = options_of(d, a);
+  if (d.count("--memory-budget-mb") == 0) o.memory_budget = available_memory_bytes();  // 0: unknown, unlimited
   const int ranks = check_ranks(o);
   if (ranks > 1) {  // lap and tf (structured build): each rank assembles its own share
     o.rank = mpi::rank();
@@ -270,6 +294,7 @@ int run_deform(const CLI::App& d, const DeformArgs& a) {
   const Mat4 transform = a.transform.empty() ? Mat4::Identity() : parse_transform(a.transform);  // def:FILE: exit 2
 
   const EditCase ec = load_edit(d, a, transform);
+  if (ranks == 1) check_predicted_memory(d, ec, o);
   const long long frames = ec.edit.target_frames() > 0 && d.count("--frames") == 0 ? ec.edit.target_frames() : a.frames;
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
   const Drag g = drag(*deformer, ec.edit, frames);

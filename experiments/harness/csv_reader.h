@@ -1,18 +1,11 @@
 #pragma once
-//! Reading back the tidy CSVs the drivers write (core/csv.h): RFC 4180 quoting, no embedded newlines.
-#include <map>
-#include <string>
-#include <vector>
+//! The CSV reader lives in the library (core/csv_reader.h): `deformbench advise` reads its children's records with it.
+#include "core/csv_reader.h"
 
 namespace db::harness {
 
-using CsvRow = std::map<std::string, std::string>;
-
-//! The fields of one line (RFC 4180 quoting undone).
-std::vector<std::string> split_csv_line(const std::string& line);
-
-//! Every row as column -> value. \throw InputError when the file cannot be read or a row has more fields than
-//! the header.
-std::vector<CsvRow> read_csv(const std::string& path);
+using db::CsvRow;
+using db::read_csv;
+using db::split_csv_line;
 
 }  // namespace db::harness

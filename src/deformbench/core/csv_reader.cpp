@@ -1,4 +1,4 @@
-#include "harness/csv_reader.h"
+#include "core/csv_reader.h"
 
 #include <fstream>
 
@@ -6,7 +6,7 @@
 
 #include "solvers/base/error.h"
 
-namespace db::harness {
+namespace db {
 
 std::vector<std::string> split_csv_line(const std::string& line) {
   std::vector<std::string> f;
@@ -50,4 +50,4 @@ std::vector<CsvRow> read_csv(const std::string& path) {
   return rows;
 }
 
-}  // namespace db::harness
+}  // namespace db
