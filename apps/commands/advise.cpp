@@ -48,7 +48,7 @@ struct AdviseArgs {
   long long frames = 5;
   int threads = 0;
   double budget_mb = 0, timeout_s = 600, scale = 1;
-  bool predict_only = false, calibrate = false;
+  bool predict_only = false, calibrate = false, quick = false;
   std::map<std::string, std::string> values;  // deform option key -> text, as given
 };
 
@@ -174,6 +174,7 @@ void measure(const Session& s, Row& r) {
   r.factorize_s = field(full, "factorize_s");
   if (s.reference.rows() > 0)
     r.error = (read_mesh(mesh).V - s.reference).cwiseAbs().maxCoeff() / bbox_diagonal(s.ec.mesh.V);
+  if (s.args.quick) return;
   const CsvRow handle = run_deform_child(s, r, "handle", why);
   r.handle_frame_s = handle.empty() ? kNaN : field(handle, "frame_s");
 }
@@ -315,7 +316,7 @@ std::vector<Row> evaluate(Session& s) {
       if (r.ok()) r.status = "predicted";
     return rows;
   }
-  reference(s);
+  if (!s.args.quick) reference(s);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     if (rows[i].ok()) measure(s, rows[i]);
     progress(rows[i], i + 1, rows.size());
@@ -389,7 +390,7 @@ Command add_advise(CLI::App& tool) {
   CLI::App* app = tool.add_subcommand(
       "advise", "deform one edit with every applicable backend in fresh processes; rank them and give a verdict");
   app->add_option("edit", a->edit, "a Botsch-Sorkine stem or a .edit file (--calibrate: none)")->type_name("EDIT");
-  add_deform_option_table(*app, a->values, {"solver", "ordering", "memory_budget_mb", "factor_dir", "frame_mode"});
+  add_deform_option_table(*app, a->values, {"memory_budget_mb", "factor_dir", "frame_mode"});
   app->add_option("--frames", a->frames, "frames of each run; the ranking is init + frames x frame")
       ->type_name("N")->check(cli::Integer(1, 100000))->capture_default_str();
   app->add_option("--threads", a->threads, "threads of every child (OpenMP, BLAS, assembly); default as now")
@@ -403,6 +404,7 @@ Command add_advise(CLI::App& tool) {
   app->add_option("--md", a->md, "the ranked table as Markdown (.md; default: the --csv path with .md)")
       ->type_name("FILE");
   app->add_flag("--predict-only", a->predict_only, "print the predictions; run nothing");
+  app->add_flag("--quick", a->quick, "no reference solution and no handle-frame runs (exp_predictions' cells)");
   app->add_option("--scale", a->scale, "predict for a mesh with K times the vertices (with --predict-only)")
       ->type_name("K")->check(cli::Real(1, 1e4));
   app->add_flag("--calibrate", a->calibrate, "measure this machine's rates for the predictions (about a minute)");

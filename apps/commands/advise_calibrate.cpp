@@ -42,8 +42,8 @@ std::vector<CalibrationRun> calibration_runs() {
   for (const char* b : {"multifrontal", "cholmod_supernodal", "cholmod_simplicial_ldlt", "eigen_simplicial_llt",
                         "eigen_simplicial_ldlt", "umfpack", "eigen_sparse_lu", "mumps", "multifrontal_mixed",
                         "multifrontal_refined", "cg_ichol", "cg_jacobi"})
-    for (int cells : {70, 150}) runs.push_back({b, "structured", "tf", cells});
-  for (int cells : {70, 150}) runs.push_back({"multifrontal", "naive", "tf", cells});
+    for (int cells : {60, 100}) runs.push_back({b, "structured", "tf", cells});
+  for (int cells : {60, 100}) runs.push_back({"multifrontal", "naive", "tf", cells});
   for (const char* b : {"dense_llt", "lapack_potrf"})
     for (const char* build : {"dense", "structured"})
       for (int cells : {30, 45}) runs.push_back({b, build, "lap", cells});
@@ -68,7 +68,7 @@ bool measure_run(const CalibrationRun& run, const std::string& edit, double time
   set_deform_option(o, "method", run.method);
   set_deform_option(o, "constraints", "soft");
   set_deform_option(o, "build", run.build);
-  set_deform_option(o, "solver", run.backend);
+  o.solver = run.backend;
   if (run.backend == "multifrontal_mixed") set_deform_option(o, "precision", "mixed");
   const RunPrediction p = predict_run(ec.mesh, ec.edit, resolve_options(o), MachineCalibration{}, 1, true);
   const std::string csv = edit + "." + run.backend + "." + run.build + ".csv";
@@ -101,7 +101,7 @@ int calibrate_machine(const std::string& path, double timeout_s) {
   std::map<std::string, BackendRates> small;  // the first size's rates, per key
   for (const CalibrationRun& run : calibration_runs()) {
     BackendRates r;
-    if (!measure_run(run, write_plane_edit(dir, run.cells), std::min(timeout_s, 300.0), r)) continue;
+    if (!measure_run(run, write_plane_edit(dir, run.cells), std::min(timeout_s, 120.0), r)) continue;
     const std::string key = run.backend + "/" + run.build;
     if (!small.count(key)) {
       small[key] = r;
