@@ -144,7 +144,8 @@ CsvRow run_deform_child(const Session& s, const Row& r, const std::string& frame
     argv.insert(argv.end(), {"--precision", "mixed"});
   const ChildRun c = run_child(argv, s.args.timeout_s);
   if (!c.ok()) {
-    why = c.exit_code == 4 ? "over budget" : c.timed_out ? c.describe() : c.describe() + ": " + c.stderr_tail(160);
+    why = c.timed_out ? c.describe() : c.describe() + ": " + c.stderr_tail(160);
+    if (c.exit_code == 4) why = "over budget: " + c.stderr_tail(160);
     return {};
   }
   if (mesh_out) *mesh_out = stem + ".off";

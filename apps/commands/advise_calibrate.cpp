@@ -46,7 +46,7 @@ std::vector<CalibrationRun> calibration_runs() {
   for (int cells : {60, 100}) runs.push_back({"multifrontal", "naive", "tf", cells});
   for (const char* b : {"dense_llt", "lapack_potrf"})
     for (const char* build : {"dense", "structured"})
-      for (int cells : {30, 45}) runs.push_back({b, build, "lap", cells});
+      for (int cells : {40, 60}) runs.push_back({b, build, "lap", cells});
   return runs;
 }
 
@@ -61,8 +61,9 @@ std::string write_plane_edit(const std::string& dir, int cells) {
   return stem + ".edit";
 }
 
-//! One run's rates (the exponent is set from the two sizes afterwards); false when the child failed.
-bool measure_run(const CalibrationRun& run, const std::string& edit, double timeout_s, BackendRates& r) {
+//! One run's rates (the factorization's overhead is set from the two sizes afterwards); false when the child failed.
+bool measure_run(const CalibrationRun& run, const std::string& edit, double timeout_s, BackendRates& r, double& units,
+                 double& seconds) {
   const EditCase ec = load_edit_case(edit);
   DeformOptions o;
   set_deform_option(o, "method", run.method);
@@ -82,9 +83,9 @@ bool measure_run(const CalibrationRun& run, const std::string& edit, double time
   if (!c.ok()) return false;
   const CsvRow row = read_csv(csv).at(0);
   auto get = [&](const char* k) { return std::stod(row.at(k)); };
-  const double units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
-  r.factor_units = units;
-  r.factor_s_per_unit = get("factorize_s") / units;
+  units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
+  seconds = get("factorize_s");
+  r.factor_s_per_unit = seconds / units;
   r.analyze_ratio = p.analysis_s > 0 ? get("analyze_s") / p.analysis_s : 0;
   r.build_s_per_unit = get("build_s") / p.build_flops;
   const double held = p.factor_bytes + p.workspace_bytes;
@@ -98,20 +99,19 @@ int calibrate_machine(const std::string& path, double timeout_s) {
   const std::string dir = (fs::temp_directory_path() / fmt::format("deformbench-calibrate-{}", ::getpid())).string();
   fs::create_directories(dir);
   MachineCalibration cal;
-  std::map<std::string, BackendRates> small;  // the first size's rates, per key
+  std::map<std::string, std::pair<double, double>> small;  // the first size's (units, factorize seconds), per key
   for (const CalibrationRun& run : calibration_runs()) {
     BackendRates r;
-    if (!measure_run(run, write_plane_edit(dir, run.cells), std::min(timeout_s, 120.0), r)) continue;
+    double units = 0, seconds = 0;
+    if (!measure_run(run, write_plane_edit(dir, run.cells), std::min(timeout_s, 120.0), r, units, seconds)) continue;
     const std::string key = run.backend + "/" + run.build;
-    if (!small.count(key)) {
-      small[key] = r;
-      cal.rates[key] = r;
-      continue;
+    const auto first = small.find(key);
+    if (first != small.end() && units > first->second.first && seconds > first->second.second) {
+      r.factor_s_per_unit = (seconds - first->second.second) / (units - first->second.first);
+      r.factor_overhead_s = std::max(0.0, seconds - r.factor_s_per_unit * units);
     }
-    const BackendRates& s = small[key];
-    const double rate_ratio = (s.factor_s_per_unit / r.factor_s_per_unit);
-    r.factor_exponent = std::clamp(std::log(rate_ratio) / std::log(r.factor_units / s.factor_units), 0.0, 0.5);
-    cal.rates[key] = r;  // the larger size's rates, with the exponent between the two
+    small.emplace(key, std::make_pair(units, seconds));
+    cal.rates[key] = r;  // the larger size's rates, with the line between the two
   }
   fs::remove_all(dir);
   if (cal.empty()) throw SolverError("advise --calibrate: no calibration run succeeded");

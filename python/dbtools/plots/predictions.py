@@ -37,12 +37,12 @@ def panel(ax, rows, st, measured, predicted, unit, title, band):
         return
     x = np.geomspace(lo / 1.5, hi * 1.5, 50)
     ax.plot(x, x, color="0.3", lw=1)
-    ax.fill_between(x, x * (1 - band), x * (1 + band), color="0.85", zorder=0, label=f"+-{band:.0%}")
+    ax.fill_between(x, x * (1 - band), x * (1 + band), color="0.85", zorder=0)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("measured")
     ax.set_ylabel("predicted")
-    ax.set_title(title)
+    ax.set_title(f"{title} (shaded: +-{band:.0%})")
 
 
 def plot(results, out):

@@ -160,8 +160,7 @@ void apply_rates(RunPrediction& p, const BackendRates* r) {
   p.build_s = p.build_flops * r->build_s_per_unit;
   p.analyze_s = p.analysis_s * r->analyze_ratio;
   const double units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
-  p.factorize_s = units * r->factor_s_per_unit *
-                  (r->factor_units > 0 ? std::pow(units / r->factor_units, -r->factor_exponent) : 1.0);
+  p.factorize_s = r->factor_overhead_s + units * r->factor_s_per_unit;
   p.init_s = p.build_s + p.analyze_s + p.factorize_s;
 }
 
@@ -177,8 +176,7 @@ void MachineCalibration::save(const std::string& path) const {
   for (const auto& [key, r] : rates)
     t.add({{"key", key},
            {"factor_s_per_unit", num(r.factor_s_per_unit)},
-           {"factor_units", num(r.factor_units)},
-           {"factor_exponent", num(r.factor_exponent)},
+           {"factor_overhead_s", num(r.factor_overhead_s)},
            {"analyze_ratio", num(r.analyze_ratio)},
            {"build_s_per_unit", num(r.build_s_per_unit)},
            {"peak_per_factor", num(r.peak_per_factor)},
@@ -197,8 +195,8 @@ MachineCalibration MachineCalibration::load(const std::string& path) {
       if (!std::isfinite(v) || v < 0) throw InputError(fmt::format("{}: {} = {} is not a rate", path, k, it->second));
       return v;
     };
-    BackendRates r{get("factor_s_per_unit"), get("factor_units"),    get("factor_exponent"),
-                   get("analyze_ratio"),     get("build_s_per_unit"), get("peak_per_factor")};
+    BackendRates r{get("factor_s_per_unit"), get("factor_overhead_s"), get("analyze_ratio"),
+                   get("build_s_per_unit"), get("peak_per_factor")};
     c.rates[row.at("key")] = r;
     c.provenance = row.count("calibration") ? row.at("calibration") : "";
   }
@@ -256,7 +254,9 @@ RunPrediction RunPredictor::predict(const DeformOptions& options, const MachineC
     if (p.n == 0) p.build_bytes = build_bytes(o, g.unk);
     const double n = s.block * nu;
     p.n += n;
-    p.build_flops += stencil_flops(adj_, mesh_.num_vertices(), s.block);
+    // The dense build multiplies the dense rows out (A^T A: rows x n^2); the sparse ones row block by row block.
+    const double rows = static_cast<double>(s.block) * nv;
+    p.build_flops += o.build == Build::Dense ? rows * n * n : stencil_flops(adj_, mesh_.num_vertices(), s.block);
     if (o.build == Build::Dense || solver_info(o.solver).family == "dense") {
       RunPrediction d;
       dense_counts(d, n);
