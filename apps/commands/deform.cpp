@@ -251,7 +251,14 @@ void check_input_budget(const DeformArgs& a, const DeformOptions& o, const std::
 // budget, before anything is built: --memory-budget-mb, else the memory available when the run starts.
 void check_predicted_memory(const CLI::App& d, const EditCase& ec, const DeformOptions& o) {
   if (o.memory_budget == 0) return;
-  const RunPrediction p = predict_run(ec.mesh, ec.edit, o, MachineCalibration::load(calibration_path()), 1, false);
+  MachineCalibration calibration;
+  try {  // a stale or damaged calibration costs the check its measured ratios, not the run
+    calibration = MachineCalibration::load(calibration_path());
+  } catch (const InputError& e) {
+    fmt::print(stderr, "deform: calibration ignored ({}); `deformbench advise --calibrate` measures it again\n",
+               e.what());
+  }
+  const RunPrediction p = predict_run(ec.mesh, ec.edit, o, calibration, 1, false);
   if (p.peak_bytes <= static_cast<double>(o.memory_budget)) return;
   throw BudgetError(fmt::format(
       "{} {} with {} is predicted to peak at {:.1f} MB (system {:.1f} MB, factor {:.1f} MB), over {}; not started",
