@@ -61,9 +61,8 @@ std::string write_plane_edit(const std::string& dir, int cells) {
   return stem + ".edit";
 }
 
-//! One run's rates (the factorization's overhead is set from the two sizes afterwards); false when the child failed.
-bool measure_run(const CalibrationRun& run, const std::string& edit, double timeout_s, BackendRates& r, double& units,
-                 double& seconds) {
+//! One run's rates (the exponent is set from the two sizes afterwards); false when the child failed.
+bool measure_run(const CalibrationRun& run, const std::string& edit, double timeout_s, BackendRates& r) {
   const EditCase ec = load_edit_case(edit);
   DeformOptions o;
   set_deform_option(o, "method", run.method);
@@ -83,9 +82,9 @@ bool measure_run(const CalibrationRun& run, const std::string& edit, double time
   if (!c.ok()) return false;
   const CsvRow row = read_csv(csv).at(0);
   auto get = [&](const char* k) { return std::stod(row.at(k)); };
-  units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
-  seconds = get("factorize_s");
-  r.factor_s_per_unit = seconds / units;
+  const double units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
+  r.factor_units = units;
+  r.factor_s_per_unit = get("factorize_s") / units;
   r.analyze_ratio = p.analysis_s > 0 ? get("analyze_s") / p.analysis_s : 0;
   r.build_s_per_unit = get("build_s") / p.build_flops;
   const double held = p.factor_bytes + p.workspace_bytes;
@@ -99,19 +98,20 @@ int calibrate_machine(const std::string& path, double timeout_s) {
   const std::string dir = (fs::temp_directory_path() / fmt::format("deformbench-calibrate-{}", ::getpid())).string();
   fs::create_directories(dir);
   MachineCalibration cal;
-  std::map<std::string, std::pair<double, double>> small;  // the first size's (units, factorize seconds), per key
+  std::map<std::string, BackendRates> small;  // the first size's rates, per key
   for (const CalibrationRun& run : calibration_runs()) {
     BackendRates r;
-    double units = 0, seconds = 0;
-    if (!measure_run(run, write_plane_edit(dir, run.cells), std::min(timeout_s, 120.0), r, units, seconds)) continue;
+    if (!measure_run(run, write_plane_edit(dir, run.cells), std::min(timeout_s, 120.0), r)) continue;
     const std::string key = run.backend + "/" + run.build;
-    const auto first = small.find(key);
-    if (first != small.end() && units > first->second.first && seconds > first->second.second) {
-      r.factor_s_per_unit = (seconds - first->second.second) / (units - first->second.first);
-      r.factor_overhead_s = std::max(0.0, seconds - r.factor_s_per_unit * units);
+    if (!small.count(key)) {
+      small[key] = r;
+      cal.rates[key] = r;
+      continue;
     }
-    small.emplace(key, std::make_pair(units, seconds));
-    cal.rates[key] = r;  // the larger size's rates, with the line between the two
+    const BackendRates& s = small[key];
+    const double rate_ratio = (s.factor_s_per_unit / r.factor_s_per_unit);
+    r.factor_exponent = std::clamp(std::log(rate_ratio) / std::log(r.factor_units / s.factor_units), 0.0, 0.5);
+    cal.rates[key] = r;  // the larger size's rates, with the exponent between the two
   }
   fs::remove_all(dir);
   if (cal.empty()) throw SolverError("advise --calibrate: no calibration run succeeded");

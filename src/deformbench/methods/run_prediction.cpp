@@ -160,7 +160,8 @@ void apply_rates(RunPrediction& p, const BackendRates* r) {
   p.build_s = p.build_flops * r->build_s_per_unit;
   p.analyze_s = p.analysis_s * r->analyze_ratio;
   const double units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
-  p.factorize_s = r->factor_overhead_s + units * r->factor_s_per_unit;
+  p.factorize_s = units * r->factor_s_per_unit *
+                  (r->factor_units > 0 ? std::pow(units / r->factor_units, -r->factor_exponent) : 1.0);
   p.init_s = p.build_s + p.analyze_s + p.factorize_s;
 }
 
@@ -176,7 +177,8 @@ void MachineCalibration::save(const std::string& path) const {
   for (const auto& [key, r] : rates)
     t.add({{"key", key},
            {"factor_s_per_unit", num(r.factor_s_per_unit)},
-           {"factor_overhead_s", num(r.factor_overhead_s)},
+           {"factor_units", num(r.factor_units)},
+           {"factor_exponent", num(r.factor_exponent)},
            {"analyze_ratio", num(r.analyze_ratio)},
            {"build_s_per_unit", num(r.build_s_per_unit)},
            {"peak_per_factor", num(r.peak_per_factor)},
@@ -195,8 +197,8 @@ MachineCalibration MachineCalibration::load(const std::string& path) {
       if (!std::isfinite(v) || v < 0) throw InputError(fmt::format("{}: {} = {} is not a rate", path, k, it->second));
       return v;
     };
-    BackendRates r{get("factor_s_per_unit"), get("factor_overhead_s"), get("analyze_ratio"),
-                   get("build_s_per_unit"), get("peak_per_factor")};
+    BackendRates r{get("factor_s_per_unit"), get("factor_units"),    get("factor_exponent"),
+                   get("analyze_ratio"),     get("build_s_per_unit"), get("peak_per_factor")};
     c.rates[row.at("key")] = r;
     c.provenance = row.count("calibration") ? row.at("calibration") : "";
   }

@@ -26,11 +26,11 @@ namespace db {
 
 //! One backend's rates, measured by deforming the calibration edit with it (advise --calibrate).
 struct BackendRates {
-  //! factorize seconds = factor_overhead_s + units * factor_s_per_unit, units the flops (the matrix nonzeros
-  //! where the backend has no flops): the line through the two calibration sizes (the larger run's ratio alone,
-  //! without overhead, where the two disagree on the slope's sign).
-  double factor_s_per_unit = 0;
-  double factor_overhead_s = 0;
+  double factor_s_per_unit = 0;  //!< factorize seconds per flop (per matrix nonzero where the backend has none)
+  double factor_units = 0;       //!< the flops (nonzeros) of the calibration run factor_s_per_unit was measured at
+  //! d log(rate) / d log(units) between the two calibration sizes, in [0, 0.5]: dense kernels run faster on
+  //! larger fronts; factorize seconds = units * factor_s_per_unit * (units / factor_units)^-factor_exponent.
+  double factor_exponent = 0;
   double analyze_ratio = 0;      //!< the run's analyze seconds over the predictor's own analysis seconds
   double build_s_per_unit = 0;   //!< build seconds per stencil multiply-add (predicted build_flops)
   double peak_per_factor = 1;    //!< (peak RSS - base - build bytes) over the predicted factor + workspace bytes
