@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");
   const std::vector<commands::Command> subcommands = {deform, commands::add_deform_options_listing(app),
                                                       commands::add_coat(app), commands::add_transplant(app),
-                                                      commands::add_export_system(app)};
+                                                      commands::add_export_system(app), commands::add_advise(app)};
   const int code = cli::run(app, argc, argv, [&] {
     // Only deform runs on ranks; another subcommand would run once per rank, each writing the same output.
     if (!deform.app->parsed() && mpi::launched() && mpi::size() > 1)

@@ -27,6 +27,7 @@
 #include "methods/deform_record.h"
 #include "methods/deformer.h"
 #include "methods/drag.h"
+#include "methods/run_prediction.h"
 #include "solvers/mumps_mpi.h"
 
 namespace db::commands {
@@ -220,6 +221,29 @@ void check_input_budget(const DeformArgs& a, const DeformOptions& o, const std::
                                   bytes / 1e6, budget / 1000000));
 }
 
+// The run's predicted peak memory (methods/run_prediction.h; the vertex graph AMD-ordered, cheap) against the
+// budget, before anything is built: --memory-budget-mb, else the memory available when the run starts.
+void check_predicted_memory(const CLI::App& d, const EditCase& ec, const DeformOptions& o) {
+  if (o.memory_budget == 0) return;
+  MachineCalibration calibration;
+  try {  // a stale or damaged calibration costs the check its measured ratios, not the run
+    calibration = MachineCalibration::load(calibration_path());
+  } catch (const InputError& e) {
+    fmt::print(stderr, "deform: calibration ignored ({}); `deformbench advise --calibrate` measures it again\n",
+               e.what());
+  }
+  const RunPrediction p = predict_run(ec.mesh, ec.edit, o, calibration, 1, false);
+  if (p.peak_bytes <= static_cast<double>(o.memory_budget)) return;
+  throw BudgetError(fmt::format(
+      "{} {} with {} is predicted to peak at {:.1f} MB (system {:.1f} MB, factor {:.1f} MB), over {}; not started",
+      to_string(o.method), to_string(o.build), resolve_options(o).solver, p.peak_bytes / 1e6, p.build_bytes / 1e6,
+      (p.factor_bytes + p.workspace_bytes) / 1e6,
+      d.count("--memory-budget-mb") > 0
+          ? fmt::format("--memory-budget-mb {}", o.memory_budget / 1000000)
+          : fmt::format("the memory available ({:.1f} MB, the default budget; --memory-budget-mb overrides it)",
+                        o.memory_budget / 1e6)));
+}
+
 // The edit with --transform applied; --handle-limit and --transform refused where the edit leaves them unused.
 EditCase load_edit(const CLI::App& d, const DeformArgs& a, const Mat4& transform) {
   EditCase ec = load_edit_case(a.edit);
@@ -236,6 +260,7 @@ EditCase load_edit(const CLI::App& d, const DeformArgs& a, const Mat4& transform
 
 int run_deform(const CLI::App& d, const DeformArgs& a) {
   DeformOptions o = options_of(d, a);
+  if (d.count("--memory-budget-mb") == 0) o.memory_budget = available_memory_bytes();  // 0: unknown, unlimited
   const int ranks = check_ranks(o);
   if (ranks > 1) {  // lap and tf (structured build): each rank assembles its own share
     o.rank = mpi::rank();
@@ -250,6 +275,7 @@ int run_deform(const CLI::App& d, const DeformArgs& a) {
   const Mat4 transform = a.transform.empty() ? Mat4::Identity() : parse_transform(a.transform);  // def:FILE: exit 2
 
   const EditCase ec = load_edit(d, a, transform);
+  if (ranks == 1) check_predicted_memory(d, ec, o);
   const long long frames = ec.edit.target_frames() > 0 && d.count("--frames") == 0 ? ec.edit.target_frames() : a.frames;
   const auto deformer = make_deformer(ec.mesh, ec.edit, o);
   Progress progress("deform: frame", frames, (a.progress || stderr_is_terminal()) && (ranks <= 1 || mpi::rank() == 0));

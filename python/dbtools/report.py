@@ -17,7 +17,7 @@ import os
 import sys
 import traceback
 
-from .reports import applications, figures, frames, handle_frames, solvers, table_2_1
+from .reports import applications, figures, frames, handle_frames, predictions, solvers, table_2_1
 from .reports.common import figures_dir
 
 # experiment -> ([its figure modules under dbtools/plots/], [(report, its CSV, write)]). A figure module's
@@ -30,6 +30,7 @@ EXPERIMENTS = {
     "applications": (["applications"], [("applications", "applications", applications.write)]),
     "handle_frames": ([], [("handle_frames", "handle_frames", handle_frames.write_frames),
                            ("handle_drags", "handle_drags", handle_frames.write_drags)]),
+    "predictions": (["predictions"], [("predictions", "predictions", predictions.write)]),
     "history": (["history"], []),  # the tracking suite's trend view (./run track writes the history)
 }
 

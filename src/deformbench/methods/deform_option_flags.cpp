@@ -11,10 +11,12 @@ const std::vector<std::string>& system_option_groups() {
   return g;
 }
 
-void add_deform_option_flags(CLI::App& app, DeformOptionValues& values, const std::vector<std::string>& groups) {
+void add_deform_option_flags(CLI::App& app, DeformOptionValues& values, const std::vector<std::string>& groups,
+                             const std::vector<std::string>& skip) {
   const DeformOptions defaults;
   for (const DeformOptionDef& def : deform_option_defs()) {
     if (!groups.empty() && std::find(groups.begin(), groups.end(), def.group) == groups.end()) continue;
+    if (std::find(skip.begin(), skip.end(), def.key) != skip.end()) continue;
     CLI::Option* opt = nullptr;
     if (def.is_switch) {
       opt = app.add_flag_callback(def.flag, [&values, key = def.key] { values[key] = "1"; }, def.help);

@@ -19,9 +19,10 @@ using DeformOptionValues = std::map<std::string, std::string>;
 //! The help groups of the options that shape a system (no backend, build or frame options).
 const std::vector<std::string>& system_option_groups();
 
-//! One option per row of the table whose group is in `groups` (empty: every row), its text stored in `values`
-//! (which must outlive the app).
-void add_deform_option_flags(CLI::App& app, DeformOptionValues& values, const std::vector<std::string>& groups = {});
+//! One option per row of the table whose group is in `groups` (empty: every row) and whose key is not in `skip`,
+//! its text stored in `values` (which must outlive the app).
+void add_deform_option_flags(CLI::App& app, DeformOptionValues& values, const std::vector<std::string>& groups = {},
+                             const std::vector<std::string>& skip = {});
 
 //! The keys of the table's options given on `app` (those add_deform_option_flags added to it), in table order.
 std::vector<std::string> deform_option_keys_given(const CLI::App& app, const DeformOptionValues& values);

@@ -251,7 +251,9 @@ std::vector<DeformOptionDef> make_defs() {
                ? std::string()
                : std::string(" is for the iterative backends only (cg_jacobi, cg_ichol)");
   };
-  DeformOptionDef budget = row("memory_budget_mb", kSystem, "refuse builds predicted above MB megabytes (exit 4)");
+  DeformOptionDef budget = row("memory_budget_mb", kSystem,
+                               "refuse runs whose predicted peak memory is above MB megabytes (exit 4); default: "
+                               "the memory available when the run starts (MemAvailable)");
   budget.value_name = "MB";
   budget.range = "[1, 1000000000]";
   budget.check = cli::Integer(1, 1000000000);

@@ -1,11 +1,11 @@
-#include "harness/csv_reader.h"
+#include "core/csv_reader.h"
 
 #include <fmt/format.h>
 
 #include "core/input_file.h"
 #include "solvers/base/error.h"
 
-namespace db::harness {
+namespace db {
 
 std::vector<std::string> split_csv_line(const std::string& line) {
   std::vector<std::string> f;
@@ -57,4 +57,4 @@ std::vector<CsvRow> read_csv(const std::string& path) {
   return rows;
 }
 
-}  // namespace db::harness
+}  // namespace db

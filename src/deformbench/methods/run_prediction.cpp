@@ -1,0 +1,308 @@
+#include "methods/run_prediction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/child_process.h"
+#include "core/csv.h"
+#include "core/csv_reader.h"
+#include "core/enum_text.h"
+#include "core/timer.h"
+#include "methods/deformer.h"
+#include "methods/normalization.h"
+#include "operators/energy_operator.h"
+#include "solvers/base/error.h"
+#include "solvers/base/resources.h"
+#include "solvers/linear_solver.h"
+#include "systems/lri_system.h"
+#include "systems/normal_system.h"
+#include "systems/vertex_ordering.h"
+
+namespace db {
+namespace {
+
+// What a method holds per vertex besides the system and the factor: normalized positions, adjacency, operator
+// weights, unknown numbering, per-frame right-hand sides and positions (order of magnitude of its arrays).
+constexpr double kMethodBytesPerVertex = 400;
+// A mesh's own bytes per vertex (positions, two faces of three indices), for --scale.
+constexpr double kMeshBytesPerVertex = 48;
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+//! One system to factor: its block size and the rings of its vertex graph.
+struct SystemShape {
+  int block = 1, rings = 2;
+};
+
+//! The backend's analysis of one system's vertex graph, expanded to its blocks.
+struct FactorCount {
+  double nnz_matrix = 0, nnz = 0, flops = 0, workspace = 0, seconds = 0;
+  std::string basis;
+};
+
+//! The vertex graph's upper-triangular pattern as a matrix of ones (analyze reads the pattern only).
+SpMat pattern_matrix(const InteractionPattern& pat, int n) {
+  SpMat P(n, n);
+  P.resizeNonZeros(static_cast<Eigen::Index>(pat.rows.size()));
+  std::copy(pat.colptr.begin(), pat.colptr.end(), P.outerIndexPtr());
+  std::copy(pat.rows.begin(), pat.rows.end(), P.innerIndexPtr());
+  std::fill(P.valuePtr(), P.valuePtr() + pat.rows.size(), 1.0);
+  return P;
+}
+
+//! The vertex ordering the run gives its structured build (LaplacianDeformer::build), "" when the backend orders.
+std::string vertex_ordering_of(const DeformOptions& o, int block, bool exact) {
+  const SolverInfo info = solver_info(o.solver);
+  const bool takes_natural =
+      std::find(info.orderings.begin(), info.orderings.end(), "natural") != info.orderings.end();
+  const std::string& ord = o.solver_options.ordering;
+  if (o.build != Build::Structured || ord == "natural" || !takes_natural || info.family == "iterative") return "";
+  return !exact ? "amd" : ord == "default" ? default_vertex_ordering(block) : ord;
+}
+
+// Mirrors LaplacianDeformer::build: a structured build orders the vertex graph itself and hands the backend a
+// matrix in that order (natural); other builds, and backends that take no natural ordering, order in the backend.
+// `pat`: the vertex graph, in the vertex order when `ordered`.
+FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered, SystemShape s,
+                         const DeformOptions& o, bool exact) {
+  FactorCount f;
+  const SolverInfo info = solver_info(o.solver);
+  const double b = s.block, nu = nu_int;
+  Timer t;
+  SolverOptions so = o.solver_options;
+  if (ordered) so.ordering = "natural";
+  else if (!exact) so.ordering = "default";
+  const double upper = static_cast<double>(pat.rows.size());
+  f.nnz_matrix = b * b * (upper - nu) + b * (b + 1) / 2 * nu;
+  if (info.family == "iterative") {  // no factor; the incomplete Cholesky keeps K's pattern
+    f.nnz = o.solver == "cg_ichol" ? f.nnz_matrix : 0;
+    f.seconds = t.seconds();
+    f.basis = fmt::format("{}: no factor analysis ({} nonzeros of K)", o.solver, f.nnz_matrix);
+    return f;
+  }
+  // Backends that count nothing before they factorize are counted by CHOLMOD's supernodal analysis instead.
+  const SpMat P = pattern_matrix(pat, nu_int);
+  std::string used = info.family == "dense" ? "cholmod_supernodal" : o.solver;
+  if (so.ordering != "natural" && so.ordering != "default") {
+    const auto& acc = solver_info(used).orderings;
+    if (std::find(acc.begin(), acc.end(), so.ordering) == acc.end()) so.ordering = "default";
+  }
+  auto solver = make_solver(used, so);
+  solver->analyze(P);
+  FactorStats st = solver->stats();
+  if (st.nnz_factor == 0) {
+    used = "cholmod_supernodal";
+    if (so.ordering != "natural") so.ordering = "default";
+    solver = make_solver(used, so);
+    solver->analyze(P);
+    st = solver->stats();
+  }
+  f.seconds = t.seconds();
+  const double vnnz = static_cast<double>(st.nnz_factor);
+  f.nnz = b * b * (vnnz - nu) + b * (b + 1) / 2 * nu;
+  f.flops = b * b * b * std::max(0.0, st.flops);
+  f.workspace = b * b * static_cast<double>(st.workspace_bytes);
+  f.basis = fmt::format("{} analysis of the {}-vertex graph ({}), blocks of {}", used, nu_int,
+                        ordered ? "in the vertex order" : st.ordering_used, s.block);
+  return f;
+}
+
+//! Multiply-adds of the A^T A product per 1-ring row block: the sum over vertices of (degree + 1)^2, times b^3.
+double stencil_flops(const Adjacency& adj, int nv, int b) {
+  double s = 0;
+  for (int i = 0; i < nv; ++i) s += std::pow(adj.degree(i) + 1.0, 2);
+  return 2.0 * b * b * b * s;
+}
+
+//! Counts at `scale` times the vertices of a surface under nested dissection.
+void scale_counts(RunPrediction& p, double scale, double n) {
+  if (scale == 1) return;
+  const double nnz_growth = scale * (1 + std::log(scale) / std::log(std::max(n, 2.0)));
+  p.n *= scale;
+  p.nnz_matrix *= scale;
+  p.build_bytes *= scale;
+  p.build_flops *= scale;
+  p.factor_nnz *= nnz_growth;
+  p.factor_bytes *= nnz_growth;
+  p.factor_flops *= std::pow(scale, 1.5);
+  p.workspace_bytes *= scale;
+  p.analysis_s *= scale;
+}
+
+void dense_counts(RunPrediction& p, double n) {
+  p.factor_nnz = n * (n + 1) / 2;
+  p.factor_flops = n * n * n / 3;
+  p.factor_bytes = 0;  // predict_build_bytes counts the factorization's own n x n copy of K
+  p.basis = "dense: n^2 doubles, n^3 / 3 flops";
+}
+
+std::vector<SystemShape> shapes(const DeformOptions& o) {
+  if (o.method == Method::Lri) return {{3, 1}, {1, 1}};
+  std::vector<SystemShape> s{{o.method == Method::Tf ? 3 : 1, 2}};
+  if (o.method == Method::Tf && o.tf_scale == TfScale::Normalized) s.push_back({1, 2});
+  return s;
+}
+
+void apply_rates(RunPrediction& p, const BackendRates* r) {
+  const double factor_bytes = p.factor_bytes + p.workspace_bytes;
+  p.peak_bytes = p.base_bytes + p.build_bytes + factor_bytes * (r ? r->peak_per_factor : 1.0);
+  if (!r) {
+    p.build_s = p.analyze_s = p.factorize_s = p.init_s = kNaN;
+    return;
+  }
+  p.build_s = p.build_flops * r->build_s_per_unit;
+  p.analyze_s = p.analysis_s * r->analyze_ratio;
+  const double units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
+  p.factorize_s = units * r->factor_s_per_unit *
+                  (r->factor_units > 0 ? std::pow(units / r->factor_units, -r->factor_exponent) : 1.0);
+  p.init_s = p.build_s + p.analyze_s + p.factorize_s;
+}
+
+}  // namespace
+
+const BackendRates* MachineCalibration::find(const std::string& backend, Build build) const {
+  const auto it = rates.find(backend + "/" + to_string(build));
+  return it == rates.end() ? nullptr : &it->second;
+}
+
+void MachineCalibration::save(const std::string& path) const {
+  CsvTable t;
+  for (const auto& [key, r] : rates)
+    t.add({{"key", key},
+           {"factor_s_per_unit", num(r.factor_s_per_unit)},
+           {"factor_units", num(r.factor_units)},
+           {"factor_exponent", num(r.factor_exponent)},
+           {"analyze_ratio", num(r.analyze_ratio)},
+           {"build_s_per_unit", num(r.build_s_per_unit)},
+           {"peak_per_factor", num(r.peak_per_factor)},
+           {"calibration", provenance}});
+  t.write(path);
+}
+
+MachineCalibration MachineCalibration::load(const std::string& path) {
+  MachineCalibration c;
+  if (!std::ifstream(path)) return c;
+  for (const CsvRow& row : read_csv(path)) {
+    auto get = [&](const std::string& k) {
+      const auto it = row.find(k);
+      if (it == row.end() || it->second.empty()) throw InputError(fmt::format("{}: a row without {}", path, k));
+      const double v = std::stod(it->second);
+      if (!std::isfinite(v) || v < 0) throw InputError(fmt::format("{}: {} = {} is not a rate", path, k, it->second));
+      return v;
+    };
+    BackendRates r{get("factor_s_per_unit"), get("factor_units"),    get("factor_exponent"),
+                   get("analyze_ratio"),     get("build_s_per_unit"), get("peak_per_factor")};
+    c.rates[row.at("key")] = r;
+    c.provenance = row.count("calibration") ? row.at("calibration") : "";
+  }
+  return c;
+}
+
+RunPredictor::RunPredictor(const Mesh& mesh, const Edit& edit)
+    : mesh_(mesh), edit_(edit), adj_(vertex_adjacency(mesh)), rss_(static_cast<double>(current_rss_bytes())) {}
+
+RunPredictor::~RunPredictor() = default;
+
+const RunPredictor::Graph& RunPredictor::graph(const DeformOptions& o, int rings, const std::string& ordering) {
+  const std::string key = fmt::format("{}|{}|{}|{}", to_string(o.constraints), o.soft_weight, rings, ordering);
+  auto it = graphs_.find(key);
+  if (it != graphs_.end()) return *it->second;
+  auto g = std::make_unique<Graph>();
+  const auto kinds = classify(edit_, o.constraints);
+  check_every_component_anchored(adj_, kinds);
+  g->unk = make_unknowns(kinds, o.soft_weight);
+  Timer t;
+  g->pattern = interaction_pattern(adj_, g->unk, rings);
+  if (!ordering.empty()) {
+    order_unknowns(g->pattern, g->unk, ordering);
+    g->pattern = interaction_pattern(adj_, g->unk, rings);
+  }
+  g->seconds = t.seconds();
+  return *graphs_.emplace(key, std::move(g)).first->second;
+}
+
+double RunPredictor::build_bytes(const DeformOptions& o, const Unknowns& unk) const {
+  if (o.method == Method::Lri) {
+    double bytes = 0;
+    for (const SystemShape& s : shapes(o)) bytes += predict_edge_system_bytes(adj_, unk, s.block, o.build);
+    return bytes;
+  }
+  const Points Vn = (o.normalize ? Normalization::fit(mesh_.V) : Normalization::identity()).apply(mesh_.V);
+  EnergyOptions eo;
+  eo.weights = o.weights;
+  eo.tf_translation = o.tf_translation;
+  const EnergyOperator op(Vn, mesh_.F, adj_, o.method == Method::Tf ? EnergyKind::Tf : EnergyKind::Lap, eo);
+  return static_cast<double>(predict_build_bytes(op, unk, o.build));
+}
+
+RunPrediction RunPredictor::predict(const DeformOptions& options, const MachineCalibration& calibration,
+                                    double scale, bool exact_ordering) {
+  const DeformOptions o = resolve_options(options);
+  RunPrediction p;
+  const double nv = mesh_.num_vertices();
+  p.base_bytes = rss_ + (scale - 1) * kMeshBytesPerVertex * nv + scale * kMethodBytesPerVertex * nv;
+  double nu = 0;
+  for (const SystemShape& s : shapes(o)) {
+    const std::string ordering = vertex_ordering_of(o, s.block, exact_ordering);
+    const Graph& g = graph(o, s.rings, ordering);
+    nu = g.unk.num_unknowns();
+    if (p.n == 0) p.build_bytes = build_bytes(o, g.unk);
+    const double n = s.block * nu;
+    p.n += n;
+    // The dense build multiplies the dense rows out (A^T A: rows x n^2); the sparse ones row block by row block.
+    const double rows = static_cast<double>(s.block) * nv;
+    p.build_flops += o.build == Build::Dense ? rows * n * n : stencil_flops(adj_, mesh_.num_vertices(), s.block);
+    if (o.build == Build::Dense || solver_info(o.solver).family == "dense") {
+      RunPrediction d;
+      dense_counts(d, n);
+      p.nnz_matrix += d.factor_nnz;
+      p.factor_nnz += d.factor_nnz;
+      p.factor_flops += d.factor_flops;
+      // A sparse build hands the dense backend K to copy into its n x n matrix.
+      if (o.build != Build::Dense) p.factor_bytes += 8 * n * n;
+      p.basis = d.basis;
+      continue;
+    }
+    const FactorCount f = count_factor(g.pattern, g.unk.num_unknowns(), !ordering.empty(), s, o, exact_ordering);
+    p.nnz_matrix += f.nnz_matrix;
+    p.factor_nnz += f.nnz;
+    p.factor_flops += f.flops;
+    const double value_bytes = o.precision == Precision::Mixed ? 4 : 8;
+    p.factor_bytes += (value_bytes + 4) * f.nnz;
+    p.workspace_bytes += f.workspace;
+    p.analysis_s += f.seconds + g.seconds;
+    p.basis += (p.basis.empty() ? "" : "; ") + f.basis;
+  }
+  scale_counts(p, scale, nu);
+  apply_rates(p, calibration.find(o.solver, o.build));
+  return p;
+}
+
+RunPrediction predict_run(const Mesh& mesh, const Edit& edit, const DeformOptions& options,
+                          const MachineCalibration& calibration, double scale, bool exact_ordering) {
+  return RunPredictor(mesh, edit).predict(options, calibration, scale, exact_ordering);
+}
+
+std::string calibration_path() {
+  if (const char* env = std::getenv("DEFORMBENCH_CALIBRATION"); env && *env) return env;
+  return (std::filesystem::path(self_executable()).parent_path() / "machine_calibration.csv").string();
+}
+
+std::size_t available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::size_t kb = 0;
+  std::string unit;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:") return kb * 1024;
+  return 0;
+}
+
+}  // namespace db

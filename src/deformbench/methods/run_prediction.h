@@ -1,0 +1,106 @@
+#pragma once
+//! What one deformation run will need, predicted before it starts: peak resident memory and the init time
+//! (build + analyze + factorize), from the symbolic analysis of the system it will factor and rates measured on
+//! this machine. `deformbench deform` checks the memory part against its budget before building anything;
+//! `deformbench advise` skips backends predicted over budget and prints the predictions (--predict-only);
+//! exp_predictions sets them against measurements.
+//!
+//! Memory: the process's resident bytes when the prediction is made (mesh and edit loaded) + what the method
+//! allocates per vertex + predict_build_bytes (systems/normal_system.h) + the factor and the factorization's
+//! working storage. The factor: the backend's own analysis of the vertex graph of the system (unknowns within two
+//! edges for lap/tf, one for LRI's edge systems), ordered as the deformer orders it, its nonzeros and flops
+//! expanded to the b x b blocks of TF (b = 3) or LRI's frame system. Dense: n^2 doubles, n^3 / 3 flops.
+//! Time: seconds per unit measured on this machine (MachineCalibration: a calibration edit deformed with each
+//! backend in a fresh process), applied to the predicted counts.
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "edit/edit.h"
+#include "methods/deform_options.h"
+#include "mesh/mesh.h"
+#include "systems/normal_system.h"
+
+namespace db {
+
+//! One backend's rates, measured by deforming the calibration edit with it (advise --calibrate).
+struct BackendRates {
+  double factor_s_per_unit = 0;  //!< factorize seconds per flop (per matrix nonzero where the backend has none)
+  double factor_units = 0;       //!< the flops (nonzeros) of the calibration run factor_s_per_unit was measured at
+  //! d log(rate) / d log(units) between the two calibration sizes, in [0, 0.5]: dense kernels run faster on
+  //! larger fronts; factorize seconds = units * factor_s_per_unit * (units / factor_units)^-factor_exponent.
+  double factor_exponent = 0;
+  double analyze_ratio = 0;      //!< the run's analyze seconds over the predictor's own analysis seconds
+  double build_s_per_unit = 0;   //!< build seconds per stencil multiply-add (predicted build_flops)
+  double peak_per_factor = 1;    //!< (peak RSS - base - build bytes) over the predicted factor + workspace bytes
+};
+
+//! Rates per backend name (key "BACKEND/BUILD"), with where they were measured.
+struct MachineCalibration {
+  std::map<std::string, BackendRates> rates;
+  std::string provenance;  //!< host, cpu, BLAS core, threads, git sha, timestamp of the calibration
+  bool empty() const { return rates.empty(); }
+  //! The rates for a backend and build, or nullptr.
+  const BackendRates* find(const std::string& backend, Build build) const;
+  //! CSV with one row per key; `provenance` in every row.
+  void save(const std::string& path) const;
+  //! \throw InputError for a malformed file. A missing file gives an empty calibration.
+  static MachineCalibration load(const std::string& path);
+};
+
+struct RunPrediction {
+  double base_bytes = 0;       //!< resident when predicting (mesh and edit loaded) + the method's per-vertex data
+  double build_bytes = 0;      //!< predict_build_bytes (+ LRI's second system)
+  double factor_bytes = 0;     //!< values and indices of the factor(s)
+  double workspace_bytes = 0;  //!< the factorization's update matrices (multifrontal), as its analysis reports
+  double peak_bytes = 0;       //!< base + build + (factor + workspace) * peak_per_factor (1 uncalibrated)
+  double n = 0, nnz_matrix = 0, factor_nnz = 0, factor_flops = 0, build_flops = 0;
+  double analysis_s = 0;       //!< what the predictor's own analysis took
+  double build_s = 0, analyze_s = 0, factorize_s = 0, init_s = 0;  //!< NaN without a calibration for the backend
+  std::string basis;           //!< what the factor counts come from
+};
+
+//! Predicts runs of one edit with different options: keeps the mesh's adjacency, the resident bytes when it was
+//! made (the base of every prediction) and each vertex graph it ordered, so that predicting many backends orders
+//! each graph once. Keeps references to `mesh` and `edit`.
+class RunPredictor {
+ public:
+  RunPredictor(const Mesh& mesh, const Edit& edit);
+  ~RunPredictor();
+  //! As predict_run.
+  RunPrediction predict(const DeformOptions& options, const MachineCalibration& calibration, double scale = 1,
+                        bool exact_ordering = true);
+
+ private:
+  struct Graph {
+    Unknowns unk;
+    InteractionPattern pattern;
+    double seconds = 0;  // building and ordering it
+  };
+  const Graph& graph(const DeformOptions& o, int rings, const std::string& ordering);
+  double build_bytes(const DeformOptions& o, const Unknowns& unk) const;
+
+  const Mesh& mesh_;
+  const Edit& edit_;
+  Adjacency adj_;
+  double rss_ = 0;
+  std::map<std::string, std::unique_ptr<Graph>> graphs_;
+};
+
+//! Predicts a run of `edit` on `mesh` with `options` (resolved: resolve_options). `scale` > 1: a mesh of the same
+//! shape with `scale` times the vertices (counts grow as a surface's under nested dissection: nonzeros of K and the
+//! build linearly, nnz(L) as n log n, flops as n^1.5). `exact_ordering` false: the vertex graph is ordered by AMD
+//! whatever the run uses (cheap; `deform`'s budget check), true: as the run orders it.
+//! \throw as make_deformer for options that do not go together or a singular constraint set.
+RunPrediction predict_run(const Mesh& mesh, const Edit& edit, const DeformOptions& options,
+                          const MachineCalibration& calibration, double scale = 1, bool exact_ordering = true);
+
+//! Where this machine's calibration is kept: $DEFORMBENCH_CALIBRATION, else machine_calibration.csv beside the
+//! running executable (the build directory: one per build and machine).
+std::string calibration_path();
+
+//! /proc/meminfo's MemAvailable in bytes (0 when it cannot be read): deform's default memory budget.
+std::size_t available_memory_bytes();
+
+}  // namespace db
