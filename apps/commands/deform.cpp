@@ -224,7 +224,9 @@ void check_input_budget(const DeformArgs& a, const DeformOptions& o, const std::
 // The run's predicted peak memory (methods/run_prediction.h; the vertex graph AMD-ordered, cheap) against the
 // budget, before anything is built: --memory-budget-mb, else the memory available when the run starts.
 void check_predicted_memory(const CLI::App& d, const EditCase& ec, const DeformOptions& o) {
-  if (o.memory_budget == 0) return;
+  // The prediction holds the factor in memory; out of core (--factor-dir) it is not resident, and the check would
+  // refuse the very runs the option is for (the build's own budget check still applies).
+  if (o.memory_budget == 0 || !o.solver_options.factor_dir.empty()) return;
   MachineCalibration calibration;
   try {  // a stale or damaged calibration costs the check its measured ratios, not the run
     calibration = MachineCalibration::load(calibration_path());

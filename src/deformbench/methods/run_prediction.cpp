@@ -77,6 +77,7 @@ FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered
   const double b = s.block, nu = nu_int;
   Timer t;
   SolverOptions so = o.solver_options;
+  so.factor_dir.clear();  // a pattern analysis: never out of core (a fallback backend may not keep a factor on disk)
   if (ordered) so.ordering = "natural";
   else if (!exact) so.ordering = "default";
   const double upper = static_cast<double>(pat.rows.size());
