@@ -3,8 +3,9 @@
 # T = 1 2 4 8 16; the 104k and 416k armadillo TF and LAP edits; multifrontal and CHOLMOD (supernodal); one
 # process per run; init split (build, analyze, factorize), full-frame median, factorization GFlop/s and the
 # parallel efficiency t(1) / (T t(T)). Three steps:
-#   scripts/device_threads.sh prepare            # here: bundle build/ (../shared/tools/device-bundle.sh) and the
-#                                                # 104k mesh into .device/ (git-ignored through .git/info/exclude)
+#   DEVICE_BUNDLE=PATH/device-bundle.sh scripts/device_threads.sh prepare
+#                                                # here: bundle build/ with the device tool's bundler (not part of
+#                                                # the project) and the 104k mesh into .device/ (git-ignored)
 #   run tool: carry [".device"], timeout_s 590, command
 #       bash .device/device_threads.sh run       # there: writes $OUT/threads.csv and $OUT/machine.txt
 #   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: the record's CSV and table
@@ -14,9 +15,7 @@ set -euo pipefail
 mode=${1:-}
 case $mode in
 prepare)
-  exclude=$(git rev-parse --git-path info/exclude)  # a worktree's .git is a file: ask git where it is
-  grep -qx '/.device/' "$exclude" 2>/dev/null || echo /.device/ >> "$exclude"
-  ../shared/tools/device-bundle.sh build .device deformbench meshtool
+  "${DEVICE_BUNDLE:?DEVICE_BUNDLE names the device-bundle.sh of the device tool library}" build .device deformbench meshtool
   gzip -c data/generated/armadillo_loop1.off > .device/armadillo_loop1.off.gz
   cp "$0" .device/device_threads.sh
   du -sh .device ;;
