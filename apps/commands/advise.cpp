@@ -348,7 +348,11 @@ int run_advise(const CLI::App& app, const AdviseArgs& a) {
   s.budget = a.budget_mb > 0 ? static_cast<std::size_t>(a.budget_mb * 1e6) : available_memory_bytes();
   s.ec = load_edit_case(a.edit);
   s.predictor = std::make_unique<RunPredictor>(s.ec.mesh, s.ec.edit);
-  s.calibration = MachineCalibration::load(calibration_path());
+  try {
+    s.calibration = MachineCalibration::load(calibration_path());
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}; `deformbench advise --calibrate` measures it again", e.what()));
+  }
   if (s.calibration.empty())
     fmt::print(stderr, "[advise] no calibration at {} (deformbench advise --calibrate): times are not predicted\n",
                calibration_path());

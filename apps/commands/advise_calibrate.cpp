@@ -1,12 +1,14 @@
 // deformbench advise --calibrate: the rates methods/run_prediction.h turns counts into seconds and bytes with,
 // measured on this machine. Generated planes (mesh/procedural.h) are deformed by every backend in fresh children
-// (`deformbench deform --csv`), each run set against its own prediction; two sizes give the factorization's rate
-// and how it grows with the work. Kept in calibration_path() with the provenance of the runs.
+// (`deformbench deform --csv`), each run set against its own prediction: two or three sizes per backend, build and
+// method give each phase's time as a function of its work (PhaseRate) and the memory as a fixed part plus a
+// multiple of the factor. Kept in calibration_path() with the provenance of the runs.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 
 #include "core/child_process.h"
 #include "core/csv_reader.h"
+#include "core/enum_text.h"
 #include "core/provenance.h"
 #include "edit/edit_io.h"
 #include "mesh/mesh_io.h"
@@ -35,43 +38,92 @@ struct CalibrationRun {
   int cells = 0;
 };
 
-// Sparse backends on TF (the 3x3 blocks), at two sizes; the naive build once; the dense backends on small LAP
-// systems (n^3) with the dense and the structured build.
+//! Backends whose dense kernels run on fronts or supernodes that grow with the mesh.
+bool grows_with_fronts(const std::string& backend) {
+  return backend == "multifrontal" || backend == "multifrontal_mixed" || backend == "multifrontal_refined" ||
+         backend == "cholmod_supernodal" || backend == "mumps";
+}
+
+// Every sparse backend on LAP and on TF, each at two sizes that bracket the solver study's meshes (LAP's unknowns
+// are a third of TF's, so its planes are larger); the naive build likewise; the dense backends (n^3) on small
+// systems with the dense and the structured build.
 std::vector<CalibrationRun> calibration_runs() {
   std::vector<CalibrationRun> runs;
+  auto both_methods = [&](const std::string& backend, const char* build) {
+    // CG's iterations grow with the size: its larger LAP plane stays at TF's size
+    const int lap_large = solver_info(backend).family == "iterative" ? 100 : 160;
+    for (int cells : {40, lap_large}) runs.push_back({backend, build, "lap", cells});
+    for (int cells : {40, 100}) runs.push_back({backend, build, "tf", cells});
+    // the supernodal and multifrontal factorizations' rate still grows at TF's larger size: a third, larger one
+    // sets how it levels off (the segment that extrapolates to larger meshes)
+    if (std::string(build) == "structured" && grows_with_fronts(backend))
+      runs.push_back({backend, build, "tf", 200});
+  };
   for (const char* b : {"multifrontal", "cholmod_supernodal", "cholmod_simplicial_ldlt", "eigen_simplicial_llt",
                         "eigen_simplicial_ldlt", "umfpack", "eigen_sparse_lu", "mumps", "multifrontal_mixed",
                         "multifrontal_refined", "cg_ichol", "cg_jacobi"})
-    for (int cells : {60, 100}) runs.push_back({b, "structured", "tf", cells});
-  for (int cells : {60, 100}) runs.push_back({"multifrontal", "naive", "tf", cells});
+    both_methods(b, "structured");
+  both_methods("multifrontal", "naive");
   for (const char* b : {"dense_llt", "lapack_potrf"})
-    for (const char* build : {"dense", "structured"})
+    for (const char* build : {"dense", "structured"}) {
       for (int cells : {40, 60}) runs.push_back({b, build, "lap", cells});
+      for (int cells : {20, 30}) runs.push_back({b, build, "tf", cells});
+    }
   return runs;
 }
 
-//! The .edit of a generated plane: the whole mesh free, 50 vertices at a corner dragged up.
-std::string write_plane_edit(const std::string& dir, int cells) {
-  const Mesh plane = make_bumpy_plane(cells, cells, 1.0, 0.05, 3);
+//! What one run measured against the counts its prediction made (uncalibrated).
+struct Sample {
+  double build_units = 0, build_s = 0, analyze_units = 0, analyze_s = 0, factor_units = 0, factor_s = 0;
+  double held_bytes = 0;   //!< predicted factor + workspace bytes
+  double extra_bytes = 0;  //!< peak RSS - predicted base - predicted build bytes
+};
+
+//! A generated plane's edit (the whole mesh free, 50 vertices at a corner dragged up), loaded, with its predictor.
+struct Plane {
+  std::string edit;
+  EditCase ec;
+  std::unique_ptr<RunPredictor> predictor;
+};
+
+void make_plane(const std::string& dir, int cells, std::map<int, std::unique_ptr<Plane>>& planes) {
+  const Mesh mesh = make_bumpy_plane(cells, cells, 1.0, 0.05, 3);
   const std::string stem = fmt::format("{}/plane{}", dir, cells);
-  write_mesh(stem + ".off", plane);
+  write_mesh(stem + ".off", mesh);
   std::ofstream(stem + ".edit") << fmt::format(
       "mesh = plane{}.off\nroi = all\nhandle = nearest:{},{},{},50\ntransform = translate:0,0,0.1\n", cells,
-      plane.V(0, 0), plane.V(0, 1), plane.V(0, 2));
-  return stem + ".edit";
+      mesh.V(0, 0), mesh.V(0, 1), mesh.V(0, 2));
+  auto p = std::make_unique<Plane>();
+  p->edit = stem + ".edit";
+  p->ec = load_edit_case(p->edit);
+  p->predictor = std::make_unique<RunPredictor>(p->ec.mesh, p->ec.edit);
+  planes.emplace(cells, std::move(p));
 }
 
-//! One run's rates (the exponent is set from the two sizes afterwards); false when the child failed.
-bool measure_run(const CalibrationRun& run, const std::string& edit, double timeout_s, BackendRates& r) {
-  const EditCase ec = load_edit_case(edit);
+//! Every plane of the runs, smallest first, each predictor made before any backend analysis runs here: the base of
+//! a prediction (this process's resident bytes when its predictor is made) is then a fresh process's, as in
+//! advise, not one grown by earlier analyses (MUMPS starts MPI in the analyzing process).
+std::map<int, std::unique_ptr<Plane>> make_planes(const std::string& dir, const std::vector<CalibrationRun>& runs) {
+  std::vector<int> sizes;
+  for (const CalibrationRun& r : runs) sizes.push_back(r.cells);
+  std::sort(sizes.begin(), sizes.end());
+  sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
+  std::map<int, std::unique_ptr<Plane>> planes;
+  for (int cells : sizes) make_plane(dir, cells, planes);
+  return planes;
+}
+
+//! One run measured in a fresh child; false when the child failed.
+bool measure_run(const CalibrationRun& run, Plane& plane, double timeout_s, Sample& m) {
   DeformOptions o;
   set_deform_option(o, "method", run.method);
   set_deform_option(o, "constraints", "soft");
   set_deform_option(o, "build", run.build);
   o.solver = run.backend;
   if (run.backend == "multifrontal_mixed") set_deform_option(o, "precision", "mixed");
-  const RunPrediction p = predict_run(ec.mesh, ec.edit, resolve_options(o), MachineCalibration{}, 1, true);
-  const std::string csv = edit + "." + run.backend + "." + run.build + ".csv";
+  const RunPrediction p = plane.predictor->predict(resolve_options(o), MachineCalibration{}, 1, true);
+  const std::string& edit = plane.edit;
+  const std::string csv = edit + "." + run.backend + "." + run.build + "." + run.method + ".csv";
   std::vector<std::string> argv = {self_executable(), "deform", edit, "--method", run.method, "--constraints", "soft",
                                    "--build", run.build, "--solver", run.backend, "--out", edit + ".out.off",
                                    "--csv", csv};
@@ -82,14 +134,44 @@ bool measure_run(const CalibrationRun& run, const std::string& edit, double time
   if (!c.ok()) return false;
   const CsvRow row = read_csv(csv).at(0);
   auto get = [&](const char* k) { return std::stod(row.at(k)); };
-  const double units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
-  r.factor_units = units;
-  r.factor_s_per_unit = get("factorize_s") / units;
-  r.analyze_ratio = p.analysis_s > 0 ? get("analyze_s") / p.analysis_s : 0;
-  r.build_s_per_unit = get("build_s") / p.build_flops;
-  const double held = p.factor_bytes + p.workspace_bytes;
-  r.peak_per_factor = held > 0 ? std::max(0.1, (get("peak_rss_bytes") - p.base_bytes - p.build_bytes) / held) : 1;
+  m = {p.build_flops, get("build_s"), p.analysis_s, get("analyze_s"),
+       p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix, get("factorize_s"), p.factor_bytes + p.workspace_bytes,
+       get("peak_rss_bytes") - p.base_bytes - p.build_bytes};
   return true;
+}
+
+//! Memory: the line through the (held, extra) points of the smallest and largest size - its slope the bytes per
+//! predicted factor byte, its intercept the fixed bytes - or through the origin and the largest size when that line
+//! would have a negative slope or intercept.
+void fit_memory(const std::vector<Sample>& s, BackendRates& r) {
+  auto by_held = [](const Sample& x, const Sample& y) { return x.held_bytes < y.held_bytes; };
+  const Sample& small = *std::min_element(s.begin(), s.end(), by_held);
+  const Sample& big = *std::max_element(s.begin(), s.end(), by_held);
+  if (big.held_bytes <= 0) return;
+  double slope = big.extra_bytes / big.held_bytes, fixed = 0;
+  if (big.held_bytes > small.held_bytes) {
+    const double line = (big.extra_bytes - small.extra_bytes) / (big.held_bytes - small.held_bytes);
+    const double intercept = big.extra_bytes - line * big.held_bytes;
+    if (line > 0 && intercept >= 0) slope = line, fixed = intercept;
+  }
+  r.peak_per_factor = std::max(0.1, slope);
+  r.peak_fixed_bytes = fixed;
+}
+
+//! A key's rates from its samples (one per size that ran).
+BackendRates fit_rates(const std::vector<Sample>& s) {
+  std::vector<std::pair<double, double>> build, analyze, factorize;
+  for (const Sample& m : s) {
+    build.emplace_back(m.build_units, m.build_s);
+    analyze.emplace_back(m.analyze_units, m.analyze_s);
+    factorize.emplace_back(m.factor_units, m.factor_s);
+  }
+  BackendRates r;
+  r.build = PhaseRate::fit(build);
+  r.analyze = PhaseRate::fit(analyze);
+  r.factorize = PhaseRate::fit(factorize);
+  fit_memory(s, r);
+  return r;
 }
 
 }  // namespace
@@ -98,26 +180,26 @@ int calibrate_machine(const std::string& path, double timeout_s) {
   const std::string dir = (fs::temp_directory_path() / fmt::format("deformbench-calibrate-{}", ::getpid())).string();
   fs::create_directories(dir);
   MachineCalibration cal;
-  std::map<std::string, BackendRates> small;  // the first size's rates, per key
-  for (const CalibrationRun& run : calibration_runs()) {
-    BackendRates r;
-    if (!measure_run(run, write_plane_edit(dir, run.cells), std::min(timeout_s, 120.0), r)) continue;
-    const std::string key = run.backend + "/" + run.build;
-    if (!small.count(key)) {
-      small[key] = r;
-      cal.rates[key] = r;
-      continue;
+  try {
+    const std::vector<CalibrationRun> runs = calibration_runs();
+    auto planes = make_planes(dir, runs);
+    std::map<std::string, std::vector<Sample>> samples;  // per key, in the order measured
+    for (const CalibrationRun& run : runs) {
+      Sample m;
+      if (!measure_run(run, *planes.at(run.cells), std::min(timeout_s, 120.0), m)) continue;
+      samples[MachineCalibration::key(run.backend, parse_enum<Build>(run.build), parse_enum<Method>(run.method))]
+          .push_back(m);
     }
-    const BackendRates& s = small[key];
-    const double rate_ratio = (s.factor_s_per_unit / r.factor_s_per_unit);
-    r.factor_exponent = std::clamp(std::log(rate_ratio) / std::log(r.factor_units / s.factor_units), 0.0, 0.5);
-    cal.rates[key] = r;  // the larger size's rates, with the exponent between the two
+    for (const auto& [key, s] : samples) cal.rates[key] = fit_rates(s);
+  } catch (...) {
+    fs::remove_all(dir);
+    throw;
   }
   fs::remove_all(dir);
   if (cal.empty()) throw SolverError("advise --calibrate: no calibration run succeeded");
   cal.provenance = provenance_summary() + " | " + provenance().timestamp;
   cal.save(path);
-  fmt::print("wrote {} ({} backend/build rates)\n", path, cal.rates.size());
+  fmt::print("wrote {} ({} backend/build/method rates)\n", path, cal.rates.size());
   return 0;
 }
 

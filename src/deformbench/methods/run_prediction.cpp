@@ -84,6 +84,7 @@ FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered
   f.nnz_matrix = b * b * (upper - nu) + b * (b + 1) / 2 * nu;
   if (info.family == "iterative") {  // no factor; the incomplete Cholesky keeps K's pattern
     f.nnz = o.solver == "cg_ichol" ? f.nnz_matrix : 0;
+    f.workspace = 12 * (2 * f.nnz_matrix - b * nu);  // CG runs on a full (both triangles) copy of K
     f.seconds = t.seconds();
     f.basis = fmt::format("{}: no factor analysis ({} nonzeros of K)", o.solver, f.nnz_matrix);
     return f;
@@ -98,7 +99,8 @@ FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered
   auto solver = make_solver(used, so);
   solver->analyze(P);
   FactorStats st = solver->stats();
-  if (st.nnz_factor == 0) {
+  if (st.nnz_factor == 0) {  // timed alone: the first backend's analysis (MUMPS: its MPI start) is not the work
+    t = Timer();
     used = "cholmod_supernodal";
     if (so.ordering != "natural") so.ordering = "default";
     solver = make_solver(used, so);
@@ -153,37 +155,103 @@ std::vector<SystemShape> shapes(const DeformOptions& o) {
 
 void apply_rates(RunPrediction& p, const BackendRates* r) {
   const double factor_bytes = p.factor_bytes + p.workspace_bytes;
-  p.peak_bytes = p.base_bytes + p.build_bytes + factor_bytes * (r ? r->peak_per_factor : 1.0);
+  p.peak_bytes = p.base_bytes + p.build_bytes + (r ? r->peak_fixed_bytes + factor_bytes * r->peak_per_factor
+                                                   : factor_bytes);
   if (!r) {
     p.build_s = p.analyze_s = p.factorize_s = p.init_s = kNaN;
     return;
   }
-  p.build_s = p.build_flops * r->build_s_per_unit;
-  p.analyze_s = p.analysis_s * r->analyze_ratio;
-  const double units = p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix;
-  p.factorize_s = units * r->factor_s_per_unit *
-                  (r->factor_units > 0 ? std::pow(units / r->factor_units, -r->factor_exponent) : 1.0);
+  p.build_s = r->build.seconds(p.build_flops);
+  p.analyze_s = r->analyze.seconds(p.analysis_s);
+  p.factorize_s = r->factorize.seconds(p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix);
   p.init_s = p.build_s + p.analyze_s + p.factorize_s;
+}
+
+// The calibration file's columns of one BackendRates, in order (the phases as PhaseRate::text).
+constexpr const char* kPhaseColumns[] = {"build", "analyze", "factorize"};
+constexpr const char* kBytesColumns[] = {"peak_per_factor", "peak_fixed_bytes"};
+
+std::vector<PhaseRate*> phases(BackendRates& r) { return {&r.build, &r.analyze, &r.factorize}; }
+std::vector<double*> bytes_fields(BackendRates& r) { return {&r.peak_per_factor, &r.peak_fixed_bytes}; }
+
+//! A non-negative finite number, the whole of `text`. \throw InputError naming `what`.
+double rate_number(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || v < 0)
+    throw InputError(fmt::format("{} = {} is not a rate", what, text));
+  return v;
 }
 
 }  // namespace
 
-const BackendRates* MachineCalibration::find(const std::string& backend, Build build) const {
-  const auto it = rates.find(backend + "/" + to_string(build));
+double PhaseRate::seconds(double units) const {
+  if (points.empty() || units <= 0) return 0;
+  if (points.size() == 1) return points[0].second * units / points[0].first;
+  // the segment [i - 1, i] holding `units`, else the end segment on its side
+  std::size_t i = 1;
+  while (i + 1 < points.size() && units > points[i].first) ++i;
+  const auto [u0, s0] = points[i - 1];
+  const auto [u1, s1] = points[i];
+  double k = std::clamp(std::log(s1 / s0) / std::log(u1 / u0), kMinExponent, kMaxExponent);
+  if (units > u1) k = std::min(k, 1.0);
+  return s1 * std::pow(units / u1, k);
+}
+
+PhaseRate PhaseRate::fit(std::vector<std::pair<double, double>> pts) {
+  PhaseRate r;
+  std::stable_sort(pts.begin(), pts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& p : pts) {
+    if (!(p.first > 0 && p.second > 0 && std::isfinite(p.first) && std::isfinite(p.second))) continue;
+    if (!r.points.empty() && r.points.back().first == p.first) r.points.back() = p;
+    else r.points.push_back(p);
+  }
+  return r;
+}
+
+std::string PhaseRate::text() const {
+  std::vector<std::string> parts;
+  for (const auto& [u, sec] : points) parts.push_back(num(u) + ":" + num(sec));
+  return fmt::format("{}", fmt::join(parts, ";"));
+}
+
+PhaseRate PhaseRate::parse(const std::string& text) {
+  std::vector<std::pair<double, double>> pts;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t end = std::min(text.find(';', at), text.size()), colon = text.find(':', at);
+    if (colon == std::string::npos || colon > end) throw InputError(fmt::format("'{}' is not units:seconds", text));
+    pts.emplace_back(rate_number(text.substr(at, colon - at), "units"),
+                     rate_number(text.substr(colon + 1, end - colon - 1), "seconds"));
+    at = end + 1;
+  }
+  PhaseRate r = fit(pts);
+  if (!text.empty() && text.back() == ';') throw InputError(fmt::format("'{}' ends with ';'", text));
+  if (r.points.size() != pts.size()) throw InputError(fmt::format("'{}': points not positive and distinct", text));
+  return r;
+}
+
+std::string MachineCalibration::key(const std::string& backend, Build build, Method method) {
+  return fmt::format("{}/{}/{}", backend, to_string(build), to_string(method));
+}
+
+const BackendRates* MachineCalibration::find(const std::string& backend, Build build, Method method) const {
+  auto it = rates.find(key(backend, build, method == Method::Lri ? Method::Tf : method));
   return it == rates.end() ? nullptr : &it->second;
 }
 
 void MachineCalibration::save(const std::string& path) const {
   CsvTable t;
-  for (const auto& [key, r] : rates)
-    t.add({{"key", key},
-           {"factor_s_per_unit", num(r.factor_s_per_unit)},
-           {"factor_units", num(r.factor_units)},
-           {"factor_exponent", num(r.factor_exponent)},
-           {"analyze_ratio", num(r.analyze_ratio)},
-           {"build_s_per_unit", num(r.build_s_per_unit)},
-           {"peak_per_factor", num(r.peak_per_factor)},
-           {"calibration", provenance}});
+  for (const auto& [k, r] : rates) {
+    CsvTable::Row row{{"key", k}};
+    BackendRates copy = r;
+    const std::vector<PhaseRate*> ph = phases(copy);
+    for (std::size_t i = 0; i < ph.size(); ++i) row.emplace_back(kPhaseColumns[i], ph[i]->text());
+    const std::vector<double*> by = bytes_fields(copy);
+    for (std::size_t i = 0; i < by.size(); ++i) row.emplace_back(kBytesColumns[i], num(*by[i]));
+    row.emplace_back("calibration", provenance);
+    t.add(std::move(row));
+  }
   t.write(path);
 }
 
@@ -191,16 +259,23 @@ MachineCalibration MachineCalibration::load(const std::string& path) {
   MachineCalibration c;
   if (!std::ifstream(path)) return c;
   for (const CsvRow& row : read_csv(path)) {
-    auto get = [&](const std::string& k) {
+    auto field = [&](const char* k) -> const std::string& {
       const auto it = row.find(k);
-      if (it == row.end() || it->second.empty()) throw InputError(fmt::format("{}: a row without {}", path, k));
-      const double v = std::stod(it->second);
-      if (!std::isfinite(v) || v < 0) throw InputError(fmt::format("{}: {} = {} is not a rate", path, k, it->second));
-      return v;
+      if (it == row.end()) throw InputError(fmt::format("a row without {} (a file of an older layout?)", k));
+      return it->second;
     };
-    BackendRates r{get("factor_s_per_unit"), get("factor_units"),    get("factor_exponent"),
-                   get("analyze_ratio"),     get("build_s_per_unit"), get("peak_per_factor")};
-    c.rates[row.at("key")] = r;
+    BackendRates r;
+    std::string key;
+    try {
+      key = field("key");
+      const std::vector<PhaseRate*> ph = phases(r);
+      for (std::size_t i = 0; i < ph.size(); ++i) *ph[i] = PhaseRate::parse(field(kPhaseColumns[i]));
+      const std::vector<double*> by = bytes_fields(r);
+      for (std::size_t i = 0; i < by.size(); ++i) *by[i] = rate_number(field(kBytesColumns[i]), kBytesColumns[i]);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}{}", path, key.empty() ? "" : key + ": ", e.what()));
+    }
+    c.rates[key] = r;
     c.provenance = row.count("calibration") ? row.at("calibration") : "";
   }
   return c;
@@ -282,7 +357,7 @@ RunPrediction RunPredictor::predict(const DeformOptions& options, const MachineC
     p.basis += (p.basis.empty() ? "" : "; ") + f.basis;
   }
   scale_counts(p, scale, nu);
-  apply_rates(p, calibration.find(o.solver, o.build));
+  apply_rates(p, calibration.find(o.solver, o.build, o.method));
   return p;
 }
 

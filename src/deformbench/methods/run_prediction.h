@@ -7,15 +7,18 @@
 //!
 //! Memory: the process's resident bytes when the prediction is made (mesh and edit loaded) + what the method
 //! allocates per vertex + predict_build_bytes (systems/normal_system.h) + the factor and the factorization's
-//! working storage. The factor: the backend's own analysis of the vertex graph of the system (unknowns within two
-//! edges for lap/tf, one for LRI's edge systems), ordered as the deformer orders it, its nonzeros and flops
-//! expanded to the b x b blocks of TF (b = 3) or LRI's frame system. Dense: n^2 doubles, n^3 / 3 flops.
-//! Time: seconds per unit measured on this machine (MachineCalibration: a calibration edit deformed with each
-//! backend in a fresh process), applied to the predicted counts.
+//! working storage (times a measured ratio) + a measured fixed part. The factor: the backend's own analysis of the
+//! vertex graph of the system (unknowns within two edges for lap/tf, one for LRI's edge systems), ordered as the
+//! deformer orders it, its nonzeros and flops expanded to the b x b blocks of TF (b = 3) or LRI's frame system.
+//! Dense: n^2 doubles, n^3 / 3 flops.
+//! Time: each phase a function of its predicted work (PhaseRate), measured on this machine (MachineCalibration:
+//! generated planes of two or three sizes deformed with each backend, build and method in fresh processes).
 #include <cstddef>
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "edit/edit.h"
 #include "methods/deform_options.h"
@@ -24,28 +27,47 @@
 
 namespace db {
 
-//! One backend's rates, measured by deforming the calibration edit with it (advise --calibrate).
-struct BackendRates {
-  double factor_s_per_unit = 0;  //!< factorize seconds per flop (per matrix nonzero where the backend has none)
-  double factor_units = 0;       //!< the flops (nonzeros) of the calibration run factor_s_per_unit was measured at
-  //! d log(rate) / d log(units) between the two calibration sizes, in [0, 0.5]: dense kernels run faster on
-  //! larger fronts; factorize seconds = units * factor_s_per_unit * (units / factor_units)^-factor_exponent.
-  double factor_exponent = 0;
-  double analyze_ratio = 0;      //!< the run's analyze seconds over the predictor's own analysis seconds
-  double build_s_per_unit = 0;   //!< build seconds per stencil multiply-add (predicted build_flops)
-  double peak_per_factor = 1;    //!< (peak RSS - base - build bytes) over the predicted factor + workspace bytes
+//! One phase's time as a function of its work, through the calibration's measured (units, seconds) points: a
+//! power law on each segment between neighbouring points (a straight line in log-log), and beyond the ends the
+//! end segment's power. Each segment's exponent is clamped to [kMinExponent, kMaxExponent], so a noisy pair of runs
+//! cannot make the extrapolation explode; beyond the largest point it is at most 1 (time at most proportional to
+//! the work: a superlinear segment is a working set outgrowing a cache, which does not repeat at every larger
+//! size). Several sizes matter because the factorizations' rate grows with the front sizes and then levels off:
+//! the segment between the two largest sizes is the one that extrapolates.
+struct PhaseRate {
+  static constexpr double kMinExponent = 0.3, kMaxExponent = 1.3;
+  std::vector<std::pair<double, double>> points;  //!< (units, seconds), units ascending and distinct, all > 0
+  //! Seconds for `units` of work (0 when uncalibrated or without work); one point: proportional to the work.
+  double seconds(double units) const;
+  //! The points with units and seconds > 0, sorted; of equal units the later is kept.
+  static PhaseRate fit(std::vector<std::pair<double, double>> points);
+  //! "units:seconds;units:seconds..." (the calibration file's form) and back. \throw InputError for bad text.
+  std::string text() const;
+  static PhaseRate parse(const std::string& text);
 };
 
-//! Rates per backend name (key "BACKEND/BUILD"), with where they were measured.
+//! One backend's rates for one build and method, measured by deforming generated planes of several sizes with it
+//! (advise --calibrate). Work units: build - the predicted stencil multiply-adds (build_flops); analyze - the
+//! predictor's own analysis seconds on the same graph with the same ordering (so METIS and AMD are told apart);
+//! factorize - the predicted flops (matrix nonzeros where the backend has none).
+struct BackendRates {
+  PhaseRate build, analyze, factorize;
+  //! Peak RSS = base + build bytes + peak_fixed_bytes + peak_per_factor x (factor + workspace bytes): the fixed
+  //! part is what a backend holds whatever the size (MUMPS's MPI, a dense backend's LAPACK buffers).
+  double peak_per_factor = 1, peak_fixed_bytes = 0;
+};
+
+//! Rates per backend, build and method (key "BACKEND/BUILD/METHOD"), with where they were measured.
 struct MachineCalibration {
   std::map<std::string, BackendRates> rates;
   std::string provenance;  //!< host, cpu, BLAS core, threads, git sha, timestamp of the calibration
   bool empty() const { return rates.empty(); }
-  //! The rates for a backend and build, or nullptr.
-  const BackendRates* find(const std::string& backend, Build build) const;
+  //! The rates for a backend, build and method (LRI, which is not calibrated, takes TF's), or nullptr.
+  const BackendRates* find(const std::string& backend, Build build, Method method) const;
+  static std::string key(const std::string& backend, Build build, Method method);
   //! CSV with one row per key; `provenance` in every row.
   void save(const std::string& path) const;
-  //! \throw InputError for a malformed file. A missing file gives an empty calibration.
+  //! \throw InputError for a malformed file (or one of an older layout). A missing file gives an empty calibration.
   static MachineCalibration load(const std::string& path);
 };
 
@@ -54,7 +76,7 @@ struct RunPrediction {
   double build_bytes = 0;      //!< predict_build_bytes (+ LRI's second system)
   double factor_bytes = 0;     //!< values and indices of the factor(s)
   double workspace_bytes = 0;  //!< the factorization's update matrices (multifrontal), as its analysis reports
-  double peak_bytes = 0;       //!< base + build + (factor + workspace) * peak_per_factor (1 uncalibrated)
+  double peak_bytes = 0;       //!< base + build + fixed + (factor + workspace) * peak_per_factor (BackendRates)
   double n = 0, nnz_matrix = 0, factor_nnz = 0, factor_flops = 0, build_flops = 0;
   double analysis_s = 0;       //!< what the predictor's own analysis took
   double build_s = 0, analyze_s = 0, factorize_s = 0, init_s = 0;  //!< NaN without a calibration for the backend
