@@ -195,7 +195,10 @@ class CholmodSolver final : public LinearSolver {
     check_finite_values(upper, name());
     factored_ = false;
     cholmod_sparse A = sparse_view(upper);
-    cholmod_factorize(&A, L_, &cc_);
+    {
+      const OpenMpSerial serial;  // the BLAS gets the cores (solver_util.h)
+      cholmod_factorize(&A, L_, &cc_);
+    }
     const std::size_t n = L_->n;
     if (cc_.status == CHOLMOD_NOT_POSDEF || L_->minor < n)
       throw SolverError(fmt::format("CHOLMOD: matrix not positive definite (failed at column {} of {})",

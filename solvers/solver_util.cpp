@@ -1,5 +1,7 @@
 #include "solvers/solver_util.h"
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +12,22 @@
 #include "solvers/base/error.h"
 
 namespace db::solver_util {
+
+OpenMpSerial::OpenMpSerial() {
+  void* self = ::dlopen(nullptr, RTLD_LAZY);
+  set_ = reinterpret_cast<void (*)(int)>(::dlsym(self, "omp_set_max_active_levels"));
+  auto get = reinterpret_cast<int (*)()>(::dlsym(self, "omp_get_max_active_levels"));
+  if (!set_ || !get) {
+    set_ = nullptr;
+    return;
+  }
+  saved_ = get();
+  set_(0);
+}
+
+OpenMpSerial::~OpenMpSerial() {
+  if (set_) set_(saved_);
+}
 
 void check_options(const SolverOptions& options, const std::string& who) {
   const std::vector<std::string> valid = solver_info(who).orderings;

@@ -27,6 +27,24 @@ void check_finite_result(const DenseMat& X, const std::string& who);
 //! \throw BudgetError when an n x n dense matrix would exceed kMaxDenseUnknowns.
 void check_dense_budget(Index n, const std::string& who);
 
+//! For its lifetime, every OpenMP parallel region of the libraries in this process runs on one thread
+//! (omp_set_max_active_levels(0), found with dlsym: the project itself does not link OpenMP; restored afterwards).
+//! CHOLMOD's supernodal factorization opens OpenMP regions with a thread count fixed when SuiteSparse was built
+//! (OMP_NUM_THREADS does not lower it) between the BLAS calls that do its flops; the idle OpenMP threads then spin
+//! on the cores the BLAS threads need (results/records/2026-11-26-cholmod-threads). Not thread-safe: the setting
+//! is the process's.
+class OpenMpSerial {
+ public:
+  OpenMpSerial();
+  ~OpenMpSerial();
+  OpenMpSerial(const OpenMpSerial&) = delete;
+  OpenMpSerial& operator=(const OpenMpSerial&) = delete;
+
+ private:
+  void (*set_)(int) = nullptr;
+  int saved_ = 0;
+};
+
 //! `m` itself when compressed, else a compressed copy in `storage` (raw CSC views need packed arrays).
 const SpMat& compressed(const SpMat& m, SpMat& storage);
 

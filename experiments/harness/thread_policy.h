@@ -10,7 +10,8 @@
 //!   every other (dense, eigen, cg)  1                T                     T
 //!
 //! SuiteSparse's OpenMP loops (CHOLMOD's supernodal assembly) are scatter loops beside BLAS-3 calls that do the
-//! flops, so the BLAS gets the threads; MUMPS runs its own OpenMP over fronts and calls the BLAS inside them, so
+//! flops, so the BLAS gets the threads (CHOLMOD's loops name their thread count in the build, which
+//! OMP_NUM_THREADS does not lower: the backend runs them on one thread itself, solver_util.h OpenMpSerial); MUMPS runs its own OpenMP over fronts and calls the BLAS inside them, so
 //! OpenMP gets them; the project's multifrontal backend runs its subtree tasks on DEFORMBENCH_THREADS and sets the
 //! BLAS to one thread inside them itself. DEFORMBENCH_THREADS also sets the cell's structured assembly.
 #include <string>
