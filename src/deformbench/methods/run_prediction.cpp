@@ -142,7 +142,7 @@ void scale_counts(RunPrediction& p, double scale, double n) {
 void dense_counts(RunPrediction& p, double n) {
   p.factor_nnz = n * (n + 1) / 2;
   p.factor_flops = n * n * n / 3;
-  p.factor_bytes = 0;  // predict_build_bytes counts the factorization's own n x n copy of K
+  p.factor_bytes = 0;  // the caller counts the factorization's own n x n matrix
   p.basis = "dense: n^2 doubles, n^3 / 3 flops";
 }
 
@@ -298,9 +298,9 @@ const RunPredictor::Graph& RunPredictor::graph(const DeformOptions& o, int rings
   g->pattern = interaction_pattern(adj_, g->unk, rings);
   if (!ordering.empty()) {
     order_unknowns(g->pattern, g->unk, ordering);
+    g->seconds = t.seconds();  // what the run counts as its ordering: the pattern built, then ordered
     g->pattern = interaction_pattern(adj_, g->unk, rings);
   }
-  g->seconds = t.seconds();
   return *graphs_.emplace(key, std::move(g)).first->second;
 }
 
@@ -341,8 +341,11 @@ RunPrediction RunPredictor::predict(const DeformOptions& options, const MachineC
       p.nnz_matrix += d.factor_nnz;
       p.factor_nnz += d.factor_nnz;
       p.factor_flops += d.factor_flops;
-      // A sparse build hands the dense backend K to copy into its n x n matrix.
-      if (o.build != Build::Dense) p.factor_bytes += 8 * n * n;
+      // The factorization's own n x n matrix: a sparse build hands the dense backend K to copy into it; the dense
+      // build's prediction holds it among the build's matrices (predict_build_bytes), moved here so that the
+      // calibrated ratio applies to it.
+      p.factor_bytes += 8 * n * n;
+      if (o.build == Build::Dense && p.n == n) p.build_bytes = std::max(0.0, p.build_bytes - 8 * n * n);
       p.basis = d.basis;
       continue;
     }

@@ -98,7 +98,7 @@ class RunPredictor {
   struct Graph {
     Unknowns unk;
     InteractionPattern pattern;
-    double seconds = 0;  // building and ordering it
+    double seconds = 0;  // building the pattern and ordering it, as the run's analysis counts it (0 unordered)
   };
   const Graph& graph(const DeformOptions& o, int rings, const std::string& ordering);
   double build_bytes(const DeformOptions& o, const Unknowns& unk) const;
