@@ -31,8 +31,7 @@ struct Setup {
 Setup setup(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
   Setup s;
   s.o = resolve_options(options);
-  validate_mesh(mesh, Manifold::Allowed);
-  validate_edit(mesh, edit);
+  check_deform_input(mesh, edit, s.o);
   s.norm = s.o.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
   s.Vn = s.norm.apply(mesh.V);
   s.adj = vertex_adjacency(mesh);
