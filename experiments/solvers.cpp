@@ -321,6 +321,25 @@ std::vector<std::string> systems_of(const Options& o) {
   return {to_string(o.edit_options.method)};
 }
 
+// The cell of one tier, system, backend and ordering.
+SolverCell cell_for(const Options& o, const MeshSource& t, const std::string& system, const std::string& backend,
+                    const std::string& ordering) {
+  SolverCell c;
+  c.model = t.label;
+  c.mesh = t.levels ? fmt::format("{}+loop{}", t.path, t.levels) : t.path;
+  c.system = system;
+  c.backend = backend;
+  c.ordering = ordering;
+  c.solve_reps = o.solve_reps;
+  c.factor_reps = o.factor_reps;
+  c.rep_seconds = o.rep_seconds;
+  c.seed = o.seed;
+  if (backend != kLeastSquaresBackend && solver_info(backend).out_of_core) c.factor_dir = o.factor_dir;
+  if (!o.edit.empty()) c.source = "edit", c.options = option_items_text(o.edit_options);
+  if (!o.matrix.empty()) c.source = "matrix", c.rhs = o.matrix.size() > 1 ? o.matrix[1] : "", c.block = o.matrix_block;
+  return c;
+}
+
 //! The grid, a plain list: tiers x systems x backends x orderings x thread counts (the reference backend first in
 //! each group).
 std::vector<Planned> plan(const Options& o) {
@@ -330,11 +349,7 @@ std::vector<Planned> plan(const Options& o) {
       for (const auto& backend : o.backends)
         for (const auto& ordering : orderings_for(o, backend))
           for (int threads : o.threads) {
-            SolverCell c{t.label, t.levels ? fmt::format("{}+loop{}", t.path, t.levels) : t.path, system, backend,
-                         ordering, o.solve_reps, o.factor_reps, o.rep_seconds, o.seed, "", ""};
-            if (backend != kLeastSquaresBackend && solver_info(backend).out_of_core) c.factor_dir = o.factor_dir;
-            if (!o.edit.empty()) c.source = "edit", c.options = option_items_text(o.edit_options);
-            if (!o.matrix.empty()) c.source = "matrix", c.rhs = o.matrix.size() > 1 ? o.matrix[1] : "", c.block = o.matrix_block;
+            SolverCell c = cell_for(o, t, system, backend, ordering);
             c.threads = threads;
             g.push_back({t, c});
           }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Bad input through `deformbench deform`: each case gets its documented exit code (docs/cli.md "Exit codes": 1 usage,
-# 2 bad input, 3 solver failure, 4 over budget), a message naming the cause, returns within seconds, and leaves
-# no file behind (the output directory stays empty; inputs are unchanged).
+# Bad input through `deformbench deform` (and export-system, which builds the same systems): each case gets its
+# documented exit code (docs/cli.md "Exit codes": 1 usage, 2 bad input, 3 solver failure, 4 over budget), a message
+# naming the cause, returns within seconds, and leaves no file behind (the output directory stays empty; inputs are
+# unchanged).
 # usage: cli_bad_input.sh PATH/TO/deformbench [SOURCE_DIR]
 BIN=$1
 SRC=${2:-$(cd "$(dirname "$0")/.." && pwd)}
@@ -250,6 +251,10 @@ cp "$T/nm.off" "$T/nmtf.off"; cp "$T/nm.def" "$T/nmtf.def"; sed '1s/.*/0/' "$T/n
 expect_ok non_manifold_tf out.ply -- deform "$T/nmtf" --method tf --out "$OUT"
 expect non_manifold_lri 2 "not manifold.*meshtool repair" -- deform "$T/nm" --method lri --out "$OUT"
 expect non_manifold_cotan 2 "not manifold.*meshtool repair" -- deform "$T/nm" --weights cotan --out "$OUT"
+# export-system builds the deformer's systems: the same check, message and exit code.
+expect export_non_manifold_lri 2 "not manifold.*meshtool repair" -- export-system "$T/nm" --method lri --out "$O/k.mtx"
+expect export_non_manifold_cotan 2 "not manifold.*meshtool repair" -- export-system "$T/nm" --weights cotan \
+  --out "$O/k.mtx"
 cp "$G.off" "$T/short.off"; head -3 "$G.sel" >"$T/short.sel"; cp "$G.def" "$T/short.def"
 expect selection_size_mismatch 2 "entries|vertices" -- deform "$T/short" --out "$OUT"
 cp "$G.off" "$T/nohandle.off"; printf '1\n1\n1\n1\n1\n0\n' >"$T/nohandle.sel"; cp "$G.def" "$T/nohandle.def"

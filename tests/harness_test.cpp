@@ -591,13 +591,31 @@ TEST(Budget, MeasuredRatesArePositive) {
 }
 
 // ------------------------------------------------------------------------------------------------ solver cells
+namespace {
+
+// A solver cell on the bar mesh (the other fields: SolverCell's defaults).
+SolverCell bar_cell(const std::string& system, const std::string& backend, const std::string& ordering) {
+  SolverCell c;
+  c.model = "bar";
+  c.mesh = temp().mesh;
+  c.system = system;
+  c.backend = backend;
+  c.ordering = ordering;
+  return c;
+}
+
+}  // namespace
+
 // The least-squares row (QR of A) and a Cholesky of A^T A solve the same problem: the positions agree, and both
 // recover the known solution of the synthetic right-hand side. The two solves round differently: they agree to
 // twice the bound of a solve of K = A^T A's condition (QR's error is at most of the order eps (cond(A) + cond(A)^2
 // ||r|| / (||A|| ||x||)), the normal equations' eps cond(A)^2; solvers/tests/exact_reference.h).
 TEST(SolverCell, LeastSquaresAgreesWithCholesky) {
   for (const char* system : {"lap", "tf"}) {
-    SolverCell chol{"bar", temp().mesh, system, "cholmod_supernodal", "default", 2, 1, 1.0, 1, ""};
+    SolverCell chol = bar_cell(system, "cholmod_supernodal", "default");
+    chol.solve_reps = 2;
+    chol.factor_reps = 1;
+    chol.rep_seconds = 1.0;
     chol.positions = (temp().dir / (std::string("chol_") + system + ".pos")).string();
     SolverCell qr = chol;
     qr.backend = kLeastSquaresBackend;
@@ -625,7 +643,11 @@ TEST(SolverCell, LeastSquaresAgreesWithCholesky) {
 }
 
 TEST(SolverCell, SpecRoundTripsAndVertexOrderingsAreNamed) {
-  SolverCell c{"bar", temp().mesh, "tf", "multifrontal", "vertex-metis", 1, 1, 0.1, 3, ""};
+  SolverCell c = bar_cell("tf", "multifrontal", "vertex-metis");
+  c.solve_reps = 1;
+  c.factor_reps = 1;
+  c.rep_seconds = 0.1;
+  c.seed = 3;
   EXPECT_EQ(SolverCell::from_spec(c.to_spec()).to_spec().items(), c.to_spec().items());
   const CellResult r = run_cell(self_executable(), c.to_spec(), RunOptions{});
   ASSERT_TRUE(r.ok()) << r.message;

@@ -11,8 +11,7 @@
 set -u
 SRC=$(cd "$1" && pwd)
 BIN=$(cd "$2" && pwd)
-. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
-. "$(dirname "$0")/track_lib.sh"  # expect
+. "$(dirname "$0")/check_lib.sh"  # $T, expect, fail, ok, $fails
 cd "$SRC" || exit 1
 for f in data/meshes/hand.off data/meshes/armadillo.off; do
   [ -f "$f" ] || { echo "FAIL $f is missing: run scripts/data.sh (./run test does)"; exit 1; }
@@ -48,7 +47,7 @@ RUN=$(ls "$T"/runs/run-*.json | tail -1)
 expect "a filtered run compares what ran" 0 \
   "comparisons: .*not run [0-9]+.*\(not run: in the baseline, not in this run\)" \
   -- "${BENCH[@]}" --baseline "$B" "${COUNTERS[@]}" -- "--benchmark_filter=^$FACT\$"
-grep -Eq "MISSING|FAIL" "$T/out" && fail "filtered run: $(cat "$T/out")" || ok "no benchmark left out is a failure"
+grep -Eq "MISSING|FAIL" "$T/output" && fail "filtered run: $(cat "$T/output")" || ok "no benchmark left out is a failure"
 SUITE="bench_phases v1, [0-9a-f]+"
 expect "other suite options: stale" 3 "is stale: suite definition '$SUITE \(80 benchmarks\)' in the baseline, \
 '$SUITE \([0-9]+ benchmarks\)' now; 2 cell\(s\) the suite no longer defines: \
@@ -61,8 +60,8 @@ expect "another CPU: foreign" 4 \
   -- "${BENCH[@]}" --baseline "$(edited "$B" 'd["context"]["deformbench_cpu"] = "Some Other CPU"')" --run "$RUN"
 expect "--allow-foreign: the counters gated" 0 "foreign baseline \(--allow-foreign\): deterministic measures only" \
   -- "${BENCH[@]}" --baseline "$T/edited.json" --run "$RUN" --allow-foreign --all
-grep -Eq "^$FACT +cpu_s +cpu .* not gated +other machine" "$T/out" && ok "--allow-foreign: times not gated" ||
-  fail "--allow-foreign: $(cat "$T/out")"
+grep -Eq "^$FACT +cpu_s +cpu .* not gated +other machine" "$T/output" && ok "--allow-foreign: times not gated" ||
+  fail "--allow-foreign: $(cat "$T/output")"
 expect "nnz_L grown 1%: fails" 1 "^$FACT +nnz_L +deterministic +[0-9]+ +[0-9]+ +1\.01[0-9] +FAIL" -- "${BENCH[@]}" \
   --baseline "$(edited "$B" '[b.update(nnz_L=round(b["nnz_L"] / 1.01)) for b in d["benchmarks"] if "nnz_L" in b]')" \
   --run "$RUN"
@@ -73,9 +72,9 @@ expect "bad option" 1 "--repetitions and --threads must be >= 1" -- "${BENCH[@]}
 # this machine's, or another's: not a test).
 expect "committed baseline: current" 0 "verdict: pass" -- "${BENCH[@]}" --allow-foreign "${COUNTERS[@]}" -- \
   '--benchmark_filter=mesh:hand/'
-grep -Eq "comparisons: not run [0-9]+, ok [0-9]+ \(not run" "$T/out" &&
+grep -Eq "comparisons: not run [0-9]+, ok [0-9]+ \(not run" "$T/output" &&
   ok "committed baseline: every counter of the hand tier equal" ||
-  fail "committed baseline: counters changed: $(cat "$T/out")"
+  fail "committed baseline: counters changed: $(cat "$T/output")"
 
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi
 echo "all passed"

@@ -10,7 +10,7 @@
 #   track_scripts_test.sh SOURCE_DIR
 set -u
 SRC=$(cd "$1" && pwd)
-. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
+. "$(dirname "$0")/check_lib.sh"  # $T, expect, fail, ok, $fails
 export DEFORMBENCH_TRACK_MEASURE="/usr/bin/python3 $SRC/tests/track_fake_measure.py"
 
 R=$T/repo
@@ -31,18 +31,9 @@ no_worktrees() {  # the worktrees of other commits are removed once measured
 export PYTHONPATH=$SRC/python
 TRACK=(/usr/bin/python3 -m dbtools.track --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
   --report "$T/track.md" --no-plots)
-# expect NAME EXIT_CODE REGEX -- args...
-expect() {
-  local name=$1 code=$2 re=$3; shift 4
-  "${TRACK[@]}" "$@" >"$T/out" 2>&1
-  local got=$?
-  if [ "$got" -ne "$code" ]; then fail "$name: exit $got, expected $code: $(tail -c 600 "$T/out")"; return; fi
-  if ! grep -Eq -- "$re" "$T/out"; then fail "$name: output does not match /$re/: $(tail -c 600 "$T/out")"; return; fi
-  ok "$name"
-}
 
-expect "first run: recorded, nothing to compare" 0 "nothing to compare" --
-expect "second run: the first is its baseline" 0 "baseline: the newest history of an ancestor commit" --
+expect "first run: recorded, nothing to compare" 0 "nothing to compare" -- "${TRACK[@]}"
+expect "second run: the first is its baseline" 0 "baseline: the newest history of an ancestor commit" -- "${TRACK[@]}"
 [ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" && ok "report written" || fail "no report"
 # The run as github-action-benchmark's customSmallerIsBetter input, beside its CSV and at a fixed path for CI.
 /usr/bin/python3 - "$T/history" >"$T/json.out" 2>&1 <<'PY' && ok "JSON beside each run and latest.json" ||
@@ -62,48 +53,48 @@ assert all(isinstance(e["extra"], str) and "commit" in e["extra"] for e in doc)
 PY
 
 printf 'nnz_factor=5000\nfactorize_s=1.5\n' >measure.txt  # uncommitted: a dirty run
-expect "dirty run gated" 1 "nnz_factor +deterministic +1300 +5000" --
+expect "dirty run gated" 1 "nnz_factor +deterministic +1300 +5000" -- "${TRACK[@]}"
 git checkout -q measure.txt
-expect "a dirty run is never a baseline" 0 "verdict: pass" --
+expect "a dirty run is never a baseline" 0 "verdict: pass" -- "${TRACK[@]}"
 
 expect "--baseline REV without history: measured in a worktree" 1 \
-  "$(sha c1 | cut -c1-12) built in a worktree and measured now" -- --baseline c1
-grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/out" &&
-  grep -Eq "fake/cell +factorize_s +cpu +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/out" &&
-  ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/out")"
+  "$(sha c1 | cut -c1-12) built in a worktree and measured now" -- "${TRACK[@]}" --baseline c1
+grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/output" &&
+  grep -Eq "fake/cell +factorize_s +cpu +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/output" &&
+  ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/output")"
 no_worktrees "--baseline c1"
-expect "--baseline REV with history: reused" 1 "the newest history of $(sha c1 | cut -c1-12) on this machine" -- \
+expect "--baseline REV with history: reused" 1 "the newest history of $(sha c1 | cut -c1-12) on this machine" -- "${TRACK[@]}" \
   --baseline c1
-expect "--baseline-file" 0 "the history file given" -- --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+expect "--baseline-file" 0 "the history file given" -- "${TRACK[@]}" --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
 
-expect "bisect a deterministic measure" 0 "first bad commit for fake/cell nnz_factor: $(sha c5) c5 more fill" -- \
+expect "bisect a deterministic measure" 0 "first bad commit for fake/cell nnz_factor: $(sha c5) c5 more fill" -- "${TRACK[@]}" \
   --bisect c1 c7 --cell fake/cell --measure nnz_factor
-expect "bisect a timed measure" 0 "first bad commit for fake/cell factorize_s: $(sha c3) c3 slower factorization" -- \
+expect "bisect a timed measure" 0 "first bad commit for fake/cell factorize_s: $(sha c3) c3 slower factorization" -- "${TRACK[@]}" \
   --bisect c2 HEAD --cell fake/cell --measure factorize_s
-expect "bisect: BAD not regressed" 1 "does not regress" -- --bisect c5 c7 --cell fake/cell --measure nnz_factor
+expect "bisect: BAD not regressed" 1 "does not regress" -- "${TRACK[@]}" --bisect c5 c7 --cell fake/cell --measure nnz_factor
 no_worktrees "bisect"
 git -C "$R" bisect log >/dev/null 2>&1 && fail "bisect left running" || ok "bisect state reset"
-expect "bisect: GOOD after BAD" 1 "not an ancestor" -- --bisect c7 c1 --cell fake/cell --measure nnz_factor
-expect "bisect without --cell" 1 "needs --cell and --measure" -- --bisect c1 c7
-expect "unknown revision" 1 "nosuch: not a commit" -- --baseline nosuch
-expect "unknown option" 1 "unrecognized arguments" -- --baselin c1
+expect "bisect: GOOD after BAD" 1 "not an ancestor" -- "${TRACK[@]}" --bisect c7 c1 --cell fake/cell --measure nnz_factor
+expect "bisect without --cell" 1 "needs --cell and --measure" -- "${TRACK[@]}" --bisect c1 c7
+expect "unknown revision" 1 "nosuch: not a commit" -- "${TRACK[@]}" --baseline nosuch
+expect "unknown option" 1 "unrecognized arguments" -- "${TRACK[@]}" --baselin c1
 
 # --baseline-runs on a machine without history: N runs of this commit pooled into the baseline, times gated at once.
-expect "--baseline-runs 2 without history" 0 "a local baseline of 2 run\(s\) of this commit" -- \
+expect "--baseline-runs 2 without history" 0 "a local baseline of 2 run\(s\) of this commit" -- "${TRACK[@]}" \
   --history-dir "$T/history4" --baseline-runs 2
-grep -q "^gated: 2 of 2 comparisons (cpu 1, deterministic 1)" "$T/out" && ok "--baseline-runs: the CPU time gated" ||
-  fail "--baseline-runs: $(cat "$T/out")"
+grep -q "^gated: 2 of 2 comparisons (cpu 1, deterministic 1)" "$T/output" && ok "--baseline-runs: the CPU time gated" ||
+  fail "--baseline-runs: $(cat "$T/output")"
 grep -q "^- gated: 2 of 2 comparisons" "$T/track.md" &&
   grep -q "^- baseline: a local baseline of 2 run" "$T/track.md" &&
   ok "the report says what was gated and against what" || fail "track.md: $(cat "$T/track.md")"
 [ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 3 ] &&
-  grep -q "^baseline: .*history4/runs/.* and 1 more, pooled" "$T/out" &&
-  ok "two runs gated as one baseline, then the run" || fail "history4: $(ls -R "$T/history4"; cat "$T/out")"
-expect "--baseline-runs with history: not needed" 0 "--baseline-runs not needed" -- --history-dir "$T/history4" \
+  grep -q "^baseline: .*history4/runs/.* and 1 more, pooled" "$T/output" &&
+  ok "two runs gated as one baseline, then the run" || fail "history4: $(ls -R "$T/history4"; cat "$T/output")"
+expect "--baseline-runs with history: not needed" 0 "--baseline-runs not needed" -- "${TRACK[@]}" --history-dir "$T/history4" \
   --baseline-runs 2
 [ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 4 ] && ok "--baseline-runs with history: one run only" ||
   fail "history4: $(ls "$T/history4/runs")"
-expect "--baseline-runs 0" 1 "--baseline-runs N: N >= 1" -- --baseline-runs 0
+expect "--baseline-runs 0" 1 "--baseline-runs N: N >= 1" -- "${TRACK[@]}" --baseline-runs 0
 # Without --no-plots a run refreshes the trend figures and the site (RESULTS/site/, dbtools.site) of the repository.
 /usr/bin/python3 -m dbtools.track --repo "$R" --work-dir "$T/work" --history-dir "$T/history4" --report "$T/track.md" \
   >"$T/out" 2>&1 && [ -s "$R/results/site/index.html" ] && grep -q "\[site\] .* pages" "$T/out" &&
@@ -114,7 +105,7 @@ mkdir -p "$T/history2/reference"
 sed "s/^$(sha c7)/$(printf 'f%.0s' {1..40})/" "$(ls "$T"/history/runs/*"$(sha c7 | cut -c1-12)"*.csv | head -1)" \
   >"$T/history2/reference/ref.csv"
 TRACK+=(--history-dir "$T/history2")
-expect "fresh clone: the committed reference" 0 "this machine's committed reference" --
+expect "fresh clone: the committed reference" 0 "this machine's committed reference" -- "${TRACK[@]}"
 
 # A fresh clone on another machine: the only reference is foreign.
 mkdir -p "$T/history3/reference"
@@ -122,22 +113,22 @@ sed "s/,fake-machine,/,other-machine,/" "$T/history2/reference/ref.csv" >"$T/his
 TRACK+=(--history-dir "$T/history3")
 expect "another machine's reference: foreign" 4 \
   "the baseline .*ref.csv \(commit $(sha c7 | cut -c1-12), .*machine other-machine\) is foreign: machine id \
-other-machine in the baseline, fake-machine now" --
+other-machine in the baseline, fake-machine now" -- "${TRACK[@]}"
 grep -q "baseline refused (foreign, exit 4)" "$T/track.md" && ok "the report says it was refused" ||
   fail "track.md: $(head -3 "$T/track.md")"
 expect "--allow-foreign: its deterministic measures" 0 \
-  "foreign baseline \(--allow-foreign\): deterministic measures only" -- --allow-foreign \
+  "foreign baseline \(--allow-foreign\): deterministic measures only" -- "${TRACK[@]}" --allow-foreign \
   --baseline-file "$T/history3/reference/ref.csv"  # the refused run above is this machine's newest history now
-grep -q "^not gated: 1: 1 measured on another machine" "$T/out" &&
-  ok "--allow-foreign: times not gated, saying why" || fail "--allow-foreign: $(cat "$T/out")"
+grep -q "^not gated: 1: 1 measured on another machine" "$T/output" &&
+  ok "--allow-foreign: times not gated, saying why" || fail "--allow-foreign: $(cat "$T/output")"
 
 # A baseline holding a cell the suite no longer defines: stale.
 REF=$T/history2/reference/ref.csv
 { cat "$REF"; tail -n +2 "$REF" | sed "s|,fake/cell,|,fake/gone,|"; } >"$T/stale.csv"
 expect "a cell the suite no longer defines: stale" 3 \
-  "is stale: 1 cell\(s\) the suite no longer defines: fake/gone: record a baseline of the current suite" -- \
+  "is stale: 1 cell\(s\) the suite no longer defines: fake/gone: record a baseline of the current suite" -- "${TRACK[@]}" \
   --baseline-file "$T/stale.csv"
-expect "--allow-stale" 0 "stale baseline compared anyway \(--allow-stale\)" -- --baseline-file "$T/stale.csv" \
+expect "--allow-stale" 0 "stale baseline compared anyway \(--allow-stale\)" -- "${TRACK[@]}" --baseline-file "$T/stale.csv" \
   --allow-stale
 
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi

@@ -10,8 +10,7 @@
 set -u
 SRC=$(cd "$1" && pwd)
 BIN=$(cd "$2" && pwd)
-. "$(dirname "$0")/check_lib.sh"  # $T, fail, ok, $fails
-. "$(dirname "$0")/track_lib.sh"  # expect
+. "$(dirname "$0")/check_lib.sh"  # $T, expect, fail, ok, $fails
 cd "$SRC" || exit 1
 X="$BIN/exp_track"
 export PYTHONPATH=$SRC/python
@@ -20,10 +19,10 @@ export PYTHONPATH=$SRC/python
 expect "--help" 0 "Usage: exp_track" -- "$X" --help
 expect "misspelled option" 1 "did you mean --repeats" -- "$X" --repeat 3
 expect "the shipped suite" 0 "^solve/armadillo/lap/spqr/default " -- "$X" --dry-run
-[ "$(grep -c . "$T/out")" -eq 29 ] && ok "29 cells in the shipped suite" || fail "shipped suite: $(grep -c . "$T/out") cells"
-grep -Eq "^deform/armadillo_loop1/tf/structured/multifrontal .* rounds=2$" "$T/out" &&
-  grep -Eq "^solve/armadillo/lap/umfpack/default .* rounds=5$" "$T/out" &&
-  grep -Eq "^deform/hand/tf/naive/multifrontal .* rounds=10$" "$T/out" && ok "rounds per cell" || fail "rounds: $(cat "$T/out")"
+[ "$(grep -c . "$T/output")" -eq 29 ] && ok "29 cells in the shipped suite" || fail "shipped suite: $(grep -c . "$T/output") cells"
+grep -Eq "^deform/armadillo_loop1/tf/structured/multifrontal .* rounds=2$" "$T/output" &&
+  grep -Eq "^solve/armadillo/lap/umfpack/default .* rounds=5$" "$T/output" &&
+  grep -Eq "^deform/hand/tf/naive/multifrontal .* rounds=10$" "$T/output" && ok "rounds per cell" || fail "rounds: $(cat "$T/output")"
 expect "--only" 0 "^deform/hand/tf/naive/multifrontal +kind=deform model=hand method=tf build=naive .*frames=5" -- \
   "$X" --dry-run --only 'deform/hand/tf/*'
 expect "--only matching nothing" 1 "no cell to run" -- "$X" --dry-run --only 'nothing*'
@@ -63,11 +62,11 @@ expect "TF with the natural ordering fails" 1 "verdict: FAIL" -- "${TRACK[@]}" \
   --override "kind=deform method=tf: ordering=natural"
 for tier in hand cactus; do
   for m in nnz_factor factor_bytes; do
-    grep -Eq "^deform/$tier/tf/structured/multifrontal +$m +deterministic +[0-9]+ +[0-9]+ +[0-9.]+ +FAIL" "$T/out" &&
-      ok "names $tier tf $m" || fail "$tier tf $m not named: $(cat "$T/out")"
+    grep -Eq "^deform/$tier/tf/structured/multifrontal +$m +deterministic +[0-9]+ +[0-9]+ +[0-9.]+ +FAIL" "$T/output" &&
+      ok "names $tier tf $m" || fail "$tier tf $m not named: $(cat "$T/output")"
   done
 done
-grep -E "^deform/[a-z]+/lap/.*FAIL" "$T/out" && fail "a lap cell failed" || ok "lap cells unchanged"
+grep -E "^deform/[a-z]+/lap/.*FAIL" "$T/output" && fail "a lap cell failed" || ok "lap cells unchanged"
 grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic |" "$T/track.md" &&
   ok "Markdown report names it" || fail "track.md: $(head -20 "$T/track.md")"
 [ "$(ls "$T/history/runs"/*.csv | wc -l)" -eq 2 ] && [ "$(ls "$T/history/runs"/*.json | wc -l)" -eq 2 ] &&

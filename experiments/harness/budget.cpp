@@ -1,16 +1,11 @@
 #include "harness/budget.h"
 #include "systems/vertex_ordering.h"
 
-#include <algorithm>
-#include <cmath>
-#include <vector>
-
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
 #include "methods/deformer.h"
 #include "operators/energy_operator.h"
-#include "solvers/linear_solver.h"
 
 namespace db::harness {
 namespace {
@@ -57,45 +52,14 @@ const EnergyOperator& CellPredictor::op(const std::string& system) {
   return *it->second;
 }
 
-CellPredictor::VertexFactor CellPredictor::vertex_factor(const std::string& backend, const std::string& ordering) {
-  const std::string key = backend + "|" + ordering;
+// K's vertex graph in the mesh's vertex order, ordered by the backend with `ordering`.
+const FactorCount& CellPredictor::factor(const DeformCell& cell, int block, const std::string& ordering) {
+  const std::string key = fmt::format("{}|{}|{}", cell.backend(), ordering, block);
   if (auto it = factors_.find(key); it != factors_.end()) return it->second;
-  // Upper triangle of the vertex graph of K: unknowns within two edges (the structured build's block pattern).
-  const int nu = unk_.num_unknowns();
-  InteractionPattern pat = interaction_pattern(adj_, unk_);
-  std::vector<int>& colptr = pat.colptr;
-  std::vector<int>& rows = pat.rows;
-  SpMat P(nu, nu);
-  P.resizeNonZeros(static_cast<Eigen::Index>(rows.size()));
-  std::copy(colptr.begin(), colptr.end(), P.outerIndexPtr());
-  std::copy(rows.begin(), rows.end(), P.innerIndexPtr());
-  std::fill(P.valuePtr(), P.valuePtr() + rows.size(), 1.0);  // analyze reads the pattern only
-  rows = {};
-
-  VertexFactor f;
-  SolverOptions so;
-  so.ordering = ordering;
-  const std::string family = solver_info(backend).family;
-  std::string used = backend;
-  if (family != "sparse-cholesky" && family != "sparse-lu") used = "cholmod_supernodal";  // a proxy pattern count
-  auto s = make_solver(used, so);
-  s->analyze(P);
-  FactorStats st = s->stats();
-  if (st.nnz_factor == 0 && used != "cholmod_supernodal") {  // backend reports nothing before factorizing
-    used = "cholmod_supernodal";
-    s = make_solver(used, so);
-    s->analyze(P);
-    st = s->stats();
-  }
-  f.backend = used;
-  f.nnz = static_cast<double>(st.nnz_factor);
-  f.flops = st.flops > 0 ? st.flops : 0;
-  f.workspace_bytes = static_cast<double>(st.workspace_bytes);
-  f.basis = fmt::format("{} analyze of the {}-vertex 2-ring graph ({} ordering, {} nonzeros in the upper triangle)",
-                        used, nu, st.ordering_used, P.nonZeros());
-  vertex_nnz_upper_ = static_cast<double>(P.nonZeros());
-  factors_[key] = f;
-  return f;
+  DeformOptions o = cell.options;
+  o.solver_options.ordering = ordering;
+  const FactorCount f = count_factor(interaction_pattern(adj_, unk_), unk_.num_unknowns(), false, block, o, true);
+  return factors_.emplace(key, f).first->second;
 }
 
 DeformPrediction CellPredictor::predict(const DeformCell& spec) {
@@ -128,26 +92,21 @@ DeformPrediction CellPredictor::predict(const DeformCell& spec) {
     ordering = build == Build::Structured ? default_vertex_ordering(b)
                : b > 1                    ? (spec.backend() == "multifrontal" ? "metis" : "amd")
                                           : ordering;
-  const VertexFactor vf = vertex_factor(spec.backend(), ordering);
-  const double nuv = unk_.num_unknowns();
-  // Expand vertex counts to b x b blocks: off-diagonal blocks are full, diagonal blocks lower-triangular.
-  p.factor_nnz = b * b * (vf.nnz - nuv) + b * (b + 1) / 2 * nuv;
-  p.factor_flops = b * b * b * vf.flops;
-  p.factor_bytes = (vf.backend == "multifrontal" ? kMultifrontalSlack : kSupernodalSlack) * 8 * p.factor_nnz + 4 * 6 * nu;
-  // Update matrices grow with the square of the front order: b^2 times the vertex graph's.
-  p.workspace_bytes = b * b * vf.workspace_bytes;
+  const FactorCount& f = factor(spec, int(b), ordering);
+  p.factor_nnz = f.nnz;
+  p.factor_flops = f.flops;
+  p.factor_bytes = (f.backend == "multifrontal" ? kMultifrontalSlack : kSupernodalSlack) * 8 * p.factor_nnz + 4 * 6 * nu;
+  p.workspace_bytes = f.workspace;
   // Out of core the factor's values are not resident (a supernode at a time); its row indices are.
   const double resident_factor = spec.factor_storage() == "memory" ? p.factor_bytes : 4 * 6 * nu + 8 * nu;
   p.total_bytes = p.build_bytes + resident_factor + p.workspace_bytes + base;
-  const double nnz_k = b * b * (vertex_nnz_upper_ - nuv) + b * (b + 1) / 2 * nuv;
-  double stencil = 0;  // sum over row blocks of (#columns)^2: the A^T A product's multiply-adds / b^3
-  for (int i = 0; i < mesh_.num_vertices(); ++i) stencil += std::pow(adj_.degree(i) + 1.0, 2);
-  p.build_flops = 2 * b * b * b * stencil;
+  const double nnz_k = f.nnz_matrix;
+  p.build_flops = stencil_flops(adj_, mesh_.num_vertices(), int(b));
   const double build_factor = build == Build::Naive ? 3.0 : 1.0;  // triplets, transposes, a second product for C
   const double frame_flops = 4 * p.factor_nnz * r + 2 * nnz_k * r;
   p.seconds = build_factor * p.build_flops / rates_.sparse + 30 * nnz_k / rates_.sparse +
               p.factor_flops / rates_.dense + spec.frames * frame_flops / rates_.stream;
-  p.basis = vf.basis;
+  p.basis = f.basis;
   return p;
 }
 

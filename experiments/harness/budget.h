@@ -3,7 +3,8 @@
 //! not fit its 1 GB machine "#over"; here a cell over budget is never attempted and keeps its prediction).
 //!
 //! Memory: predict_build_bytes (systems/normal_system.h, from the adjacency alone) + the factor: dense n^2 * 8,
-//! sparse from a symbolic analysis of the vertex-level pattern (K's 2-ring graph), expanded to 3x3 blocks for TF.
+//! sparse from the backend's symbolic analysis of K's 2-ring vertex graph, expanded to 3x3 blocks for TF
+//! (count_factor, methods/run_prediction.h: the analysis `deformbench deform` and `advise` predict with).
 //! Time: flop counts over rates measured once per run (a dense GEMM, a sparse A^T A product).
 #include <map>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "harness/runner.h"
 #include "mesh/mesh.h"
 #include "methods/normalization.h"
+#include "methods/run_prediction.h"
 #include "systems/normal_system.h"
 
 namespace db::harness {
@@ -33,7 +35,7 @@ struct DeformPrediction {
 };
 
 //! Predicts every cell of one mesh under the thesis edit. Holds the mesh's adjacency and operators, and caches
-//! the vertex-graph factor analysis per (backend, ordering) since the sparse builds share K's pattern.
+//! the vertex-graph factor analysis per (backend, ordering, block) since the sparse builds share K's pattern.
 class CellPredictor {
  public:
   CellPredictor(const Mesh& mesh, const ThesisEditOptions& edit, const MachineRates& rates);
@@ -44,13 +46,7 @@ class CellPredictor {
   DeformPrediction predict(const DeformCell& cell);
 
  private:
-  struct VertexFactor {
-    std::string backend;  // the backend whose analysis counted it
-    double nnz = 0, flops = 0;
-    double workspace_bytes = 0;  // the backend's working storage besides the factor (FactorStats)
-    std::string basis;
-  };
-  VertexFactor vertex_factor(const std::string& backend, const std::string& ordering);
+  const FactorCount& factor(const DeformCell& cell, int block, const std::string& ordering);
   const EnergyOperator& op(const std::string& system);
 
   const Mesh& mesh_;
@@ -59,8 +55,7 @@ class CellPredictor {
   Adjacency adj_;
   Unknowns unk_;
   std::map<std::string, std::unique_ptr<EnergyOperator>> ops_;
-  std::map<std::string, VertexFactor> factors_;
-  double vertex_nnz_upper_ = 0;  // nonzeros of the vertex graph's upper triangle (set by vertex_factor)
+  std::map<std::string, FactorCount> factors_;
 };
 
 }  // namespace db::harness

@@ -25,6 +25,7 @@
 #include "operators/energy_operator.h"
 #include "solvers/least_squares.h"
 #include "solvers/linear_solver.h"
+#include "systems/least_squares_system.h"
 #include "systems/matrix_market.h"
 #include "systems/normal_system.h"
 #include "systems/vertex_ordering.h"
@@ -258,29 +259,14 @@ CellResult measure_linear_solver(const SolverCell& c, const Problem& p, DenseMat
   return measure_on(c, f, sys.K, p.block, drag_rhs(p, sys), reference_solution(p, c.seed, sys.rhs_cols), x);
 }
 
-// The least-squares matrix [A_u; w S] of the naive build (S selects the soft unknowns) and its right-hand side
-// [b; w u] for the full drag.
-std::pair<SpMat, DenseMat> least_squares_system(const Problem& p, const NormalSystem& sys) {
-  const int b = p.block, rows_a = int(sys.At.cols()), soft = int(p.unk.soft_vertices.size());
-  const double w = p.unk.soft_weight;
-  std::vector<Eigen::Triplet<double, int>> t;
-  t.reserve(std::size_t(sys.At.nonZeros()) + std::size_t(b * soft));
-  for (int k = 0; k < sys.At.outerSize(); ++k)  // A_u = At^T
-    for (SpMat::InnerIterator it(sys.At, k); it; ++it) t.emplace_back(int(it.col()), int(it.row()), it.value());
-  DenseMat rhs = DenseMat::Zero(rows_a + b * soft, sys.rhs_cols);
-  rhs.topRows(rows_a) = sys.targets;
-  for (int k = 0; k < soft; ++k) {
-    const int v = p.unk.soft_vertices[k], u = p.unk.unknown_of[v];
-    const Vec3 q = soft_target(p, v);
-    for (int c = 0; c < b; ++c) t.emplace_back(rows_a + b * k + c, b * u + c, w);
-    for (int c = 0; c < 3; ++c) {
-      if (b == 1) rhs(rows_a + k, c) = w * q(c);
-      else rhs(rows_a + 3 * k + c, 0) = w * q(c);
-    }
+// The soft targets of the full drag in the solver layout, block * #soft x cols (least_squares_system's u).
+DenseMat soft_targets(const Problem& p, int cols) {
+  DenseMat u(Index(p.block * p.unk.soft_vertices.size()), cols);
+  for (std::size_t k = 0; k < p.unk.soft_vertices.size(); ++k) {
+    const Vec3 q = soft_target(p, p.unk.soft_vertices[k]);
+    for (int c = 0; c < 3; ++c) at(u, p.block, int(k), c) = q(c);
   }
-  SpMat A(rows_a + b * soft, sys.At.rows());
-  A.setFromTriplets(t.begin(), t.end());
-  return {std::move(A), std::move(rhs)};
+  return u;
 }
 
 // SPQR on the naive build's A: QR of A itself, A^T A never formed; accuracy on the normal equations.
@@ -289,7 +275,9 @@ CellResult measure_least_squares(const SolverCell& c, const Problem& p, DenseMat
   const CpuTimer tbc;
   Timer tb;
   const NormalSystem sys = build_normal_system(op, p.unk, Build::Naive);
-  auto [A, b_ls] = least_squares_system(p, sys);
+  // Soft constraints only: no hard vertices, so no A_h x_h term.
+  const LeastSquaresSystem ls = least_squares_system(sys, p.unk, DenseMat(), soft_targets(p, sys.rhs_cols));
+  const SpMat& A = ls.A;
   CellResult r;
   add_system(r, {double(p.mesh.num_vertices()), tb.seconds(), tbc.seconds(), p.order_s}, sys.K, sys.rhs_cols);
   r.set("matrix_bytes", double(sparse_bytes(A)), "bytes");
@@ -301,7 +289,7 @@ CellResult measure_least_squares(const SolverCell& c, const Problem& p, DenseMat
   ph.analyze_s = p.order_s;
   ph.analyze_cpu_s = p.order_cpu_s;
   ph.factorize = repeat_timed(c.factor_reps, c.rep_seconds, [&] { qr.factorize(A); });
-  ph.solve = repeat_timed(c.solve_reps, c.rep_seconds, [&] { qr.solve(b_ls, x); });
+  ph.solve = repeat_timed(c.solve_reps, c.rep_seconds, [&] { qr.solve(ls.b, x); });
   ph.stats = qr.stats();
   DenseMat xs;
   qr.solve(bsyn, xs);

@@ -120,12 +120,16 @@ void check_every_component_anchored(const Adjacency& adj, const std::vector<Cons
   }
 }
 
-std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
-  const DeformOptions o = resolve_options(options);  // the same check as the command line's, and the backend named
+void check_deform_input(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
   // Cheap next to any build; library callers may not have loaded through edit_io.
   validate_mesh(mesh, Manifold::Allowed);
   validate_edit(mesh, edit);
-  check_manifold(mesh, o);
+  check_manifold(mesh, options);
+}
+
+std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
+  const DeformOptions o = resolve_options(options);  // the same check as the command line's, and the backend named
+  check_deform_input(mesh, edit, o);
   switch (o.method) {
     case Method::Lap: return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Lap, o);
     case Method::Tf: return std::make_unique<LaplacianDeformer>(mesh, edit, EnergyKind::Tf, o);

@@ -66,6 +66,12 @@ class Deformer {
 //!        SolverError failed factorization, BudgetError over memory_budget.
 std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
 
+//! What make_deformer checks of its input before building anything (edit_systems too): the mesh (validate_mesh,
+//! non-manifold elements allowed), the edit (validate_edit), and, for lri and cotan weights, a manifold 1-ring
+//! around every vertex (uniform lap and tf deform a non-manifold mesh as it is, with a warning on stderr).
+//! \param options resolved (resolve_options). \throw InputError naming the first problem.
+void check_deform_input(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
+
 //! Per vertex: how it enters the system under the given mode.
 std::vector<Constraint> classify(const Edit& edit, ConstraintMode mode);
 

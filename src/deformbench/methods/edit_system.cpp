@@ -31,8 +31,7 @@ struct Setup {
 Setup setup(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
   Setup s;
   s.o = resolve_options(options);
-  validate_mesh(mesh, Manifold::Allowed);
-  validate_edit(mesh, edit);
+  check_deform_input(mesh, edit, s.o);
   s.norm = s.o.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
   s.Vn = s.norm.apply(mesh.V);
   s.adj = vertex_adjacency(mesh);
@@ -125,26 +124,9 @@ LeastSquaresSystem edit_least_squares(const Mesh& mesh, const Edit& edit, const 
     throw UsageError("--least-squares: lap and tf only (lri's two systems are solved one after the other)");
   const Setup s = setup(mesh, edit, options);
   const NormalSystem sys = build_normal_system(energy(s, mesh), s.unk, Build::Naive);
-  const int b = sys.block, rows_a = int(sys.At.cols()), soft = int(s.unk.soft_vertices.size());
-  const double w = s.unk.soft_weight;
   DenseMat xh, u;
-  constraint_values(s, edit, b, xh, u);
-  std::vector<Eigen::Triplet<double, int>> t;
-  t.reserve(std::size_t(sys.At.nonZeros()) + std::size_t(b * soft));
-  for (int k = 0; k < sys.At.outerSize(); ++k)  // A_u = At^T
-    for (SpMat::InnerIterator it(sys.At, k); it; ++it) t.emplace_back(int(it.col()), int(it.row()), it.value());
-  LeastSquaresSystem ls;
-  ls.b.setZero(rows_a + b * soft, sys.rhs_cols);
-  ls.b.topRows(rows_a) = sys.targets;
-  if (xh.rows() > 0) ls.b.topRows(rows_a) -= sys.Ah * xh;
-  for (int k = 0; k < soft; ++k) {
-    const int x = s.unk.unknown_of[s.unk.soft_vertices[k]];
-    for (int c = 0; c < b; ++c) t.emplace_back(rows_a + b * k + c, b * x + c, w);
-    ls.b.middleRows(rows_a + b * k, b) = w * u.middleRows(b * k, b);
-  }
-  ls.A.resize(rows_a + b * soft, sys.At.rows());
-  ls.A.setFromTriplets(t.begin(), t.end());
-  return ls;
+  constraint_values(s, edit, sys.block, xh, u);
+  return least_squares_system(sys, s.unk, xh, u);
 }
 
 }  // namespace db

@@ -16,6 +16,7 @@
 #include "mesh/mesh.h"
 #include "methods/deform_options.h"
 #include "solvers/base/types.h"
+#include "systems/least_squares_system.h"
 
 namespace db {
 
@@ -31,12 +32,8 @@ struct EditSystem {
 //! (resolve_options), InputError for a bad mesh or edit or a singular constraint set (as make_deformer).
 std::vector<EditSystem> edit_systems(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
 
-//! lap and tf: the least-squares form of the same minimization, min ||A x_u - b||, A = [A_u; w S] (S selects the
-//! soft unknowns), b = [t - A_h x_h; w u], from the naive build; A^T A is edit_systems' K, A^T b its rhs.
-struct LeastSquaresSystem {
-  SpMat A;
-  DenseMat b;
-};
+//! lap and tf: the least-squares form of the same minimization (systems/least_squares_system.h), from the naive
+//! build; A^T A is edit_systems' K, A^T b its rhs.
 //! \throw UsageError for --method lri (no least-squares form here), else as edit_systems.
 LeastSquaresSystem edit_least_squares(const Mesh& mesh, const Edit& edit, const DeformOptions& options);
 

@@ -41,12 +41,6 @@ struct SystemShape {
   int block = 1, rings = 2;
 };
 
-//! The backend's analysis of one system's vertex graph, expanded to its blocks.
-struct FactorCount {
-  double nnz_matrix = 0, nnz = 0, flops = 0, workspace = 0, seconds = 0;
-  std::string basis;
-};
-
 //! The vertex graph's upper-triangular pattern as a matrix of ones (analyze reads the pattern only).
 SpMat pattern_matrix(const InteractionPattern& pat, int n) {
   SpMat P(n, n);
@@ -67,14 +61,16 @@ std::string vertex_ordering_of(const DeformOptions& o, int block, bool exact) {
   return !exact ? "amd" : ord == "default" ? default_vertex_ordering(block) : ord;
 }
 
+}  // namespace
+
 // Mirrors LaplacianDeformer::build: a structured build orders the vertex graph itself and hands the backend a
 // matrix in that order (natural); other builds, and backends that take no natural ordering, order in the backend.
 // `pat`: the vertex graph, in the vertex order when `ordered`.
-FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered, SystemShape s,
-                         const DeformOptions& o, bool exact) {
+FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered, int block, const DeformOptions& o,
+                         bool exact) {
   FactorCount f;
   const SolverInfo info = solver_info(o.solver);
-  const double b = s.block, nu = nu_int;
+  const double b = block, nu = nu_int;
   Timer t;
   SolverOptions so = o.solver_options;
   so.factor_dir.clear();  // a pattern analysis: never out of core (a fallback backend may not keep a factor on disk)
@@ -85,6 +81,7 @@ FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered
   if (info.family == "iterative") {  // no factor; the incomplete Cholesky keeps K's pattern
     f.nnz = o.solver == "cg_ichol" ? f.nnz_matrix : 0;
     f.workspace = 12 * (2 * f.nnz_matrix - b * nu);  // CG runs on a full (both triangles) copy of K
+    f.backend = o.solver;
     f.seconds = t.seconds();
     f.basis = fmt::format("{}: no factor analysis ({} nonzeros of K)", o.solver, f.nnz_matrix);
     return f;
@@ -108,21 +105,23 @@ FactorCount count_factor(const InteractionPattern& pat, int nu_int, bool ordered
     st = solver->stats();
   }
   f.seconds = t.seconds();
+  f.backend = used;
   const double vnnz = static_cast<double>(st.nnz_factor);
   f.nnz = b * b * (vnnz - nu) + b * (b + 1) / 2 * nu;
   f.flops = b * b * b * std::max(0.0, st.flops);
   f.workspace = b * b * static_cast<double>(st.workspace_bytes);
   f.basis = fmt::format("{} analysis of the {}-vertex graph ({}), blocks of {}", used, nu_int,
-                        ordered ? "in the vertex order" : st.ordering_used, s.block);
+                        ordered ? "in the vertex order" : st.ordering_used, block);
   return f;
 }
 
-//! Multiply-adds of the A^T A product per 1-ring row block: the sum over vertices of (degree + 1)^2, times b^3.
 double stencil_flops(const Adjacency& adj, int nv, int b) {
   double s = 0;
   for (int i = 0; i < nv; ++i) s += std::pow(adj.degree(i) + 1.0, 2);
   return 2.0 * b * b * b * s;
 }
+
+namespace {
 
 //! Counts at `scale` times the vertices of a surface under nested dissection.
 void scale_counts(RunPrediction& p, double scale, double n) {
@@ -349,7 +348,7 @@ RunPrediction RunPredictor::predict(const DeformOptions& options, const MachineC
       p.basis = d.basis;
       continue;
     }
-    const FactorCount f = count_factor(g.pattern, g.unk.num_unknowns(), !ordering.empty(), s, o, exact_ordering);
+    const FactorCount f = count_factor(g.pattern, g.unk.num_unknowns(), !ordering.empty(), s.block, o, exact_ordering);
     p.nnz_matrix += f.nnz_matrix;
     p.factor_nnz += f.nnz;
     p.factor_flops += f.flops;

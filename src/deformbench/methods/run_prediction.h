@@ -83,6 +83,29 @@ struct RunPrediction {
   std::string basis;           //!< what the factor counts come from
 };
 
+//! One system's factor, from the backend's symbolic analysis of the system's vertex graph, expanded to its
+//! b x b blocks (what predict_run adds up over a method's systems).
+struct FactorCount {
+  double nnz_matrix = 0;  //!< nonzeros of the system's upper triangle
+  double nnz = 0, flops = 0;  //!< of the factor
+  double workspace = 0;   //!< bytes of the factorization's working storage besides the factor (update matrices)
+  double seconds = 0;     //!< what the analysis took
+  std::string backend;    //!< the backend whose analysis counted it (CHOLMOD's supernodal one standing in)
+  std::string basis;      //!< what the counts come from
+};
+
+//! Counts the factor of a system of `block` x `block` blocks whose vertex graph is `pattern` (upper triangle,
+//! interaction_pattern; `num_unknowns` columns) as `o.solver` factors it: `ordered` true, `pattern` is in the order
+//! the run factors it (analysed in natural order); else the backend orders it with o.solver_options.ordering, or
+//! with its default one when `exact` is false. Iterative backends count no factor (cg_ichol: K's pattern); dense
+//! backends, and backends that count nothing before they factorize, are counted by CHOLMOD's supernodal analysis.
+FactorCount count_factor(const InteractionPattern& pattern, int num_unknowns, bool ordered, int block,
+                         const DeformOptions& o, bool exact);
+
+//! Multiply-adds of the A^T A product of a 1-ring operator (the sparse builds): the sum over the `num_vertices`
+//! vertices of (degree + 1)^2, times 2 block^3.
+double stencil_flops(const Adjacency& adj, int num_vertices, int block);
+
 //! Predicts runs of one edit with different options: keeps the mesh's adjacency, the resident bytes when it was
 //! made (the base of every prediction) and each vertex graph it ordered, so that predicting many backends orders
 //! each graph once. Keeps references to `mesh` and `edit`.
