@@ -1,6 +1,6 @@
 // deformbench advise --calibrate: the rates methods/run_prediction.h turns counts into seconds and bytes with,
 // measured on this machine. Generated planes (mesh/procedural.h) are deformed by every backend in fresh children
-// (`deformbench deform --csv`), each run set against its own prediction: two or three sizes per backend, build and
+// (`deformbench deform --csv`), each run set against its own prediction: two to four sizes per backend, build and
 // method give each phase's time as a function of its work (PhaseRate) and the memory as a fixed part plus a
 // multiple of the factor. Kept in calibration_path() with the provenance of the runs.
 #include <algorithm>
@@ -54,10 +54,11 @@ std::vector<CalibrationRun> calibration_runs() {
     const int lap_large = solver_info(backend).family == "iterative" ? 100 : 160;
     for (int cells : {40, lap_large}) runs.push_back({backend, build, "lap", cells});
     for (int cells : {40, 100}) runs.push_back({backend, build, "tf", cells});
-    // the supernodal and multifrontal factorizations' rate still grows at TF's larger size: a third, larger one
-    // sets how it levels off (the segment that extrapolates to larger meshes)
+    // the supernodal and multifrontal factorizations' rate still grows at TF's larger size: larger planes (30k
+    // and 90k vertices) set how it levels off, so that the last segment, which extrapolates to larger meshes, is
+    // measured near them
     if (std::string(build) == "structured" && grows_with_fronts(backend))
-      runs.push_back({backend, build, "tf", 200});
+      for (int cells : {200, 300}) runs.push_back({backend, build, "tf", cells});
   };
   for (const char* b : {"multifrontal", "cholmod_supernodal", "cholmod_simplicial_ldlt", "eigen_simplicial_llt",
                         "eigen_simplicial_ldlt", "umfpack", "eigen_sparse_lu", "mumps", "multifrontal_mixed",

@@ -12,7 +12,7 @@
 //! deformer orders it, its nonzeros and flops expanded to the b x b blocks of TF (b = 3) or LRI's frame system.
 //! Dense: n^2 doubles, n^3 / 3 flops.
 //! Time: each phase a function of its predicted work (PhaseRate), measured on this machine (MachineCalibration:
-//! generated planes of two or three sizes deformed with each backend, build and method in fresh processes).
+//! generated planes of two to four sizes deformed with each backend, build and method in fresh processes).
 #include <cstddef>
 #include <map>
 #include <memory>
