@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # python3 -m dbtools.track (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
-# measure.txt as a history of one cell): the default baseline (the newest history of an ancestor, never a dirty
-# run; each run's github-action-benchmark JSON beside its CSV and as history/latest.json), --baseline REV measured
+# measure.txt as a history of one cell): the default, two runs a side (--runs 2: two runs made, pooled, against the
+# newest two of the baseline commit, pooled; fewer when fewer exist, said so; the report naming both sides), the
+# default baseline (the newest histories of an ancestor, never a dirty run; each run's github-action-benchmark JSON
+# beside its CSV, the runs pooled as history/latest.json), --runs 1, --baseline REV measured
 # in a worktree and then reused, the committed reference as a fresh clone's
 # baseline (another machine's: refused as foreign, exit 4, unless --allow-foreign), a baseline holding a cell the
 # suite no longer defines refused as stale (exit 3), and --bisect finding planted regressions of a deterministic
@@ -41,9 +43,20 @@ expect() {
   ok "$name"
 }
 
-expect "first run: recorded, nothing to compare" 0 "nothing to compare" --
-expect "second run: the first is its baseline" 0 "baseline: the newest history of an ancestor commit" --
-[ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" && ok "report written" || fail "no report"
+ncsv() { ls "$1"/*.csv 2>/dev/null | wc -l; }
+expect "first run: recorded, nothing to compare" 0 "recorded 2 run\(s\), .*nothing to compare" --
+[ "$(ncsv "$T/history/runs")" -eq 2 ] && ok "the default makes two runs" || fail "runs: $(ls "$T/history/runs")"
+expect "second run: the first two are its baseline" 0 \
+  "baseline: the newest histories of an ancestor commit on this machine: 2 run\(s\) of $(sha c7 | cut -c1-12)" --
+[ "$(ncsv "$T/history/runs")" -eq 4 ] && ok "two more runs" || fail "runs: $(ls "$T/history/runs")"
+first2=$(ls "$T"/history/runs/*.csv | head -2 | tr '\n' ' ')
+for f in $first2; do grep -q "$(basename "$f")" "$T/out" || fail "the baseline does not name $f: $(cat "$T/out")"; done
+grep -q "^runs a side: 2 run(s) now, 2 run(s) in the baseline, each side's rounds pooled" "$T/out" &&
+  grep -q "^now: .* and 1 more, pooled" "$T/out" && grep -q "^baseline: .* and 1 more, pooled" "$T/out" &&
+  ok "two runs pooled a side, said so" || fail "sides: $(cat "$T/out")"
+[ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" &&
+  grep -q "^- runs a side: 2 run(s) now, 2 run(s) in the baseline" "$T/track.md" && ok "report written" ||
+  fail "no report: $(cat "$T/track.md")"
 # The run as github-action-benchmark's customSmallerIsBetter input, beside its CSV and at a fixed path for CI.
 /usr/bin/python3 - "$T/history" >"$T/json.out" 2>&1 <<'PY' && ok "JSON beside each run and latest.json" ||
   fail "JSON: $(cat "$T/json.out")"
@@ -52,7 +65,9 @@ h = sys.argv[1]
 csvs = sorted(glob.glob(f"{h}/runs/*.csv"))
 assert csvs and all(os.path.exists(c[:-4] + ".json") for c in csvs), os.listdir(f"{h}/runs")
 doc = json.load(open(f"{h}/latest.json"))
-assert doc == json.load(open(csvs[-1][:-4] + ".json"))
+last = json.load(open(csvs[-1][:-4] + ".json"))  # one run: 5 rounds; latest.json: the invocation's 2 runs pooled
+assert [e["value"] for e in doc] == [e["value"] for e in last] and "5 round(s), min" in last[0]["extra"], last
+assert "10 round(s) of 2 runs" in doc[0]["extra"], doc
 by = {e["name"]: e for e in doc}
 assert sorted(by) == ["fake/cell factorize_s", "fake/cell nnz_factor"], by
 assert by["fake/cell factorize_s"]["unit"] == "s" and by["fake/cell factorize_s"]["value"] == 1.5, by
@@ -69,12 +84,19 @@ expect "a dirty run is never a baseline" 0 "verdict: pass" --
 expect "--baseline REV without history: measured in a worktree" 1 \
   "$(sha c1 | cut -c1-12) built in a worktree and measured now" -- --baseline c1
 grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/out" &&
-  grep -Eq "fake/cell +factorize_s +cpu +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/out" &&
+  grep -Eq "fake/cell +factorize_s +cpu +1 +1.5 +1.500 +[0-9.e-]+ +FAIL" "$T/out" &&
   ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/out")"
 no_worktrees "--baseline c1"
-expect "--baseline REV with history: reused" 1 "the newest history of $(sha c1 | cut -c1-12) on this machine" -- \
-  --baseline c1
-expect "--baseline-file" 0 "the history file given" -- --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+expect "--baseline REV with history: reused" 1 \
+  "the newest histories of $(sha c1 | cut -c1-12) on this machine: 2 run\(s\) of $(sha c1 | cut -c1-12)" -- --baseline c1
+expect "--baseline-file" 0 "the history file\(s\) given \(1\)" -- --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/out" && ok "--baseline-file: one run" ||
+  fail "--baseline-file: $(cat "$T/out")"
+expect "--baseline-file twice: pooled" 0 "the history file\(s\) given \(2\)" -- --runs 1 \
+  $(ls "$T"/history/runs/*.csv | tail -2 | sed 's/^/--baseline-file /')
+grep -q "^runs a side: 1 run(s) now, 2 run(s) in the baseline" "$T/out" && ok "--runs 1, two baseline files" ||
+  fail "--runs 1: $(cat "$T/out")"
+expect "--runs 0" 1 "--runs must be >= 1" -- --runs 0
 
 expect "bisect a deterministic measure" 0 "first bad commit for fake/cell nnz_factor: $(sha c5) c5 more fill" -- \
   --bisect c1 c7 --cell fake/cell --measure nnz_factor
@@ -96,12 +118,12 @@ grep -q "^gated: 2 of 2 comparisons (cpu 1, deterministic 1)" "$T/out" && ok "--
 grep -q "^- gated: 2 of 2 comparisons" "$T/track.md" &&
   grep -q "^- baseline: a local baseline of 2 run" "$T/track.md" &&
   ok "the report says what was gated and against what" || fail "track.md: $(cat "$T/track.md")"
-[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 3 ] &&
+[ "$(ncsv "$T/history4/runs")" -eq 4 ] &&
   grep -q "^baseline: .*history4/runs/.* and 1 more, pooled" "$T/out" &&
-  ok "two runs gated as one baseline, then the run" || fail "history4: $(ls -R "$T/history4"; cat "$T/out")"
+  ok "two runs gated as one baseline, then the two runs" || fail "history4: $(ls -R "$T/history4"; cat "$T/out")"
 expect "--baseline-runs with history: not needed" 0 "--baseline-runs not needed" -- --history-dir "$T/history4" \
   --baseline-runs 2
-[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 4 ] && ok "--baseline-runs with history: one run only" ||
+[ "$(ncsv "$T/history4/runs")" -eq 6 ] && ok "--baseline-runs with history: the two runs only" ||
   fail "history4: $(ls "$T/history4/runs")"
 expect "--baseline-runs 0" 1 "--baseline-runs N: N >= 1" -- --baseline-runs 0
 # Without --no-plots a run refreshes the trend figures and the site (RESULTS/site/, dbtools.site) of the repository.
@@ -115,6 +137,11 @@ sed "s/^$(sha c7)/$(printf 'f%.0s' {1..40})/" "$(ls "$T"/history/runs/*"$(sha c7
   >"$T/history2/reference/ref.csv"
 TRACK+=(--history-dir "$T/history2")
 expect "fresh clone: the committed reference" 0 "this machine's committed reference" --
+# The reference is one run: the baseline has fewer runs than --runs asks, and the report says so.
+grep -q "only 1 of the 2 asked (--runs) exist: 1 run(s) of ffffffffffff" "$T/out" &&
+  grep -q "^- runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/track.md" &&
+  grep -q "only 1 of the 2 asked" "$T/track.md" && ok "fewer baseline runs than --runs: said so" ||
+  fail "fewer baseline runs: $(cat "$T/out" "$T/track.md")"
 
 # A fresh clone on another machine: the only reference is foreign.
 mkdir -p "$T/history3/reference"

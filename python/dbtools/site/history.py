@@ -2,7 +2,8 @@
 over the runs in date order (labelled by commit), each run's rounds drawn as their spread (min-max whisker,
 interquartile box) and its median joined run to run; machines apart (a section each: times of two machines do not
 share an axis). Reads RESULTS/history/{runs,reference}/*.csv (dbtools.plots.history.read_runs: runs with --override
-rules left out) through the gate's record (dbtools.track.history). Charts are inline SVG: nothing to load."""
+rules left out, the runs of one commit taken in a row joined into one, as `./run track --runs` takes them) through
+the gate's record (dbtools.track.history). Charts are inline SVG: nothing to load."""
 import re
 import statistics
 import sys
@@ -110,7 +111,8 @@ def page_name(measure):
 def measure_page(measure, machines):
     body = [f"<h1>History: {esc(measure)}</h1>",
             "<p>Each chart: one cell over the runs of <code>./run track</code> on one machine, in date order, "
-            "labelled by commit. Per run, its rounds: whisker min-max, box interquartile range, dot and line the "
+            "labelled by commit (the runs of one commit taken in a row, as one <code>./run track</code> takes "
+            "them, joined). Per run, its rounds: whisker min-max, box interquartile range, dot and line the "
             "median. Hover a run for its figures. Machines are kept apart: their times are not comparable.</p>"]
     for k, (mid, m) in enumerate(sorted(machines.items())):
         cells = sorted(c for (ms, c) in m["series"] if ms == measure)
