@@ -88,8 +88,10 @@ grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/ou
   ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/out")"
 no_worktrees "--baseline c1"
 expect "--baseline REV with history: reused" 1 \
-  "the newest histories of $(sha c1 | cut -c1-12) on this machine: 2 run\(s\) of $(sha c1 | cut -c1-12)" -- --baseline c1
-expect "--baseline-file" 0 "the history file\(s\) given \(1\)" -- --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+  "the newest histories of $(sha c1 | cut -c1-12) on this machine: 2 run\(s\) of $(sha c1 | cut -c1-12)" -- \
+  --baseline c1
+expect "--baseline-file" 0 "the history file\(s\) given \(1\)" -- \
+  --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
 grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/out" && ok "--baseline-file: one run" ||
   fail "--baseline-file: $(cat "$T/out")"
 expect "--baseline-file twice: pooled" 0 "the history file\(s\) given \(2\)" -- --runs 1 \

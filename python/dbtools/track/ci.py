@@ -7,7 +7,8 @@ fixed path for CI, one entry per measure whatever the number of runs).
   python3 -m dbtools.track.ci HISTORY... [--out JSON]    (history CSVs or bench_phases JSONs; several: pooled)
 
 value: the median over the run's rounds (of all the runs pooled); range: "± half the min-max spread" of the rounds
-(absent with one round); extra: the gate's class, the rounds (and runs), min and max, commit and machine. Every measure here is smaller-is-better
+(absent with one round); extra: the gate's class, the rounds (and runs), min and max, commit and machine. Every
+measure here is smaller-is-better
 (times, bytes, counts); class "info" (recorded, never compared) and failed cells are left out: the gate's verdict,
 not this file, is what fails a build.
 """
@@ -42,8 +43,8 @@ def entries(h):
         if len(vals) > 1:
             e["range"] = f"± {(max(vals) - min(vals)) / 2:.4g}"
         runs = f" of {h.runs} runs" if h.runs > 1 else ""
-        e["extra"] = (f"class {cls}; {len(vals)} round(s){runs}, min {min(vals):.6g}, max {max(vals):.6g}; commit {sha}; "
-                      f"machine {h.meta.get('machine_id', '')}")
+        e["extra"] = (f"class {cls}; {len(vals)} round(s){runs}, min {min(vals):.6g}, max {max(vals):.6g}; "
+                      f"commit {sha}; machine {h.meta.get('machine_id', '')}")
         out.append(e)
     return out
 
