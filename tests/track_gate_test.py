@@ -400,6 +400,26 @@ class Pooled(unittest.TestCase):
         self.assertEqual(a.values[(CELL, "init_cpu_s")], {1: 1.0, 2: 2.0})  # the runs themselves unchanged
         self.assertEqual((a.runs, pooled([a]).runs), (1, 1))
 
+    def test_history_views_join_a_commits_runs(self):
+        """dbtools.plots.history.joined (the trend figures and the site): the runs of one commit in a row on one
+        machine are one point, rounds renumbered as pooled numbers them; another commit or machine starts another."""
+        from dbtools.plots.history import joined, run_count
+        from dbtools.track.history import pooled, pooled_round
+
+        def run(date, sha, machine="m1"):
+            return [row("init_cpu_s", "cpu", "", 1.0, k, date=date, git_sha=sha, machine=machine) for k in (1, 2)]
+        runs = [run("d1", "aaa"), run("d2", "aaa"), run("d3", "aaa", machine="m2"), run("d4", "aaa"),
+                run("d5", "bbb"), run("d6", "aaa")]
+        out = joined(runs)
+        self.assertEqual([[r["date"] for r in rows] for rows in out],
+                         [["d1", "d1", "d2", "d2", "d4", "d4"], ["d3", "d3"], ["d5", "d5"], ["d6", "d6"]])
+        self.assertEqual([r["repeat"] for r in out[0]],
+                         ["1", "2"] + [str(pooled_round(k, r)) for k in (1, 2) for r in (1, 2)])
+        self.assertEqual([run_count(rows) for rows in out], [3, 1, 1, 1])
+        self.assertEqual(g.History.from_rows(out[0]).values[(CELL, "init_cpu_s")].keys(),
+                         pooled([g.History.from_rows(r) for r in (runs[0], runs[1], runs[3])]).values[
+                             (CELL, "init_cpu_s")].keys())
+
 def write_csv(d, name, rows):
     return CommandLine.write(None, d, name, rows)
 
