@@ -365,6 +365,7 @@ class PowerScript(unittest.TestCase):
             self.assertIn("NOT ./run track's default", p.stdout.splitlines()[0])
             self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side", p.stdout)
             self.assertIn("planted x1.5 slowdowns caught: 50 ms and over 1.00 of 144; all 1.00", p.stdout)
+            self.assertIn("phases caught in fewer than 80% of the pairs: 0 of 12\n", p.stdout)
             # The default: ./run track's sides, two consecutive runs (one invocation) against two, pooled.
             p = subprocess.run([sys.executable, *tool, *paths, "--slowdown", "1.01"], text=True, capture_output=True)
             self.assertRegex(p.stdout.splitlines()[0], r"^configuration: 2 run\(s\) a side \(consecutive runs, one "
@@ -373,6 +374,7 @@ class PowerScript(unittest.TestCase):
             self.assertIn("runs 1+2 -> 3+4: 12 CPU comparisons", p.stdout)
             self.assertIn("false alarms: 0 in 2 ordered pairs (2 run(s) a side", p.stdout)
             self.assertIn("50 ms and over 0.00 of 24", p.stdout)
+            self.assertIn("phases caught in fewer than 80% of the pairs: 12 of 12; deform/c0 init_cpu_s 0/2;", p.stdout)
             p = subprocess.run([sys.executable, *tool, *paths, "--any-sets"], text=True, capture_output=True)
             self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side", p.stdout)
             self.assertIn("(any disjoint sets)", p.stdout.splitlines()[0])

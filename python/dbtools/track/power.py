@@ -11,7 +11,7 @@ sides: by default `./run track`'s own: the runs given in the order they were tak
 false alarms: every ordered pair of sides gated as they are: any FAIL is one (the runs are of one commit).
 power: for each pair and each CPU-time measure the gate tests, that measure of the later side multiplied by F
   (--slowdown, 1.3) and gated again: the share of planted slowdowns that fail, by the phase's baseline median
-  (under / over 50 ms) and in all.
+  (under / over 50 ms) and in all, and the phases caught in fewer than 80% of the pairs, each with its share.
 The first line of the output names the configuration, and whether it is `./run track`'s default.
 Exit: 0 (a measurement, not a gate), 1 usage, 2 unreadable history. Run with Debian's /usr/bin/python3.
 """
@@ -75,7 +75,7 @@ def main(argv=None):
     left = [] if a.any_sets else a.runs[len(a.runs) - len(a.runs) % a.pool:]
     if left:
         print(f"left out (not a whole side of {a.pool}): {', '.join(left)}")
-    caught = {"under 50 ms": [], "50 ms and over": []}
+    caught, by_phase = {"under 50 ms": [], "50 ms and over": []}, {}
     alarms, fails_all = 0, 0
     pairs = sides(hs, a.pool, a.any_sets)
     for base, now, ia, ib in pairs:
@@ -89,12 +89,16 @@ def main(argv=None):
             one = g.Settings(**{**s.__dict__, "cells": (c.cell,), "measures": (c.measure,)})
             v = [x for x in g.compare(base, planted(now, key, a.slowdown), one) if x.measure == c.measure][0]
             caught["under 50 ms" if c.base < 0.05 else "50 ms and over"].append(v.verdict == "FAIL")
+            by_phase.setdefault(key, []).append(v.verdict == "FAIL")
     every = [x for v in caught.values() for x in v]
     print(f"\nfalse alarms: {alarms} in {len(pairs)} ordered pairs ({a.pool} run(s) a side; pairs with a FAIL, "
           f"{fails_all} FAIL(s) in all)")
     print(f"planted x{a.slowdown:g} slowdowns caught: " + ", ".join(
         f"{k} {statistics.mean(v):.2f} of {len(v)}" for k, v in caught.items() if v) +
         f"; all {statistics.mean(every):.2f}" if every else "no CPU-time comparison")
+    weak = sorted((statistics.mean(v), k) for k, v in by_phase.items() if statistics.mean(v) < 0.8)
+    print(f"phases caught in fewer than 80% of the pairs: {len(weak)} of {len(by_phase)}" +
+          "".join(f"; {c} {m} {sum(by_phase[(c, m)])}/{len(by_phase[(c, m)])}" for _, (c, m) in weak))
     return 0
 
 
