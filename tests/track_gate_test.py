@@ -359,15 +359,68 @@ class PowerScript(unittest.TestCase):
                                                  for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))])
                      for i in range(4)]
             tool = ["-m", "dbtools.track.power"]
-            p = subprocess.run([sys.executable, *tool, *paths, "--slowdown", "1.5"], text=True, capture_output=True)
-            self.assertEqual(p.returncode, 0, p.stderr)
-            self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side)", p.stdout)
-            self.assertIn("planted x1.5 slowdowns caught: 50 ms and over 1.00 of 144; all 1.00", p.stdout)
-            p = subprocess.run([sys.executable, *tool, *paths, "--pool", "2", "--slowdown", "1.01"], text=True,
+            p = subprocess.run([sys.executable, *tool, *paths, "--pool", "1", "--slowdown", "1.5"], text=True,
                                capture_output=True)
-            self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side)", p.stdout)
-            self.assertIn("50 ms and over 0.00 of 72", p.stdout)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("NOT ./run track's default", p.stdout.splitlines()[0])
+            self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side", p.stdout)
+            self.assertIn("planted x1.5 slowdowns caught: 50 ms and over 1.00 of 144; all 1.00", p.stdout)
+            self.assertIn("phases caught in fewer than 80% of the pairs: 0 of 12\n", p.stdout)
+            # The default: ./run track's sides, two consecutive runs (one invocation) against two, pooled.
+            p = subprocess.run([sys.executable, *tool, *paths, "--slowdown", "1.01"], text=True, capture_output=True)
+            self.assertRegex(p.stdout.splitlines()[0], r"^configuration: 2 run\(s\) a side \(consecutive runs, one "
+                             r"invocation of ./run track each\), rounds pooled; 4 run\(s\) given; .*: ./run track's "
+                             r"default")
+            self.assertIn("runs 1+2 -> 3+4: 12 CPU comparisons", p.stdout)
+            self.assertIn("false alarms: 0 in 2 ordered pairs (2 run(s) a side", p.stdout)
+            self.assertIn("50 ms and over 0.00 of 24", p.stdout)
+            self.assertIn("phases caught in fewer than 80% of the pairs: 12 of 12; deform/c0 init_cpu_s 0/2;", p.stdout)
+            p = subprocess.run([sys.executable, *tool, *paths, "--any-sets"], text=True, capture_output=True)
+            self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side", p.stdout)
+            self.assertIn("(any disjoint sets)", p.stdout.splitlines()[0])
+            p = subprocess.run([sys.executable, *tool, *paths, paths[0], "--alpha", "0.05"], text=True,
+                               capture_output=True)
+            self.assertIn("NOT ./run track's default", p.stdout.splitlines()[0])
+            self.assertIn(f"left out (not a whole side of 2): {paths[0]}", p.stdout)  # the fifth run
             self.assertEqual(subprocess.run([sys.executable, *tool, paths[0], "--pool", "1"]).returncode, 1)
+            self.assertEqual(subprocess.run([sys.executable, *tool, *paths[:3], "--pool", "2"]).returncode, 1)
+
+
+class Pooled(unittest.TestCase):
+    """history.pooled: several runs of one commit as one record, as ./run track gates each side (--runs)."""
+
+    def test_rounds_side_by_side(self):
+        from dbtools.track.history import pooled, pooled_round
+        a = g.History.from_rows([row("init_cpu_s", "cpu", "", t, k + 1) for k, t in enumerate([1.0, 2.0])])
+        b = g.History.from_rows([row("init_cpu_s", "cpu", "", t, k + 1) for k, t in enumerate([3.0, 4.0])] +
+                                [row("status", "status", "", None, 1, cell="solve/x", message="error: boom")])
+        p = pooled([a, b])
+        self.assertEqual(p.values[(CELL, "init_cpu_s")],
+                         {1: 1.0, 2: 2.0, pooled_round(1, 1): 3.0, pooled_round(1, 2): 4.0})
+        self.assertEqual(set(p.rates), {(CELL, 1), (CELL, 2), (CELL, pooled_round(1, 1)), (CELL, pooled_round(1, 2))})
+        self.assertEqual((p.runs, p.failed), (2, {"solve/x": "error: boom"}))  # a cell failed in one run failed
+        self.assertEqual(a.values[(CELL, "init_cpu_s")], {1: 1.0, 2: 2.0})  # the runs themselves unchanged
+        self.assertEqual((a.runs, pooled([a]).runs), (1, 1))
+
+    def test_history_views_join_a_commits_runs(self):
+        """dbtools.plots.history.joined (the trend figures and the site): the runs of one commit in a row on one
+        machine are one point, rounds renumbered as pooled numbers them; another commit or machine starts another."""
+        from dbtools.plots.history import joined, run_count
+        from dbtools.track.history import pooled, pooled_round
+
+        def run(date, sha, machine="m1"):
+            return [row("init_cpu_s", "cpu", "", 1.0, k, date=date, git_sha=sha, machine=machine) for k in (1, 2)]
+        runs = [run("d1", "aaa"), run("d2", "aaa"), run("d3", "aaa", machine="m2"), run("d4", "aaa"),
+                run("d5", "bbb"), run("d6", "aaa")]
+        out = joined(runs)
+        self.assertEqual([[r["date"] for r in rows] for rows in out],
+                         [["d1", "d1", "d2", "d2", "d4", "d4"], ["d3", "d3"], ["d5", "d5"], ["d6", "d6"]])
+        self.assertEqual([r["repeat"] for r in out[0]],
+                         ["1", "2"] + [str(pooled_round(k, r)) for k in (1, 2) for r in (1, 2)])
+        self.assertEqual([run_count(rows) for rows in out], [3, 1, 1, 1])
+        self.assertEqual(g.History.from_rows(out[0]).values[(CELL, "init_cpu_s")].keys(),
+                         pooled([g.History.from_rows(r) for r in (runs[0], runs[1], runs[3])]).values[
+                             (CELL, "init_cpu_s")].keys())
 
 def write_csv(d, name, rows):
     return CommandLine.write(None, d, name, rows)
@@ -627,13 +680,26 @@ class BenchmarkJson(unittest.TestCase):
                  row("nnz", "deterministic", "", 5, 1, cell="solve/x")])
         with tempfile.TemporaryDirectory() as d:
             path = write_csv(d, "run.csv", rows)
-            out = ci.write(path, os.path.join(d, "latest.json"))
-            self.assertEqual(out, os.path.join(d, "run.json"))
-            with open(out) as f:
+            out = ci.write([path], os.path.join(d, "latest.json"))
+            self.assertEqual(out, [os.path.join(d, "run.json")])
+            with open(out[0]) as f:
                 doc = json.load(f)
             with open(os.path.join(d, "latest.json")) as f:
                 self.assertEqual(json.load(f), doc)
             self.assertRaises(ValueError, ci.write, out)  # never over a JSON record
+            # Two runs of one invocation (--runs 2): a JSON beside each, latest.json of their rounds pooled.
+            second = write_csv(d, "run2.csv", [row("factorize_cpu_s", "cpu", "", t, k + 1)
+                                               for k, t in enumerate([0.7, 0.8, 0.9])])
+            out = ci.write([path, second], os.path.join(d, "latest.json"))
+            self.assertEqual(out, [os.path.join(d, "run.json"), os.path.join(d, "run2.json")])
+            with open(os.path.join(d, "latest.json")) as f:
+                both = {e["name"]: e for e in json.load(f)}
+            with open(out[1]) as f:
+                self.assertEqual([e["value"] for e in json.load(f)], [0.8])
+        pooled_entry = both[f"{CELL} factorize_cpu_s"]
+        self.assertAlmostEqual(pooled_entry["value"], (0.6 + 0.7) / 2, places=15)  # the median of the 6 rounds
+        self.assertEqual(pooled_entry["range"], "± 0.25")
+        self.assertIn("6 round(s) of 2 runs, min 0.4, max 0.9", pooled_entry["extra"])
         self.assertIsInstance(doc, list)
         by = {e["name"]: e for e in doc}
         # info and the failed cell's measures are left out; every entry has the fields the action reads

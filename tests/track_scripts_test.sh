@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # python3 -m dbtools.track (./run track) on a scratch git repository whose "suite" is tests/track_fake_measure.py (its
-# measure.txt as a history of one cell): the default baseline (the newest history of an ancestor, never a dirty
-# run; each run's github-action-benchmark JSON beside its CSV and as history/latest.json), --baseline REV measured
+# measure.txt as a history of one cell): the default, two runs a side (--runs 2: two runs made, pooled, against the
+# newest two of the baseline commit, pooled; fewer when fewer exist, said so; the report naming both sides), the
+# default baseline (the newest histories of an ancestor, never a dirty run; each run's github-action-benchmark JSON
+# beside its CSV, the runs pooled as history/latest.json), --runs 1, --baseline REV measured
 # in a worktree and then reused, the committed reference as a fresh clone's
 # baseline (another machine's: refused as foreign, exit 4, unless --allow-foreign), a baseline holding a cell the
 # suite no longer defines refused as stale (exit 3), and --bisect finding planted regressions of a deterministic
@@ -32,9 +34,21 @@ export PYTHONPATH=$SRC/python
 TRACK=(/usr/bin/python3 -m dbtools.track --repo "$R" --work-dir "$T/work" --history-dir "$T/history"
   --report "$T/track.md" --no-plots)
 
-expect "first run: recorded, nothing to compare" 0 "nothing to compare" -- "${TRACK[@]}"
-expect "second run: the first is its baseline" 0 "baseline: the newest history of an ancestor commit" -- "${TRACK[@]}"
-[ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" && ok "report written" || fail "no report"
+ncsv() { ls "$1"/*.csv 2>/dev/null | wc -l; }
+expect "first run: recorded, nothing to compare" 0 "recorded 2 run\(s\), .*nothing to compare" -- "${TRACK[@]}"
+[ "$(ncsv "$T/history/runs")" -eq 2 ] && ok "the default makes two runs" || fail "runs: $(ls "$T/history/runs")"
+expect "second run: the first two are its baseline" 0 \
+  "baseline: the newest histories of an ancestor commit on this machine: 2 run\(s\) of $(sha c7 | cut -c1-12)" -- \
+  "${TRACK[@]}"
+[ "$(ncsv "$T/history/runs")" -eq 4 ] && ok "two more runs" || fail "runs: $(ls "$T/history/runs")"
+first2=$(ls "$T"/history/runs/*.csv | head -2 | tr '\n' ' ')
+for f in $first2; do grep -q "$(basename "$f")" "$T/output" || fail "the baseline does not name $f: $(cat "$T/output")"; done
+grep -q "^runs a side: 2 run(s) now, 2 run(s) in the baseline, each side's rounds pooled" "$T/output" &&
+  grep -q "^now: .* and 1 more, pooled" "$T/output" && grep -q "^baseline: .* and 1 more, pooled" "$T/output" &&
+  ok "two runs pooled a side, said so" || fail "sides: $(cat "$T/output")"
+[ -f "$T/track.md" ] && grep -q "verdict: pass" "$T/track.md" &&
+  grep -q "^- runs a side: 2 run(s) now, 2 run(s) in the baseline" "$T/track.md" && ok "report written" ||
+  fail "no report: $(cat "$T/track.md")"
 # The run as github-action-benchmark's customSmallerIsBetter input, beside its CSV and at a fixed path for CI.
 /usr/bin/python3 - "$T/history" >"$T/json.out" 2>&1 <<'PY' && ok "JSON beside each run and latest.json" ||
   fail "JSON: $(cat "$T/json.out")"
@@ -43,7 +57,9 @@ h = sys.argv[1]
 csvs = sorted(glob.glob(f"{h}/runs/*.csv"))
 assert csvs and all(os.path.exists(c[:-4] + ".json") for c in csvs), os.listdir(f"{h}/runs")
 doc = json.load(open(f"{h}/latest.json"))
-assert doc == json.load(open(csvs[-1][:-4] + ".json"))
+last = json.load(open(csvs[-1][:-4] + ".json"))  # one run: 5 rounds; latest.json: the invocation's 2 runs pooled
+assert [e["value"] for e in doc] == [e["value"] for e in last] and "5 round(s), min" in last[0]["extra"], last
+assert "10 round(s) of 2 runs" in doc[0]["extra"], doc
 by = {e["name"]: e for e in doc}
 assert sorted(by) == ["fake/cell factorize_s", "fake/cell nnz_factor"], by
 assert by["fake/cell factorize_s"]["unit"] == "s" and by["fake/cell factorize_s"]["value"] == 1.5, by
@@ -60,12 +76,21 @@ expect "a dirty run is never a baseline" 0 "verdict: pass" -- "${TRACK[@]}"
 expect "--baseline REV without history: measured in a worktree" 1 \
   "$(sha c1 | cut -c1-12) built in a worktree and measured now" -- "${TRACK[@]}" --baseline c1
 grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/output" &&
-  grep -Eq "fake/cell +factorize_s +cpu +1 +1.5 +1.500 +0.00[0-9]* +FAIL" "$T/output" &&
+  grep -Eq "fake/cell +factorize_s +cpu +1 +1.5 +1.500 +[0-9.e-]+ +FAIL" "$T/output" &&
   ok "--baseline c1 names both regressions" || fail "--baseline c1 report: $(cat "$T/output")"
 no_worktrees "--baseline c1"
-expect "--baseline REV with history: reused" 1 "the newest history of $(sha c1 | cut -c1-12) on this machine" -- "${TRACK[@]}" \
+expect "--baseline REV with history: reused" 1 \
+  "the newest histories of $(sha c1 | cut -c1-12) on this machine: 2 run\(s\) of $(sha c1 | cut -c1-12)" -- "${TRACK[@]}" \
   --baseline c1
-expect "--baseline-file" 0 "the history file given" -- "${TRACK[@]}" --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+expect "--baseline-file" 0 "the history file\(s\) given \(1\)" -- "${TRACK[@]}" \
+  --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/output" && ok "--baseline-file: one run" ||
+  fail "--baseline-file: $(cat "$T/output")"
+expect "--baseline-file twice: pooled" 0 "the history file\(s\) given \(2\)" -- "${TRACK[@]}" --runs 1 \
+  $(ls "$T"/history/runs/*.csv | tail -2 | sed 's/^/--baseline-file /')
+grep -q "^runs a side: 1 run(s) now, 2 run(s) in the baseline" "$T/output" && ok "--runs 1, two baseline files" ||
+  fail "--runs 1: $(cat "$T/output")"
+expect "--runs 0" 1 "--runs must be >= 1" -- "${TRACK[@]}" --runs 0
 
 expect "bisect a deterministic measure" 0 "first bad commit for fake/cell nnz_factor: $(sha c5) c5 more fill" -- "${TRACK[@]}" \
   --bisect c1 c7 --cell fake/cell --measure nnz_factor
@@ -87,12 +112,12 @@ grep -q "^gated: 2 of 2 comparisons (cpu 1, deterministic 1)" "$T/output" && ok 
 grep -q "^- gated: 2 of 2 comparisons" "$T/track.md" &&
   grep -q "^- baseline: a local baseline of 2 run" "$T/track.md" &&
   ok "the report says what was gated and against what" || fail "track.md: $(cat "$T/track.md")"
-[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 3 ] &&
+[ "$(ncsv "$T/history4/runs")" -eq 4 ] &&
   grep -q "^baseline: .*history4/runs/.* and 1 more, pooled" "$T/output" &&
-  ok "two runs gated as one baseline, then the run" || fail "history4: $(ls -R "$T/history4"; cat "$T/output")"
+  ok "two runs gated as one baseline, then the two runs" || fail "history4: $(ls -R "$T/history4"; cat "$T/output")"
 expect "--baseline-runs with history: not needed" 0 "--baseline-runs not needed" -- "${TRACK[@]}" --history-dir "$T/history4" \
   --baseline-runs 2
-[ "$(ls "$T/history4/runs"/*.csv | wc -l)" -eq 4 ] && ok "--baseline-runs with history: one run only" ||
+[ "$(ncsv "$T/history4/runs")" -eq 6 ] && ok "--baseline-runs with history: the two runs only" ||
   fail "history4: $(ls "$T/history4/runs")"
 expect "--baseline-runs 0" 1 "--baseline-runs N: N >= 1" -- "${TRACK[@]}" --baseline-runs 0
 # Without --no-plots a run refreshes the trend figures and the site (RESULTS/site/, dbtools.site) of the repository.
@@ -106,6 +131,11 @@ sed "s/^$(sha c7)/$(printf 'f%.0s' {1..40})/" "$(ls "$T"/history/runs/*"$(sha c7
   >"$T/history2/reference/ref.csv"
 TRACK+=(--history-dir "$T/history2")
 expect "fresh clone: the committed reference" 0 "this machine's committed reference" -- "${TRACK[@]}"
+# The reference is one run: the baseline has fewer runs than --runs asks, and the report says so.
+grep -q "only 1 of the 2 asked (--runs) exist: 1 run(s) of ffffffffffff" "$T/output" &&
+  grep -q "^- runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/track.md" &&
+  grep -q "only 1 of the 2 asked" "$T/track.md" && ok "fewer baseline runs than --runs: said so" ||
+  fail "fewer baseline runs: $(cat "$T/output" "$T/track.md")"
 
 # A fresh clone on another machine: the only reference is foreign.
 mkdir -p "$T/history3/reference"

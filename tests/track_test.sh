@@ -69,8 +69,11 @@ done
 grep -E "^deform/[a-z]+/lap/.*FAIL" "$T/output" && fail "a lap cell failed" || ok "lap cells unchanged"
 grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic |" "$T/track.md" &&
   ok "Markdown report names it" || fail "track.md: $(head -20 "$T/track.md")"
-[ "$(ls "$T/history/runs"/*.csv | wc -l)" -eq 2 ] && [ "$(ls "$T/history/runs"/*.json | wc -l)" -eq 2 ] &&
-  ok "one history file per run, its JSON beside it" || fail "histories: $(ls "$T/history/runs")"
+# The default: two runs an invocation (--runs 2), each its own history file with its JSON beside it.
+[ "$(ls "$T/history/runs"/*.csv | wc -l)" -eq 4 ] && [ "$(ls "$T/history/runs"/*.json | wc -l)" -eq 4 ] &&
+  ok "one history file per run, two runs an invocation, its JSON beside it" || fail "histories: $(ls "$T/history/runs")"
+grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/out" && ok "the report names the sides" ||
+  fail "sides: $(cat "$T/out")"
 
 # A planted slowdown caught by the CPU-time rule alone (--measure init_cpu_s): the TF cell of hand in 5 rounds, run
 # twice unchanged; the second run gated on its exact measures, and a copy of the first with every round's init CPU
@@ -105,8 +108,9 @@ expect "CPU time: a slower init fails" 1 \
   "^deform/hand/tf/structured/multifrontal +init_cpu_s +cpu +[0-9.]+ +[0-9.]+ +[0-9.]+ +0.00[0-9]+ +FAIL" -- \
   "${GATE[@]}" "$T/cpu_slow.csv"
 
-# The trend view of these histories: the run with overrides is left out, the other gives every figure.
-expect "trend view" 0 "1 run\(s\) of machine [0-9a-f]{12} -> $T/plots/history_\*.png" -- \
+# The trend view of these histories: the runs with overrides are left out, the two others (one commit, in a row) are
+# one point and give every figure.
+expect "trend view" 0 "2 run\(s\) of machine [0-9a-f]{12} as 1 point\(s\) .*-> $T/plots/history_\*.png" -- \
   env PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -m dbtools.plots.history --results "$T" --out "$T/plots"
 for f in init frame factor_bytes peak_rss; do
   [ -s "$T/plots/history_$f.png" ] && ok "history_$f.png" || fail "no history_$f.png"

@@ -3,8 +3,10 @@
   python3 -m dbtools.plots.history [--results results] [--out RESULTS/figures] [--machine ID]
 
 Reads RESULTS/history/runs/*.csv and RESULTS/history/reference/*.csv (runs with --override rules left out), keeps
-one machine's (default: the newest run's), and writes for the deformation cells, one panel per tier and a line per
-method / build, over the runs in date order (labelled by commit), with the machine rates of each run below:
+one machine's (default: the newest run's), joins the runs of one commit taken in a row on that machine (the --runs
+of one `./run track`) into one point, their rounds pooled as the gate pools them, and writes for the deformation
+cells, one panel per tier and a line per method / build, over the points in date order (labelled by commit), with
+the machine rates of each point below:
   OUT/history_init.png          init CPU time (make_deformer: build + analyze + factorize, init_cpu_s)
   OUT/history_frame.png         frame CPU time (the median frame, frame_cpu_s)
   OUT/history_factor_bytes.png  factor bytes
@@ -37,7 +39,8 @@ FIGURES = [("init_cpu_s", "init CPU (s)", 1.0, "history_init.png"),
 
 
 def read_runs(results):
-    """[(meta, rows)] of every history file, by file name (a reference copy of a run counts once)."""
+    """[rows] in date order: the rows of every history file (by file name: a reference copy of a run counts once),
+    the runs of one commit in a row on one machine joined (joined())."""
     runs = {}
     for sub in ("runs", "reference"):
         for p in sorted(Path(results, "history", sub).glob("*.csv")):
@@ -45,7 +48,31 @@ def read_runs(results):
                 rows = list(csv.DictReader(f))
             if rows and "machine_id" in rows[0] and not rows[0].get("overrides"):
                 runs.setdefault(p.name, rows)
-    return sorted(runs.values(), key=lambda rows: rows[0]["date"])
+    return joined(sorted(runs.values(), key=lambda rows: rows[0]["date"]))
+
+
+def joined(runs):
+    """The runs (date order) with those of one commit (git_sha, "+dirty" included) taken in a row on one machine
+    joined into one, the k-th one's rounds renumbered as history.pooled numbers them: one point per commit, as
+    `./run track` gates them (its --runs runs a side), its spread that of all their rounds."""
+    from ..track.history import pooled_round  # noqa: PLC0415
+    out, last = [], {}  # last: machine -> (commit, index in out, runs joined)
+    for rows in runs:
+        m, commit = rows[0]["machine_id"], rows[0].get("git_sha") or rows[0]["commit"]
+        if m in last and last[m][0] == commit:
+            _, i, k = last[m]
+            out[i] = out[i] + [dict(r, repeat=str(pooled_round(k, int(r["repeat"])))) if r["repeat"].isdigit()
+                               else r for r in rows]
+            last[m] = (commit, i, k + 1)
+        else:
+            last[m] = (commit, len(out), 1)
+            out.append(rows)
+    return out
+
+
+def run_count(rows):
+    """The history files joined into `rows` (each run has its own date)."""
+    return len({r["date"] for r in rows})
 
 
 def medians(rows):
@@ -160,7 +187,8 @@ def plot(results, out, machine=None):
     os.makedirs(out, exist_ok=True)
     for measure, ylabel, scale, name in FIGURES:
         figure(runs, meds, measure, ylabel, scale, os.path.join(out, name))
-    print(f"history: {len(runs)} run(s) of machine {machine} -> {out}/history_*.png", file=sys.stderr)
+    print(f"history: {sum(map(run_count, runs))} run(s) of machine {machine} as {len(runs)} point(s) (the runs of "
+          f"one commit in a row joined) -> {out}/history_*.png", file=sys.stderr)
     return 0
 
 

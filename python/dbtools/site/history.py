@@ -2,13 +2,14 @@
 over the runs in date order (labelled by commit), each run's rounds drawn as their spread (min-max whisker,
 interquartile box) and its median joined run to run; machines apart (a section each: times of two machines do not
 share an axis). Reads RESULTS/history/{runs,reference}/*.csv (dbtools.plots.history.read_runs: runs with --override
-rules left out) through the gate's record (dbtools.track.history). Charts are inline SVG: nothing to load."""
+rules left out, the runs of one commit taken in a row joined into one, as `./run track --runs` takes them) through
+the gate's record (dbtools.track.history). Charts are inline SVG: nothing to load."""
 import re
 import statistics
 import sys
 from collections import defaultdict
 
-from ..plots.history import read_runs
+from ..plots.history import read_runs, run_count
 from ..plots.styles import COLOURS
 from ..track.history import History, InputError
 from ..track.provenance import describe_machine
@@ -37,7 +38,9 @@ def collect(results):
         except InputError as e:  # a history of another format: left out, said so
             print(f"[site] history left out: {e}", file=sys.stderr)
             continue
-        m = machines.setdefault(h.meta["machine_id"], {"runs": [], "series": defaultdict(list), "class": {}})
+        m = machines.setdefault(h.meta["machine_id"], {"runs": [], "series": defaultdict(list), "class": {},
+                                                       "files": 0})
+        m["files"] += run_count(rows)
         m["meta"] = h.meta
         i = len(m["runs"])
         m["runs"].append(h.meta)
@@ -110,13 +113,15 @@ def page_name(measure):
 def measure_page(measure, machines):
     body = [f"<h1>History: {esc(measure)}</h1>",
             "<p>Each chart: one cell over the runs of <code>./run track</code> on one machine, in date order, "
-            "labelled by commit. Per run, its rounds: whisker min-max, box interquartile range, dot and line the "
+            "labelled by commit (the runs of one commit taken in a row, as one <code>./run track</code> takes "
+            "them, joined). Per run, its rounds: whisker min-max, box interquartile range, dot and line the "
             "median. Hover a run for its figures. Machines are kept apart: their times are not comparable.</p>"]
     for k, (mid, m) in enumerate(sorted(machines.items())):
         cells = sorted(c for (ms, c) in m["series"] if ms == measure)
         if not cells:
             continue
-        body.append(f"<h2>{esc(describe_machine(m['meta']))}</h2><p>{len(m['runs'])} run(s); class "
+        body.append(f"<h2>{esc(describe_machine(m['meta']))}</h2><p>{m['files']} run(s) as {len(m['runs'])} "
+                    "point(s); class "
                     f"{esc(m['class'][measure])}</p><div class=\"charts\">")
         colour = COLOURS[k % len(COLOURS)]
         body += [chart(c, measure, m["series"][(measure, c)], m["runs"], colour) for c in cells]
@@ -133,7 +138,8 @@ def pages(results):
         return [Page("history.html", "History", body)]
     rows = "".join(f'<li><a href="{page_name(ms)}">{esc(ms)}</a> ({esc(cls_of(machines, ms))})</li>'
                    for ms in measures)
-    runs = "".join(f"<tr><td>{esc(describe_machine(m['meta']))}</td><td>{len(m['runs'])}</td><td>"
+    runs = "".join(f"<tr><td>{esc(describe_machine(m['meta']))}</td><td>{m['files']} ({len(m['runs'])} point(s))"
+                   "</td><td>"
                    f"{esc(m['runs'][0].get('date'))}</td><td>{esc(m['runs'][-1].get('date'))}</td></tr>"
                    for _, m in sorted(machines.items()))
     body = ("<h1>Tracking history</h1><p>The runs of the tracking suite (<code>./run track</code>, "

@@ -1,12 +1,14 @@
 """A run of a suite as github-action-benchmark's `customSmallerIsBetter` input: a JSON list of
 {"name", "unit", "value", "range", "extra"}, one entry per gated measure of every cell that ran (docs/tracking.md
 shows the CI workflow that reads it). Written by `./run track` beside each run's history CSV (runs/STEM.json) and
-as RESULTS/history/latest.json (the newest run, a fixed path for CI).
+as RESULTS/history/latest.json (the newest invocation's runs, --runs of them, pooled as the gate pools them: a
+fixed path for CI, one entry per measure whatever the number of runs).
 
-  python3 -m dbtools.track.ci HISTORY [--out JSON]       (a history CSV or a bench_phases JSON)
+  python3 -m dbtools.track.ci HISTORY... [--out JSON]    (history CSVs or bench_phases JSONs; several: pooled)
 
-value: the median over the run's rounds; range: "± half the min-max spread" of the rounds (absent with one round);
-extra: the gate's class, the rounds, min and max, commit and machine. Every measure here is smaller-is-better
+value: the median over the run's rounds (of all the runs pooled); range: "± half the min-max spread" of the rounds
+(absent with one round); extra: the gate's class, the rounds (and runs), min and max, commit and machine. Every
+measure here is smaller-is-better
 (times, bytes, counts); class "info" (recorded, never compared) and failed cells are left out: the gate's verdict,
 not this file, is what fails a build.
 """
@@ -17,7 +19,7 @@ import os
 import statistics
 import sys
 
-from .history import InputError, load_history
+from .history import InputError, load_runs
 
 GATED = ("deterministic", "memory", "cpu", "time")
 
@@ -40,33 +42,43 @@ def entries(h):
         e = {"name": f"{cell} {measure}", "unit": unit(measure), "value": statistics.median(vals)}
         if len(vals) > 1:
             e["range"] = f"± {(max(vals) - min(vals)) / 2:.4g}"
-        e["extra"] = (f"class {cls}; {len(vals)} round(s), min {min(vals):.6g}, max {max(vals):.6g}; commit {sha}; "
-                      f"machine {h.meta.get('machine_id', '')}")
+        runs = f" of {h.runs} runs" if h.runs > 1 else ""
+        e["extra"] = (f"class {cls}; {len(vals)} round(s){runs}, min {min(vals):.6g}, max {max(vals):.6g}; "
+                      f"commit {sha}; machine {h.meta.get('machine_id', '')}")
         out.append(e)
     return out
 
 
-def document(history_path):
-    return json.dumps(entries(load_history(history_path)), indent=1) + "\n"
+def document(history_paths):
+    """The JSON of a history (a path) or of several runs of one commit (a list of paths, pooled)."""
+    return json.dumps(entries(load_runs(history_paths)), indent=1) + "\n"
 
 
-def write(history_path, latest=None):
-    """Writes STEM.json beside the history CSV and, when given, the same to `latest`; the JSON's path."""
-    if not str(history_path).endswith(".csv"):
-        raise ValueError(f"{history_path}: not a history CSV")
-    doc = document(history_path)
-    out = str(history_path)[:-len(".csv")] + ".json"
-    for path in [out] + ([str(latest)] if latest else []):
-        tmp = f"{path}.tmp.{os.getpid()}"
-        with open(tmp, "w") as f:
-            f.write(doc)
-        os.replace(tmp, path)
+def _write(path, doc):
+    tmp = f"{path}.tmp.{os.getpid()}"
+    with open(tmp, "w") as f:
+        f.write(doc)
+    os.replace(tmp, path)
+
+
+def write(history_paths, latest=None):
+    """Writes STEM.json beside each history CSV of `history_paths` (the runs of one invocation) and, when given,
+    the runs pooled to `latest`; the paths of the JSONs beside the CSVs."""
+    history_paths = [str(p) for p in history_paths]
+    if not all(p.endswith(".csv") for p in history_paths):
+        raise ValueError(f"{', '.join(history_paths)}: not history CSVs")
+    out = []
+    for p in history_paths:
+        out.append(p[:-len(".csv")] + ".json")
+        _write(out[-1], document(p))
+    if latest:
+        _write(str(latest), document(history_paths))
     return out
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m dbtools.track.ci", description=__doc__.split("\n")[0])
-    ap.add_argument("history")
+    ap.add_argument("history", nargs="+", help="a record, or several runs of one commit (pooled)")
     ap.add_argument("--out", help="write here instead of stdout")
     a = ap.parse_args(argv)
     try:

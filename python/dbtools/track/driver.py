@@ -1,26 +1,30 @@
 """Regression tracking of init time and memory across commits (`./run track`, `python3 -m dbtools.track`).
 
-  python3 -m dbtools.track [--baseline REV | --baseline-file CSV | --baseline-runs N] [--repeats N] [--only GLOBS]
-                           [--override RULE]...
+  python3 -m dbtools.track [--runs N] [--baseline REV | --baseline-file CSV... | --baseline-runs N] [--repeats N]
+                           [--only GLOBS] [--override RULE]...
                            [gate options: --threshold PCT ...] [--allow-stale] [--allow-foreign]
                            [--save-reference] [--no-plots]
-  python3 -m dbtools.track --bisect GOOD BAD --cell CELL --measure MEASURE [--repeats N] [--threshold PCT]
+  python3 -m dbtools.track --bisect GOOD BAD --cell CELL --measure MEASURE [--runs N] [--repeats N] [--threshold PCT]
 
-run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp) into a
-new history file results/history/runs/<UTC>_<commit>_<machine>.csv, picks a baseline history and gates the run
-against it (gate.py: the cells that ran; a stale or foreign baseline is refused, exit 3 / 4), writing
-results/track.md, the run as github-action-benchmark JSON (ci.py: runs/<name>.json beside the CSV and
-results/history/latest.json), the trend figures (dbtools.plots.history, into results/figures/) and the site
-(dbtools.site, results/site/). The build must be a Release build.
-  baseline: --baseline REV: the newest history of REV on this machine, else REV built in a git worktree
-            (WORK/rev-<sha>) and measured now; default: the newest history of an ancestor commit (HEAD included)
-            on this machine id, clean and without overrides, in results/history/runs or results/history/reference;
-            else the newest committed reference of this machine, else of another machine (foreign: refused, exit 4,
-            unless --allow-foreign, which gates its deterministic measures only); none at all: the run is
-            recorded, nothing gated.
---bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: measures
-  GOOD and BAD (that cell only, each built in the worktree WORK/bisect), then `git bisect run` with this script's
-  bisect-step (build, measure, gate against GOOD; a commit that does not build or cannot run the cell is skipped).
+run (without --bisect): builds exp_track, runs the suite of data/experiments/track.toml (experiments/track.cpp)
+--runs times (default 2), each run a new history file results/history/runs/<UTC>_<commit>_<machine>.csv, picks a
+baseline and gates the runs, their rounds pooled (history.pooled), against it (gate.py: the cells that ran; a stale
+or foreign baseline is refused, exit 3 / 4), writing results/track.md, the runs as github-action-benchmark JSON
+(ci.py: runs/<name>.json beside each CSV, the runs pooled as results/history/latest.json), the trend figures
+(dbtools.plots.history, into results/figures/) and the site (dbtools.site, results/site/). The build must be a
+Release build. Why two runs a side by default: with one run a side the gate's CPU-time rule failed unchanged code
+and missed planted slowdowns on a shared machine; the measurements are in results/records (docs/tracking.md).
+  baseline: --baseline REV: the newest --runs histories of REV on this machine (those there are), else REV built
+            in a git worktree (WORK/rev-<sha>) and measured --runs times now; default: the newest --runs histories
+            of the newest ancestor commit (HEAD included) with a history on this machine id, clean and without
+            overrides, in results/history/runs or results/history/reference (fewer when fewer exist: the report
+            says so); else the newest committed reference of this machine, else of another machine (foreign:
+            refused, exit 4, unless --allow-foreign, which gates its deterministic measures only); none at all: the
+            runs are recorded, nothing gated. The baseline's histories are pooled as the runs are.
+--bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: GOOD and
+  BAD with --runs histories each (those there are, the others measured: that cell only, built in the worktree
+  WORK/bisect), then `git bisect run` with this script's bisect-step (build, measure --runs times, gate against
+  GOOD, pooled; a commit that does not build or cannot run the cell is skipped).
   WORK (default BUILD/track, git-ignored) holds only the worktrees of a command under way: each is removed when
   its commit is measured (--baseline) or the bisection ends.
 Exit codes: 0 pass / found; 1 regression, usage, or (bisect) BAD not regressed; 2 could not build, measure or read;
@@ -39,10 +43,13 @@ from pathlib import Path
 
 from . import ci
 from . import gate as track_gate
-from . import power
-from .history import InputError, load_history
+from .history import InputError, load_runs
 
 PY = "/usr/bin/python3"
+# Runs of the suite a side of the gate by default (--runs; the default baseline: that many runs of its commit),
+# their rounds pooled: one run a side does not make a gate that stays quiet on unchanged code on a shared machine
+# (records 2026-11-26-gate-false-alarms, 2026-11-26-gate-default). power.py measures this configuration by default.
+DEFAULT_RUNS = 2
 PACKAGES = Path(__file__).resolve().parents[2]  # <repo>/python: the PYTHONPATH of the commands this one starts
 
 
@@ -96,7 +103,7 @@ class Context:
         self.jobs = os.environ.get("JOBS", "2")
         hook = os.environ.get("DEFORMBENCH_TRACK_MEASURE")
         self.hook = shlex.split(hook) if hook else None
-        self.args, self.repeats = a, a.repeats
+        self.args, self.repeats, self.runs = a, a.repeats, a.runs
         self.only, self.overrides, self.build_current = a.only, a.override or [], not a.no_build
 
 
@@ -199,13 +206,18 @@ def run_path(ctx, commit_label, machine):
     return path
 
 
-def measure_commit(ctx, sha, machine, only, tree="rev"):
-    """Builds `sha` in a worktree and measures it (no overrides) into results/history/runs. The worktree WORK/rev-*
-    is removed afterwards; WORK/bisect stays until the bisection ends."""
+def measure_runs(ctx, src, build_dir, commit, label, machine, only, overrides, n):
+    """`n` runs of the suite of the tree at `src`, back to back, each a history file of its own: their paths."""
+    return [measure(ctx, src, build_dir, run_path(ctx, label, machine), commit, only, overrides) for _ in range(n)]
+
+
+def measure_commit(ctx, sha, machine, only, n, tree="rev"):
+    """Builds `sha` in a worktree and measures it `n` times (no overrides) into results/history/runs: the paths.
+    The worktree WORK/rev-* is removed afterwards; WORK/bisect stays until the bisection ends."""
     wt = worktree(ctx, tree if tree == "bisect" else f"rev-{sha[:12]}", sha)
     try:
         build(ctx, wt, wt / "build")
-        return measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, only, [])
+        return measure_runs(ctx, wt, wt / "build", sha, sha[:12], machine, only, [], n)
     finally:
         if tree != "bisect":
             drop_worktree(ctx, wt)
@@ -230,8 +242,9 @@ def histories(ctx):
     return [m for m in map(read_meta, files) if m]
 
 
-def newest(metas):
-    return max(metas, key=lambda m: (m["date"], m["path"].name)) if metas else None
+def newest(metas, n=1):
+    """The newest `n` of `metas` (histories' first rows), oldest first."""
+    return sorted(metas, key=lambda m: (m["date"], m["path"].name))[-n:]
 
 
 def cells_of(path):
@@ -261,50 +274,62 @@ def candidates(ctx, machine=None, commit=None, cells=()):
     return out
 
 
+def runs_of(metas, n):
+    """The paths of the newest `n` histories of the commit and machine of the newest of `metas`, and a phrase
+    saying how many that is ("2 runs of 1a2b3c4d5e6f", with "only" when fewer than `n` exist)."""
+    top = newest(metas)[0]
+    runs = newest([m for m in metas if m["commit"] == top["commit"] and m["machine_id"] == top["machine_id"]], n)
+    few = f"only {len(runs)} of the {n} asked (--runs) exist: " if len(runs) < n else ""
+    return [m["path"] for m in runs], f"{few}{len(runs)} run(s) of {top['commit'][:12]}"
+
+
 def choose_baseline(ctx, machine, head, now):
-    """(history path, why) for the default baseline of the run `now`, or (None, why)."""
-    clean = [m for m in candidates(ctx, cells=cells_of(now)) if m["path"].resolve() != Path(now).resolve()]
+    """(history paths, why) for the default baseline of the runs `now` (paths), or (None, why)."""
+    mine = {Path(p).resolve() for p in now}
+    clean = [m for m in candidates(ctx, cells=cells_of(now[0])) if m["path"].resolve() not in mine]
     same = [m for m in clean if m["machine_id"] == machine]
     anc = [m for m in same if is_ancestor(ctx.repo, m["commit"], head)]
-    for pick, why in ((anc, "the newest history of an ancestor commit on this machine"),
+    for pick, why in ((anc, "the newest histories of an ancestor commit on this machine"),
                       ([m for m in same if m["reference"]], "this machine's committed reference (not an ancestor)"),
                       ([m for m in clean if m["reference"]],
                        "a committed reference of another machine (foreign: --allow-foreign gates its deterministic "
                        "measures)")):
         if pick:
-            return newest(pick)["path"], why
+            paths, how = runs_of(pick, ctx.runs)
+            return paths, f"{why}: {how}"
     return None, "no history of an ancestor commit on this machine and no committed reference"
 
 
 def baseline_of_rev(ctx, sha, machine):
-    """The newest history of `sha` on this machine, else `sha` built and measured now."""
+    """The newest --runs histories of `sha` on this machine (those there are), else `sha` built and measured now."""
     mine = candidates(ctx, machine, sha, suite_cells(ctx, ctx.only))
     if mine:
-        return newest(mine)["path"], f"the newest history of {sha[:12]} on this machine"
+        paths, how = runs_of(mine, ctx.runs)
+        return paths, f"the newest histories of {sha[:12]} on this machine: {how}"
     log(f"{sha[:12]} has no history on this machine: building it in a worktree")
-    return measure_commit(ctx, sha, machine, ctx.only), f"{sha[:12]} built in a worktree and measured now"
+    return (measure_commit(ctx, sha, machine, ctx.only, ctx.runs),
+            f"{sha[:12]} built in a worktree and measured now: {ctx.runs} run(s)")
 
 
 # ------------------------------------------------------------------------------------------------ gating
-def load_baseline(path):
-    """The baseline record: a history file, or a list of them (runs of one commit) gated as one, rounds pooled."""
-    if not isinstance(path, list):
-        return load_history(path)
-    base = power.pooled([load_history(p) for p in path])
-    base.path = f"{path[0]} and {len(path) - 1} more, pooled"
-    return base
+def sides_line(base, now):
+    """What the two sides of the gate are, in words: how many runs each, pooled."""
+    return (f"runs a side: {now.runs} run(s) now, {base.runs} run(s) in the baseline, each side's rounds pooled "
+            f"(--runs, default {DEFAULT_RUNS})")
 
 
 def gate(ctx, base_path, now_path, cells=(), measures=(), markdown=None, quiet=False, suite=None, notes=()):
-    """gate.py's exit code for NOW against BASE (0 pass, 1 regression, 3 stale, 4 foreign baseline); `suite`: the
-    cells the current suite defines; `notes`: lines for the report."""
+    """gate.py's exit code for NOW against BASE (each a history path or a list of them, pooled: 0 pass, 1
+    regression, 3 stale, 4 foreign baseline); `suite`: the cells the current suite defines; `notes`: lines for
+    the report."""
     try:
-        base, now = load_baseline(base_path), load_history(now_path)
+        base, now = load_runs(base_path), load_runs(now_path)
     except InputError as e:
         raise Failure(str(e))
     a = ctx.args
     s = track_gate.settings(None, a, cells, measures)
-    return track_gate.gate(base, now, s, suite, a.allow_stale, a.allow_foreign, markdown, quiet, notes=notes)
+    return track_gate.gate(base, now, s, suite, a.allow_stale, a.allow_foreign, markdown, quiet,
+                           notes=[sides_line(base, now), *notes])
 
 
 def plots(ctx):
@@ -328,14 +353,13 @@ def site(ctx):
 def local_baseline(ctx, machine, head, label, n):
     """(baseline, why) from --baseline-runs: this machine's history of an ancestor when it has one (None: the
     default choice finds it), else `n` runs of the current tree measured now (their paths: gated as one record,
-    power.pooled)."""
+    history.pooled)."""
     mine = [m for m in candidates(ctx, machine, cells=suite_cells(ctx, ctx.only))
             if is_ancestor(ctx.repo, m["commit"], head)]
     if mine:
         return None, "this machine has a history of an ancestor commit: --baseline-runs not needed"
     log(f"no history of an ancestor commit on machine {machine}: a local baseline of {n} run(s) of this commit first")
-    runs = [measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only, ctx.overrides)
-            for _ in range(n)]
+    runs = measure_runs(ctx, ctx.repo, ctx.build, head, label, machine, ctx.only, ctx.overrides, n)
     return runs, (f"a local baseline of {n} run(s) of this commit on this machine, measured now, their rounds "
                   f"pooled ({', '.join(p.name for p in runs)}): this comparison is of unchanged code, a check of "
                   "the gate's noise here")
@@ -363,16 +387,16 @@ def cmd_run(ctx, a):
     if a.baseline:
         base, why = baseline_of_rev(ctx, rev(ctx.repo, a.baseline), machine)
     elif a.baseline_file:
-        base, why = Path(a.baseline_file), "the history file given"
+        base, why = [Path(p) for p in a.baseline_file], f"the history file(s) given ({len(a.baseline_file)})"
     label = short_sha(ctx.repo)
     if base is None and a.baseline_runs:
         base, why = local_baseline(ctx, machine, head, label, a.baseline_runs)
         if base is None:
             log(why)
-    now = measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only,
-                  ctx.overrides)
+    now = measure_runs(ctx, ctx.repo, ctx.build, head, label, machine, ctx.only, ctx.overrides, ctx.runs)
     try:
-        log(f"github-action-benchmark JSON: {ci.write(now, ctx.history / 'latest.json')}")
+        log(f"github-action-benchmark JSON: {', '.join(ci.write(now, ctx.history / 'latest.json'))} and "
+            f"{ctx.history / 'latest.json'} ({len(now)} run(s) pooled)")
     except InputError as e:
         raise Failure(f"the run's history cannot be read: {e}")
     if base is None:
@@ -381,15 +405,15 @@ def cmd_run(ctx, a):
     if base is None:
         nxt = "uncommitted changes: never a baseline" if label.endswith("+dirty") or ctx.overrides else \
             "the baseline of the next run"
-        log(f"recorded {now} ({nxt}); {why}: nothing to compare")
+        log(f"recorded {len(now)} run(s), {', '.join(map(str, now))} ({nxt}); {why}: nothing to compare")
     else:
-        log(f"baseline: {why}" + ("" if isinstance(base, list) else f": {base}"))
+        log(f"baseline: {why}: {', '.join(map(str, base))}")
         code = gate(ctx, base, now, cells=ctx.only.split(",") if ctx.only else (), markdown=ctx.report,
                     suite=suite_cells(ctx, None), notes=[f"baseline: {why}"])
         if code in (0, 1):
             log(f"report: {ctx.report}")
     if a.save_reference:
-        save_reference(ctx, now, machine)
+        save_reference(ctx, now[-1], machine)
     if not a.no_plots:
         plots(ctx)
         site(ctx)
@@ -398,11 +422,12 @@ def cmd_run(ctx, a):
 
 # ------------------------------------------------------------------------------------------------ bisect
 def measured(ctx, sha, machine, cell):
-    """A history of `sha` on this machine holding `cell` (an existing one, else measured in the bisect tree)."""
-    mine = candidates(ctx, machine, sha, [cell])
-    if mine:
-        return newest(mine)["path"]
-    return measure_commit(ctx, sha, machine, cell, tree="bisect")
+    """--runs histories of `sha` on this machine holding `cell`: the newest there are, the others measured now in
+    the bisect tree."""
+    mine = [m["path"] for m in newest(candidates(ctx, machine, sha, [cell]), ctx.runs)]
+    if len(mine) < ctx.runs:
+        mine += measure_commit(ctx, sha, machine, cell, ctx.runs - len(mine), tree="bisect")
+    return mine
 
 
 def cmd_bisect(ctx, a):
@@ -430,7 +455,8 @@ def bisect(ctx, a, good, bad, machine):
     wt = worktree(ctx, "bisect", bad)
     step = [PY, "-m", "dbtools.track", "--repo", str(ctx.repo), "--work-dir", str(ctx.work),
             "--history-dir", str(ctx.history), "--config", str(ctx.config),
-            "--bisect-step", str(good_h), "--cell", a.cell, "--measure", a.measure, *track_gate.rule_args(a)]
+            "--bisect-step", *map(str, good_h), "--cell", a.cell, "--measure", a.measure, "--runs", str(ctx.runs),
+            *track_gate.rule_args(a)]
     step += ["--repeats", str(ctx.repeats)] if ctx.repeats else []
     step += [f for f, on in (("--allow-stale", a.allow_stale), ("--allow-foreign", a.allow_foreign)) if on]
     git(wt, "bisect", "reset", check=False)
@@ -458,8 +484,8 @@ def cmd_bisect_step(ctx, a):
     try:
         machine = machine_id(ctx)
         build(ctx, wt, wt / "build")
-        now = measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, a.cell, [])
-        h = load_history(now)
+        now = measure_runs(ctx, wt, wt / "build", sha, sha[:12], machine, a.cell, [], ctx.runs)
+        h = load_runs(now)
         if a.cell in h.failed:
             log(f"{sha[:12]}: the cell failed ({h.failed[a.cell]}): skipped")
             return 125
@@ -477,7 +503,10 @@ def parse_args(argv):
     ap = track_gate.UsageParser(prog="./run track", description=__doc__.split("\n")[0], allow_abbrev=False,
                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog="\n".join(__doc__.split("\n")[2:]))
     ap.add_argument("--baseline", metavar="REV", help="compare with this commit (measured now when it has no history)")
-    ap.add_argument("--baseline-file", metavar="CSV", help="compare with this history file")
+    ap.add_argument("--runs", type=int, default=DEFAULT_RUNS, metavar="N", help="runs of the suite a side of the "
+                    f"gate, rounds pooled: N runs now, the newest N of the baseline commit ({DEFAULT_RUNS})")
+    ap.add_argument("--baseline-file", metavar="CSV", action="append", help="compare with this history file "
+                    "(repeated: those runs pooled)")
     ap.add_argument("--baseline-runs", type=int, metavar="N", help="on a machine with no history of an ancestor "
                     "commit: first N runs of this commit as the baseline (pooled), so times are gated at once")
     ap.add_argument("--bisect", nargs=2, metavar=("GOOD", "BAD"), help="find the first commit where --measure of "
@@ -501,7 +530,7 @@ def parse_args(argv):
     ap.add_argument("--report", help="the Markdown report of the comparison (default results/track.md)")
     ap.add_argument("--repo", help=argparse.SUPPRESS)       # tests: the repository measured
     ap.add_argument("--work-dir", help="worktrees for other commits (default BUILD/track)")
-    ap.add_argument("--bisect-step", help=argparse.SUPPRESS)  # internal: one step of git bisect run
+    ap.add_argument("--bisect-step", nargs="+", help=argparse.SUPPRESS)  # internal: a step of git bisect run (GOOD's)
     a = ap.parse_args(argv)
     if (a.bisect or a.bisect_step) and not (a.cell and a.measure):
         ap.error("--bisect needs --cell and --measure")
@@ -509,6 +538,8 @@ def parse_args(argv):
         ap.error("--bisect, --baseline and --baseline-file do not go together")
     if a.repeats is not None and a.repeats < 1:
         ap.error("--repeats must be >= 1")
+    if a.runs < 1:
+        ap.error("--runs must be >= 1")
     if a.baseline_runs is not None and (a.baseline_runs < 1 or a.bisect or a.baseline or a.baseline_file):
         ap.error("--baseline-runs N: N >= 1, and not with --bisect, --baseline or --baseline-file")
     track_gate.settings(ap, a)  # usage errors in the gate's options now, not after the run

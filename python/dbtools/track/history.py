@@ -4,6 +4,7 @@ A record is read from a history CSV of the tracking suite (experiments/track.cpp
 round) or from a Google Benchmark JSON of bench_phases (converted row by row by gbench.py): both become the same
 rows, so one set of rules (gate.py) compares them.
 """
+import copy
 import csv
 import math
 from dataclasses import dataclass, field
@@ -36,6 +37,7 @@ class History:
     rates: dict = field(default_factory=dict)    # (cell, repeat) -> {"dgemm": GFlop/s, "read": GB/s}
     failed: dict = field(default_factory=dict)   # cell -> message
     specs: dict = field(default_factory=dict)    # cell -> its definition ("key=value ..."; "" when not recorded)
+    runs: int = 1                                # history files joined into this record (pooled)
 
     @staticmethod
     def from_rows(rows, path="<rows>"):
@@ -72,6 +74,34 @@ class History:
     @property
     def dirty(self):
         return self.meta.get("git_sha", "").endswith("+dirty")
+
+
+def pooled_round(k, r):
+    """Round r of the k-th (from 0) of several runs pooled into one record: rounds of different runs stay apart,
+    each with its own drift (gate.round_drift)."""
+    return 1000 * k + r
+
+
+def pooled(hs):
+    """One record of the runs `hs` (of one commit, one machine), their rounds side by side (pooled_round): what
+    `./run track` gates on each side when it has several runs (--runs, --baseline-runs), and power.py measures."""
+    out = copy.deepcopy(hs[0])
+    for k, h in enumerate(hs[1:], 1):
+        for key, runs in h.values.items():
+            out.values.setdefault(key, {}).update({pooled_round(k, r): v for r, v in runs.items()})
+        out.rates.update({(c, pooled_round(k, r)): v for (c, r), v in h.rates.items()})
+        out.failed.update(h.failed)
+        out.runs += h.runs
+    if len(hs) > 1:
+        out.path = f"{hs[0].path} and {len(hs) - 1} more, pooled"
+    return out
+
+
+def load_runs(paths):
+    """The record of one history file, or of a list of them (runs of one commit) pooled."""
+    if not isinstance(paths, (list, tuple)):
+        return load_history(paths)
+    return pooled([load_history(p) for p in paths])
 
 
 def load_history(path):
