@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SIGINT and SIGTERM mid-run leave nothing behind (solvers/base/cleanup.h; docs/cli.md, exit codes): sent to
 # `deformbench deform --solver mumps --factor-dir DIR` mid-solve (one process, and 2 ranks under mpirun), to
-# `meshtool convert` while it writes the mesh, and to an experiment driver while its cell runs. Each must exit 130
+# `meshtool convert` while it writes the mesh, to `advise` and `advise --calibrate` while a child runs, and to an
+# experiment driver while its cell runs. Each must exit 130
 # (SIGINT) or 143 (SIGTERM) (under mpirun: the launcher's own non-zero code), leave no MUMPS file and no staged
 # `*.tmp.PID*` temporary, leave the earlier outputs byte for byte as they were, and leave no child running.
 # Every signal is sent once the process is seen in the phase (polling for its scratch file, or its child), never
@@ -85,6 +86,31 @@ for sig in INT TERM; do
   else
     never_reached $pid "deform SIG$sig: no MUMPS file appeared"
   fi
+done
+
+# ---------------------------------------------------------------- advise and its calibration mid-run
+# Their scratch (TMPDIR/deformbench-NAME-PID-*: edits, children's outputs) is removed, the calibration file is not
+# written, and the child deform they were waiting on ends too.
+mkdir -p "$T/tmp"
+for sig in INT TERM; do
+  for what in advise calibrate; do
+    earlier_outputs cal.csv
+    rm -rf "$T/tmp"/*
+    if [ $what = advise ]; then set -- advise $EDIT --quick --backends multifrontal; else set -- advise --calibrate; fi
+    TMPDIR=$T/tmp DEFORMBENCH_CALIBRATION=$T/out/cal.csv "$BIN/deformbench" "$@" >"$T/log" 2>&1 &
+    pid=$!
+    if until_true 300 files_in "$T/tmp" "deformbench-$what-*" 1; then
+      kill -$sig $pid
+      wait_exit $pid
+      exits_with $sig $? "$what SIG$sig"
+      until_true 30 no_files_in "$T/tmp" '*' && ok "$what SIG$sig: no scratch left" ||
+        fail "$what SIG$sig: left $(ls "$T/tmp")"
+      pgrep -f "$T/tmp/deformbench-" >/dev/null && fail "$what SIG$sig: a child still runs" || ok "$what SIG$sig: no child left"
+      unchanged "$what SIG$sig"
+    else
+      never_reached $pid "$what SIG$sig: no scratch file appeared"
+    fi
+  done
 done
 
 # ---------------------------------------------------------------- mid-solve on 2 ranks: every rank cleans up

@@ -26,6 +26,7 @@
 #include "core/csv.h"
 #include "core/csv_reader.h"
 #include "core/provenance.h"
+#include "core/scratch_prefix.h"
 #include "edit/edit_io.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"
@@ -123,14 +124,14 @@ struct Session {
   MachineCalibration calibration;
   std::unique_ptr<RunPredictor> predictor;  // of `ec`, made once it is loaded
   std::size_t budget = 0;
-  std::string dir;  // the children's outputs
+  std::unique_ptr<ScratchPrefix> scratch;  // the children's outputs
   Points reference;
 };
 
 //! Runs `deform` in a child with the row's backend; returns its record (empty on failure, `why` set).
 CsvRow run_deform_child(const Session& s, const Row& r, const std::string& frame_mode, std::string& why,
                         std::string* mesh_out = nullptr) {
-  const std::string stem = fmt::format("{}/{}-{}-{}", s.dir, r.backend, r.ordering, frame_mode);
+  const std::string stem = s.scratch->path(fmt::format("{}-{}-{}", r.backend, r.ordering, frame_mode));
   std::vector<std::string> argv = {self_executable(), "deform", s.args.edit};
   argv.insert(argv.end(), s.given.argv.begin(), s.given.argv.end());
   argv.insert(argv.end(), {"--solver", r.backend, "--frames", std::to_string(s.args.frames), "--frame-mode",
@@ -356,16 +357,9 @@ int run_advise(const CLI::App& app, const AdviseArgs& a) {
   if (s.calibration.empty())
     fmt::print(stderr, "[advise] no calibration at {} (deformbench advise --calibrate): times are not predicted\n",
                calibration_path());
-  s.dir = (fs::temp_directory_path() / fmt::format("deformbench-advise-{}", ::getpid())).string();
-  fs::create_directories(s.dir);
-  std::vector<Row> rows;
-  try {
-    rows = evaluate(s);
-  } catch (...) {
-    fs::remove_all(s.dir);
-    throw;
-  }
-  fs::remove_all(s.dir);
+  s.scratch = std::make_unique<ScratchPrefix>("advise");
+  std::vector<Row> rows = evaluate(s);
+  s.scratch.reset();
   if (!a.predict_only) rank_rows(rows, a.frames);
   const std::string v = a.predict_only ? "" : verdict(rows, a.frames);
   fmt::print("{} ({} vertices), {} {} {}, {} frames, budget {} MB{}\n", s.ec.edit.name, s.ec.mesh.num_vertices(),

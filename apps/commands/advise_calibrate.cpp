@@ -13,12 +13,12 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include "core/child_process.h"
 #include "core/csv_reader.h"
 #include "core/enum_text.h"
 #include "core/provenance.h"
+#include "core/scratch_prefix.h"
 #include "edit/edit_io.h"
 #include "mesh/mesh_io.h"
 #include "mesh/procedural.h"
@@ -87,13 +87,13 @@ struct Plane {
   std::unique_ptr<RunPredictor> predictor;
 };
 
-void make_plane(const std::string& dir, int cells, std::map<int, std::unique_ptr<Plane>>& planes) {
+void make_plane(const ScratchPrefix& scratch, int cells, std::map<int, std::unique_ptr<Plane>>& planes) {
   const Mesh mesh = make_bumpy_plane(cells, cells, 1.0, 0.05, 3);
-  const std::string stem = fmt::format("{}/plane{}", dir, cells);
+  const std::string stem = scratch.path(fmt::format("plane{}", cells));
   write_mesh(stem + ".off", mesh);
   std::ofstream(stem + ".edit") << fmt::format(
-      "mesh = plane{}.off\nroi = all\nhandle = nearest:{},{},{},50\ntransform = translate:0,0,0.1\n", cells,
-      mesh.V(0, 0), mesh.V(0, 1), mesh.V(0, 2));
+      "mesh = {}.off\nroi = all\nhandle = nearest:{},{},{},50\ntransform = translate:0,0,0.1\n",
+      fs::path(stem).filename().string(), mesh.V(0, 0), mesh.V(0, 1), mesh.V(0, 2));
   auto p = std::make_unique<Plane>();
   p->edit = stem + ".edit";
   p->ec = load_edit_case(p->edit);
@@ -104,13 +104,14 @@ void make_plane(const std::string& dir, int cells, std::map<int, std::unique_ptr
 //! Every plane of the runs, smallest first, each predictor made before any backend analysis runs here: the base of
 //! a prediction (this process's resident bytes when its predictor is made) is then a fresh process's, as in
 //! advise, not one grown by earlier analyses (MUMPS starts MPI in the analyzing process).
-std::map<int, std::unique_ptr<Plane>> make_planes(const std::string& dir, const std::vector<CalibrationRun>& runs) {
+std::map<int, std::unique_ptr<Plane>> make_planes(const ScratchPrefix& scratch,
+                                                  const std::vector<CalibrationRun>& runs) {
   std::vector<int> sizes;
   for (const CalibrationRun& r : runs) sizes.push_back(r.cells);
   std::sort(sizes.begin(), sizes.end());
   sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
   std::map<int, std::unique_ptr<Plane>> planes;
-  for (int cells : sizes) make_plane(dir, cells, planes);
+  for (int cells : sizes) make_plane(scratch, cells, planes);
   return planes;
 }
 
@@ -178,12 +179,11 @@ BackendRates fit_rates(const std::vector<Sample>& s) {
 }  // namespace
 
 int calibrate_machine(const std::string& path, double timeout_s) {
-  const std::string dir = (fs::temp_directory_path() / fmt::format("deformbench-calibrate-{}", ::getpid())).string();
-  fs::create_directories(dir);
   MachineCalibration cal;
-  try {
+  {
+    const ScratchPrefix scratch("calibrate");
     const std::vector<CalibrationRun> runs = calibration_runs();
-    auto planes = make_planes(dir, runs);
+    auto planes = make_planes(scratch, runs);
     std::map<std::string, std::vector<Sample>> samples;  // per key, in the order measured
     for (const CalibrationRun& run : runs) {
       Sample m;
@@ -192,11 +192,7 @@ int calibrate_machine(const std::string& path, double timeout_s) {
           .push_back(m);
     }
     for (const auto& [key, s] : samples) cal.rates[key] = fit_rates(s);
-  } catch (...) {
-    fs::remove_all(dir);
-    throw;
   }
-  fs::remove_all(dir);
   if (cal.empty()) throw SolverError("advise --calibrate: no calibration run succeeded");
   cal.provenance = provenance_summary() + " | " + provenance().timestamp;
   cal.save(path);
