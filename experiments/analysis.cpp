@@ -1,7 +1,8 @@
 // The analysis phase of the structured LAP / TF systems under several vertex orderings, in interleaved rounds
 // (a shared machine drifts: each round runs every ordering once, so ratios within a round compare like with
-// like). Per edit, system, ordering and round one CSV row: the vertex ordering's wall time (order_s) and this
-// process's CPU time in it (order_cpu_s: forked METIS children not included), the
+// like). Per edit, system, ordering and round one CSV row: the vertex ordering's wall time (order_s), this
+// process's CPU time in it (order_cpu_s: forked METIS children not included) and its forked children's
+// (order_children_cpu_s: the side of a split a child orders, counted once the child is waited for), the
 // multifrontal backend's symbolic analysis of the ordered system (mf_analyze_s; with the natural ordering, as
 // the deformation hands it the ordered matrix), their sum (analysis_s, the deformation's "analyze" phase) and
 // the factor's nnz(L) and flops. Soft constraints, as the solver study's systems.
@@ -13,6 +14,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <sys/resource.h>
 
 #include <fmt/format.h>
 
@@ -69,6 +72,13 @@ std::string value(const db::CsvTable::Row& row, const std::string& key) {
   return {};
 }
 
+//! CPU seconds (user and system) of this process's children that have been waited for.
+double children_cpu_seconds() {
+  rusage r{};
+  getrusage(RUSAGE_CHILDREN, &r);
+  return double(r.ru_utime.tv_sec + r.ru_stime.tv_sec) + 1e-6 * double(r.ru_utime.tv_usec + r.ru_stime.tv_usec);
+}
+
 //! One edit's unknowns before any ordering.
 struct Case {
   db::EditCase edit;
@@ -82,8 +92,9 @@ db::CsvTable::Row measure(const Case& c, const std::string& system, const std::s
   db::Unknowns unk = c.unk;
   db::Timer t;
   const db::CpuTimer cpu;
+  const double children0 = children_cpu_seconds();
   db::order_unknowns(c.adj, unk, ordering);
-  const double order_s = t.seconds(), order_cpu_s = cpu.seconds();
+  const double order_s = t.seconds(), order_cpu_s = cpu.seconds(), children_s = children_cpu_seconds() - children0;
   const db::SpMat K = db::expand_upper(db::interaction_pattern(c.adj, unk), b);  // the ordered system's pattern
   db::SolverOptions so;
   so.ordering = "natural";
@@ -100,6 +111,7 @@ db::CsvTable::Row measure(const Case& c, const std::string& system, const std::s
           {"round", std::to_string(round)},
           {"order_s", db::num(order_s)},
           {"order_cpu_s", db::num(order_cpu_s)},
+          {"order_children_cpu_s", db::num(children_s)},
           {"mf_analyze_s", db::num(analyze_s)},
           {"analysis_s", db::num(order_s + analyze_s)},
           {"nnz_L", std::to_string(st.nnz_factor)},

@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include <malloc.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,6 +21,11 @@ class ChildTask {
   ChildTask(std::size_t count, Fn fn) : count_(count) {
     int fds[2];
     if (::pipe(fds) != 0) return;
+    // Free heap pages are handed back first: after the fork both processes share every resident page
+    // copy-on-write, and the allocator reuses free heap for their METIS work arrays, so each write there would
+    // copy a page (and, with other threads alive, flush the TLBs of every core); a page handed back is mapped
+    // afresh, zero-filled, without a copy.
+    ::malloc_trim(0);
     pid_ = ::fork();
     if (pid_ < 0) {
       ::close(fds[0]);

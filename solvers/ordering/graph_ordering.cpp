@@ -1,10 +1,10 @@
 #include "solvers/ordering/graph_ordering.h"
 
-#include <memory>
 #include <optional>
 #include <vector>
 
 #include <fmt/format.h>
+#include <metis.h>
 
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
@@ -15,91 +15,122 @@
 namespace db {
 namespace {
 
-using CommonPtr = std::unique_ptr<cholmod_common, int (*)(cholmod_common*)>;
+static_assert(sizeof(idx_t) == sizeof(int), "METIS built with 32-bit indices (Debian's), as CHOLMOD's int interface");
 
-//! A subgraph: its upper pattern (vertices renumbered 0..n-1 in ascending order) and the graph index of each
-//! vertex.
-struct SubGraph {
-  std::vector<int> colptr, rows, vertices;
-  std::size_t size() const { return vertices.size(); }
+//! A graph as METIS reads it (full adjacency lists: each edge both ways, no self loops, ascending) and the index
+//! of each of its vertices in the graph it was taken from.
+struct MetisGraph {
+  std::vector<idx_t> xadj{0}, adjncy;
+  std::vector<int> vertices;
+  idx_t size() const { return idx_t(vertices.size()); }
 };
 
-//! The subgraph of g induced by its vertices v with part[v] == which.
-SubGraph induced(const GraphPattern& g, const std::vector<int>& part, int which) {
-  SubGraph h;
-  std::vector<int> local(static_cast<std::size_t>(g.n), -1);
-  for (int v = 0; v < g.n; ++v)
-    if (part[v] == which) {
-      local[v] = static_cast<int>(h.vertices.size());
-      h.vertices.push_back(v);
+//! The METIS graph of g (its upper triangle read; the diagonal dropped): what cholmod_metis hands METIS.
+MetisGraph full_graph(const GraphPattern& g) {
+  MetisGraph h;
+  std::vector<idx_t> degree(std::size_t(g.n), 0);
+  for (int j = 0; j < g.n; ++j)
+    for (int q = g.colptr[j]; q < g.colptr[j + 1]; ++q)
+      if (const int r = g.rows[q]; r < j) ++degree[std::size_t(r)], ++degree[std::size_t(j)];
+  h.xadj.resize(std::size_t(g.n) + 1);
+  for (int j = 0; j < g.n; ++j) h.xadj[std::size_t(j) + 1] = h.xadj[std::size_t(j)] + degree[std::size_t(j)];
+  h.adjncy.resize(std::size_t(h.xadj.back()));
+  std::vector<idx_t> next(h.xadj.begin(), h.xadj.end() - 1);
+  // Column j appends its rows r < j to j's list and j to each r's list: every list comes out ascending.
+  for (int j = 0; j < g.n; ++j)
+    for (int q = g.colptr[j]; q < g.colptr[j + 1]; ++q)
+      if (const int r = g.rows[q]; r < j) {
+        h.adjncy[std::size_t(next[std::size_t(j)]++)] = r;
+        h.adjncy[std::size_t(next[std::size_t(r)]++)] = j;
+      }
+  h.vertices.resize(std::size_t(g.n));
+  for (int v = 0; v < g.n; ++v) h.vertices[std::size_t(v)] = v;
+  return h;
+}
+
+//! The subgraph of g induced by its vertices v with part[v] == which (renumbered in ascending order).
+MetisGraph induced(const MetisGraph& g, const std::vector<idx_t>& part, idx_t which) {
+  MetisGraph h;
+  std::vector<idx_t> local(std::size_t(g.size()), -1);
+  for (idx_t v = 0; v < g.size(); ++v)
+    if (part[std::size_t(v)] == which) {
+      local[std::size_t(v)] = h.size();
+      h.vertices.push_back(g.vertices[std::size_t(v)]);
     }
-  h.colptr.reserve(h.size() + 1);
-  h.colptr.push_back(0);
-  for (int v : h.vertices) {
-    for (int q = g.colptr[v]; q < g.colptr[v + 1]; ++q)
-      if (const int r = local[static_cast<std::size_t>(g.rows[q])]; r >= 0) h.rows.push_back(r);
-    h.colptr.push_back(static_cast<int>(h.rows.size()));
+  h.xadj.reserve(h.vertices.size() + 1);
+  for (idx_t v = 0; v < g.size(); ++v) {
+    if (local[std::size_t(v)] < 0) continue;
+    for (idx_t q = g.xadj[std::size_t(v)]; q < g.xadj[std::size_t(v) + 1]; ++q)
+      if (const idx_t r = local[std::size_t(g.adjncy[std::size_t(q)])]; r >= 0) h.adjncy.push_back(r);
+    h.xadj.push_back(idx_t(h.adjncy.size()));
   }
   return h;
 }
 
-//! METIS nested dissection of g, as indices in elimination order: vertices[k] for vertex k when given, else k.
-//! Unpostordered: the analysis of the whole graph postorders at the end.
-std::vector<int> metis_order(const GraphPattern& g, const std::vector<int>* vertices = nullptr) {
-  const std::size_t n = std::size_t(g.n);
+//! METIS nested dissection (METIS_NodeND, default options: the ordering cholmod_metis computes) of h, as its
+//! vertices' graph indices in elimination order. Unpostordered: the analysis of the whole graph postorders at
+//! the end.
+std::vector<int> metis_order(MetisGraph& h) {
+  idx_t n = h.size();
   if (n == 0) return {};
-  cholmod_common cc;
-  cholmod_start(&cc);
-  const CommonPtr guard(&cc, cholmod_finish);
-  cc.print = 0;
-  cholmod_sparse A = cholmod_upper_view(n, g.colptr, g.rows, nullptr);
-  std::vector<int> perm(n);
-  if (!cholmod_metis(&A, nullptr, 0, false, perm.data(), &cc))
-    throw SolverError(fmt::format("METIS ordering failed on {} vertices, CHOLMOD status {}", n, cc.status));
-  if (vertices)
-    for (int& p : perm) p = (*vertices)[static_cast<std::size_t>(p)];
-  return perm;
-}
-std::vector<int> metis_order(const SubGraph& g) {
-  return metis_order({int(g.size()), g.colptr.data(), g.rows.data()}, &g.vertices);
+  std::vector<idx_t> perm(static_cast<std::size_t>(n)), iperm(static_cast<std::size_t>(n));
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  if (const int status = METIS_NodeND(&n, h.xadj.data(), h.adjncy.data(), nullptr, options, perm.data(), iperm.data());
+      status != METIS_OK)
+    throw SolverError(fmt::format("METIS ordering failed on {} vertices, METIS status {}", n, status));
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = h.vertices[std::size_t(perm[k])];
+  return order;
 }
 
+// The first split's imbalance bound (METIS's ufactor, in thousandths): METIS_NodeND's own (200: sides up to 1.2x
+// half) can leave one process ordering 60% of the graph while the other waits; a nearly even split (1.02x)
+// shortens the longer of the two orderings that run at once, and on the armadillo edits its fill is no larger
+// (results/records/2026-11-26-analysis-levers).
+constexpr idx_t kSplitUfactor = 20;
+
 //! METIS nested dissection whose first level is done here, so that the two sides can be ordered at once: a
-//! METIS vertex separator splits the graph, each side is ordered by METIS (the smaller one in a child process
-//! when there are two worker threads), the separator comes last. METIS_NodeND takes the same first step itself,
-//! so the fill stays that of METIS run whole, while the two sides' orderings overlap in time. The result does
-//! not depend on the thread count. A second level (four parts, better balanced) was tried and dropped: on the
-//! bundled meshes it cost more flops and a larger factor than its balance saved. Empty if the bisection fails
-//! (the caller then runs METIS whole).
-std::vector<int> dissected_metis_order(const GraphPattern& pat, cholmod_common& cc) {
-  const int n = pat.n;
-  std::vector<int> part(static_cast<std::size_t>(n));
-  cholmod_sparse A = cholmod_upper_view(std::size_t(n), pat.colptr, pat.rows, nullptr);
-  if (cholmod_bisect(&A, nullptr, 0, true, part.data(), &cc) < 0) return {};
-  const SubGraph side[2] = {induced(pat, part, 0), induced(pat, part, 1)};
+//! METIS vertex separator splits the graph into nearly equal sides, each side is ordered by METIS (one in a
+//! child process when there are two worker threads), the separator comes last: METIS_NodeND's own first step,
+//! with a tighter balance, while the two sides' orderings overlap in time. The result does not depend on the
+//! thread count. A second level (four parts) was tried and dropped: on the bundled meshes it cost more flops
+//! and a larger factor than its balance saved. Empty if the bisection fails (the caller then runs METIS whole).
+std::vector<int> dissected_metis_order(const GraphPattern& pat) {
+  MetisGraph whole = full_graph(pat);
+  idx_t n = whole.size(), separator = 0;
+  std::vector<idx_t> part(static_cast<std::size_t>(n));
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_UFACTOR] = kSplitUfactor;
+  if (METIS_ComputeVertexSeparator(&n, whole.xadj.data(), whole.adjncy.data(), nullptr, options, &separator,
+                                   part.data()) != METIS_OK)
+    return {};
+  MetisGraph side[2] = {induced(whole, part, 0), induced(whole, part, 1)};
+  whole = {};
   const int small = side[1].size() < side[0].size() ? 1 : 0;
 
   std::vector<int> order[2];
   {
     std::optional<ChildTask> child;
-    if (worker_threads() > 1) child.emplace(side[small].size(), [&] { return metis_order(side[small]); });
+    if (worker_threads() > 1) child.emplace(side[small].vertices.size(), [&] { return metis_order(side[small]); });
     order[1 - small] = metis_order(side[1 - small]);
     if (child)
       if (auto got = child->result()) order[small] = std::move(*got);
   }
-  if (order[small].size() != side[small].size()) order[small] = metis_order(side[small]);
+  if (order[small].size() != side[small].vertices.size()) order[small] = metis_order(side[small]);
 
   std::vector<int> perm;
-  perm.reserve(static_cast<std::size_t>(n));
+  perm.reserve(std::size_t(n));
   for (const auto& o : order) perm.insert(perm.end(), o.begin(), o.end());
-  for (int v = 0; v < n; ++v)
-    if (part[v] == 2) perm.push_back(v);
+  for (idx_t v = 0; v < n; ++v)
+    if (part[std::size_t(v)] == 2) perm.push_back(int(v));
   // A child's answer is checked like any input: together, a permutation of the whole graph.
-  std::vector<char> seen(static_cast<std::size_t>(n), 0);
+  std::vector<char> seen(std::size_t(n), 0);
   for (int v : perm)
-    if (v < 0 || v >= n || seen[v]++)
+    if (v < 0 || v >= n || seen[std::size_t(v)]++)
       throw SolverError("METIS ordering: the dissected ordering is not a permutation");
-  if (static_cast<int>(perm.size()) != n)
+  if (idx_t(perm.size()) != n)
     throw SolverError("METIS ordering: the dissected ordering is incomplete");
   return perm;
 }
@@ -135,7 +166,7 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
   const bool cacheable = cache.enabled() && method != "natural";
   std::vector<int> given = cacheable ? cache.find(g, method) : std::vector<int>{};
   const bool cached = !given.empty();  // postordered already: the analysis keeps it as it is
-  if (!cached && method == "metis" && g.n >= kDissectVertices) given = dissected_metis_order(g, cc);
+  if (!cached && method == "metis" && g.n >= kDissectVertices) given = dissected_metis_order(g);
   cholmod_factor* L = analyze_with(g, given, method, cc);
   if (cacheable && !cached) {
     try {
@@ -155,14 +186,10 @@ cholmod_factor* analyze_graph_given(const GraphPattern& g, const std::vector<int
 }
 
 std::vector<int> metis_permutation(const GraphPattern& g) {
-  if (g.n >= kDissectVertices) {
-    cholmod_common cc;
-    cholmod_start(&cc);
-    const CommonPtr guard(&cc, cholmod_finish);
-    cc.print = 0;
-    if (std::vector<int> perm = dissected_metis_order(g, cc); !perm.empty()) return perm;
-  }
-  return metis_order(g);
+  if (g.n >= kDissectVertices)
+    if (std::vector<int> perm = dissected_metis_order(g); !perm.empty()) return perm;
+  MetisGraph whole = full_graph(g);
+  return metis_order(whole);
 }
 
 }  // namespace db

@@ -19,7 +19,7 @@ struct GraphPattern {
 
 //! CHOLMOD's analysis of `g` under `method` ("amd" | "metis" | "nesdis" | "natural"), postordered; simplicial
 //! or supernodal (and its amalgamation) as the caller set `cc`. METIS on 20000 vertices or more is dissected
-//! here: a METIS separator splits the graph and the two sides are ordered at once, one in a forked child
+//! here: a METIS separator splits the graph into nearly equal sides, ordered at once, one in a forked child
 //! process (METIS draws from the C library's shared random generator, so threads would make the ordering vary
 //! between runs); the result does not depend on the thread count. With DEFORMBENCH_ORDERING_CACHE set, the
 //! ordering comes from (or goes to) that cache (ordering_cache.h). The caller frees the factor.
