@@ -78,6 +78,24 @@ TEST(MachineCalibration, RoundTripsExactly) {
   EXPECT_EQ(back.provenance, c.provenance);
   EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Lri), got);  // LRI takes TF's rates
   EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Lap), nullptr);
+  EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Tf, "metis"), got);  // no key of its own: default
+  std::remove(path.c_str());
+}
+
+TEST(MachineCalibration, AnOrderingMeasuredApartHasItsOwnRates) {
+  MachineCalibration c;
+  c.rates[MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap)].peak_per_factor = 1;
+  c.rates[MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap, "metis")].peak_per_factor = 2;
+  EXPECT_EQ(MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap, "default"),
+            "cholmod_supernodal/structured/lap");
+  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "metis")->peak_per_factor, 2);
+  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "amd")->peak_per_factor, 1);
+  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "default")->peak_per_factor, 1);
+  const std::string path = temp_path("calibration_orderings.csv");
+  c.save(path);
+  EXPECT_EQ(MachineCalibration::load(path).find("cholmod_supernodal", Build::Structured, Method::Lap, "metis")
+                ->peak_per_factor,
+            2);
   std::remove(path.c_str());
 }
 

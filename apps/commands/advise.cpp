@@ -403,7 +403,7 @@ Command add_advise(CLI::App& tool) {
   app->add_flag("--quick", a->quick, "no reference solution and no handle-frame runs (exp_predictions' cells)");
   app->add_option("--scale", a->scale, "predict for a mesh with K times the vertices (with --predict-only)")
       ->type_name("K")->check(cli::Real(1, 1e4));
-  app->add_flag("--calibrate", a->calibrate, "measure this machine's rates for the predictions (about a minute)");
+  app->add_flag("--calibrate", a->calibrate, "measure this machine's rates for the predictions (a few minutes)");
   return {app, [app, a] {
             if (a->edit.empty() && !a->calibrate) throw UsageError("advise: an EDIT is required (or --calibrate)");
             if (a->scale != 1 && !a->predict_only) throw UsageError("--scale predicts only: add --predict-only");

@@ -32,10 +32,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-//! One calibration run: a backend, a build, a method on a generated plane of `cells` x `cells` squares.
+//! One calibration run: a backend, a build, a method on a generated plane of `cells` x `cells` squares, with a
+//! vertex ordering other than the default when `ordering` is set.
 struct CalibrationRun {
   std::string backend, build, method;
   int cells = 0;
+  std::string ordering;
 };
 
 //! Backends whose dense kernels run on fronts or supernodes that grow with the mesh.
@@ -52,23 +54,29 @@ std::vector<CalibrationRun> calibration_runs() {
   auto both_methods = [&](const std::string& backend, const char* build) {
     // CG's iterations grow with the size: its larger LAP plane stays at TF's size
     const int lap_large = solver_info(backend).family == "iterative" ? 100 : 160;
-    for (int cells : {40, lap_large}) runs.push_back({backend, build, "lap", cells});
-    for (int cells : {40, 100}) runs.push_back({backend, build, "tf", cells});
+    for (int cells : {40, lap_large}) runs.push_back({backend, build, "lap", cells, ""});
+    for (int cells : {40, 100}) runs.push_back({backend, build, "tf", cells, ""});
     // the supernodal and multifrontal factorizations' rate still grows at TF's larger size: larger planes (30k
     // and 90k vertices) set how it levels off, so that the last segment, which extrapolates to larger meshes, is
     // measured near them
     if (std::string(build) == "structured" && grows_with_fronts(backend))
-      for (int cells : {200, 300}) runs.push_back({backend, build, "tf", cells});
+      for (int cells : {200, 300}) runs.push_back({backend, build, "tf", cells, ""});
   };
   for (const char* b : {"multifrontal", "cholmod_supernodal", "cholmod_simplicial_ldlt", "eigen_simplicial_llt",
                         "eigen_simplicial_ldlt", "umfpack", "eigen_sparse_lu", "mumps", "multifrontal_mixed",
                         "multifrontal_refined", "cg_ichol", "cg_jacobi"})
     both_methods(b, "structured");
   both_methods("multifrontal", "naive");
+  // The structured build orders the vertex graph itself: AMD runs beside the build, METIS takes both cores, so the
+  // analysis's cost against the predictor's own ordering time differs by ordering: each method's other ordering too
+  for (const char* b : {"multifrontal", "cholmod_supernodal"}) {
+    for (int cells : {40, 160}) runs.push_back({b, "structured", "lap", cells, "metis"});
+    for (int cells : {40, 100}) runs.push_back({b, "structured", "tf", cells, "amd"});
+  }
   for (const char* b : {"dense_llt", "lapack_potrf"})
     for (const char* build : {"dense", "structured"}) {
-      for (int cells : {40, 60}) runs.push_back({b, build, "lap", cells});
-      for (int cells : {20, 30}) runs.push_back({b, build, "tf", cells});
+      for (int cells : {40, 60}) runs.push_back({b, build, "lap", cells, ""});
+      for (int cells : {20, 30}) runs.push_back({b, build, "tf", cells, ""});
     }
   return runs;
 }
@@ -123,15 +131,18 @@ bool measure_run(const CalibrationRun& run, Plane& plane, double timeout_s, Samp
   set_deform_option(o, "build", run.build);
   o.solver = run.backend;
   if (run.backend == "multifrontal_mixed") set_deform_option(o, "precision", "mixed");
+  if (!run.ordering.empty()) o.solver_options.ordering = run.ordering;
   const RunPrediction p = plane.predictor->predict(resolve_options(o), MachineCalibration{}, 1, true);
   const std::string& edit = plane.edit;
-  const std::string csv = edit + "." + run.backend + "." + run.build + "." + run.method + ".csv";
+  const std::string csv = fmt::format("{}.{}.{}.{}.{}.csv", edit, run.backend, run.build, run.method, run.ordering);
   std::vector<std::string> argv = {self_executable(), "deform", edit, "--method", run.method, "--constraints", "soft",
                                    "--build", run.build, "--solver", run.backend, "--out", edit + ".out.off",
                                    "--csv", csv};
   if (run.backend == "multifrontal_mixed") argv.insert(argv.end(), {"--precision", "mixed"});
+  if (!run.ordering.empty()) argv.insert(argv.end(), {"--ordering", run.ordering});
   const ChildRun c = run_child(argv, timeout_s);
-  fmt::print(stderr, "[calibrate] {} {} {} on plane{}: {}\n", run.backend, run.build, run.method, run.cells,
+  fmt::print(stderr, "[calibrate] {} {} {}{} on plane{}: {}\n", run.backend, run.build, run.method,
+             run.ordering.empty() ? "" : " " + run.ordering, run.cells,
              c.ok() ? fmt::format("{:.2f} s", c.wall_s) : c.describe());
   if (!c.ok()) return false;
   const CsvRow row = read_csv(csv).at(0);
@@ -188,7 +199,8 @@ int calibrate_machine(const std::string& path, double timeout_s) {
     for (const CalibrationRun& run : runs) {
       Sample m;
       if (!measure_run(run, *planes.at(run.cells), std::min(timeout_s, 120.0), m)) continue;
-      samples[MachineCalibration::key(run.backend, parse_enum<Build>(run.build), parse_enum<Method>(run.method))]
+      samples[MachineCalibration::key(run.backend, parse_enum<Build>(run.build), parse_enum<Method>(run.method),
+                                      run.ordering)]
           .push_back(m);
     }
     for (const auto& [key, s] : samples) cal.rates[key] = fit_rates(s);

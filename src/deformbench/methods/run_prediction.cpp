@@ -230,12 +230,17 @@ PhaseRate PhaseRate::parse(const std::string& text) {
   return r;
 }
 
-std::string MachineCalibration::key(const std::string& backend, Build build, Method method) {
-  return fmt::format("{}/{}/{}", backend, to_string(build), to_string(method));
+std::string MachineCalibration::key(const std::string& backend, Build build, Method method,
+                                    const std::string& ordering) {
+  const std::string k = fmt::format("{}/{}/{}", backend, to_string(build), to_string(method));
+  return ordering.empty() || ordering == "default" ? k : k + "/" + ordering;
 }
 
-const BackendRates* MachineCalibration::find(const std::string& backend, Build build, Method method) const {
-  auto it = rates.find(key(backend, build, method == Method::Lri ? Method::Tf : method));
+const BackendRates* MachineCalibration::find(const std::string& backend, Build build, Method method,
+                                             const std::string& ordering) const {
+  const Method m = method == Method::Lri ? Method::Tf : method;
+  auto it = rates.find(key(backend, build, m, ordering));
+  if (it == rates.end()) it = rates.find(key(backend, build, m));
   return it == rates.end() ? nullptr : &it->second;
 }
 
@@ -359,7 +364,7 @@ RunPrediction RunPredictor::predict(const DeformOptions& options, const MachineC
     p.basis += (p.basis.empty() ? "" : "; ") + f.basis;
   }
   scale_counts(p, scale, nu);
-  apply_rates(p, calibration.find(o.solver, o.build, o.method));
+  apply_rates(p, calibration.find(o.solver, o.build, o.method, o.solver_options.ordering));
   return p;
 }
 

@@ -57,14 +57,17 @@ struct BackendRates {
   double peak_per_factor = 1, peak_fixed_bytes = 0;
 };
 
-//! Rates per backend, build and method (key "BACKEND/BUILD/METHOD"), with where they were measured.
+//! Rates per backend, build and method (key "BACKEND/BUILD/METHOD"), and per ordering where a backend's orderings
+//! differ in their analysis's cost ("BACKEND/BUILD/METHOD/ORDERING"), with where they were measured.
 struct MachineCalibration {
   std::map<std::string, BackendRates> rates;
   std::string provenance;  //!< host, cpu, BLAS core, threads, git sha, timestamp of the calibration
   bool empty() const { return rates.empty(); }
-  //! The rates for a backend, build and method (LRI, which is not calibrated, takes TF's), or nullptr.
-  const BackendRates* find(const std::string& backend, Build build, Method method) const;
-  static std::string key(const std::string& backend, Build build, Method method);
+  //! The rates for a backend, build, method and ordering, else for the method's default ordering (LRI, which is
+  //! not calibrated, takes TF's), or nullptr.
+  const BackendRates* find(const std::string& backend, Build build, Method method,
+                           const std::string& ordering = "") const;
+  static std::string key(const std::string& backend, Build build, Method method, const std::string& ordering = "");
   //! CSV with one row per key; `provenance` in every row.
   void save(const std::string& path) const;
   //! \throw InputError for a malformed file (or one of an older layout). A missing file gives an empty calibration.
