@@ -58,7 +58,7 @@ expect "applications --help" 0 "Usage: exp_applications" -- "$BIN/exp_applicatio
 expect "applications config parses, grid listed" 0 "^kind=application" -- "$BIN/exp_applications" --dry-run
 expect "applications malformed case" 1 "not coat or transplant" -- "$BIN/exp_applications" --case "x: cot source=a target=b" --dry-run
 expect "applications unknown case key" 1 "unknown key zon" -- "$BIN/exp_applications" --case "x: transplant source=bs08/plane.off target=bs08/plane.off zon=1" --dry-run
-[ -z "$(ls "$T" | grep -v -e stdout -e stderr -e '\.toml$' -e afile)" ] && ok "nothing written by the failures" ||
+[ -z "$(ls "$T" | grep -v -e stdout -e stderr -e '^output$' -e '\.toml$' -e afile)" ] && ok "nothing written by the failures" ||
   fail "files left: $(ls "$T")"
 
 # ---------------------------------------------------------------- tiny runs and the report step

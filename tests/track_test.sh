@@ -72,8 +72,8 @@ grep -q "| deform/cactus/tf/structured/multifrontal | nnz_factor | deterministic
 # The default: two runs an invocation (--runs 2), each its own history file with its JSON beside it.
 [ "$(ls "$T/history/runs"/*.csv | wc -l)" -eq 4 ] && [ "$(ls "$T/history/runs"/*.json | wc -l)" -eq 4 ] &&
   ok "one history file per run, two runs an invocation, its JSON beside it" || fail "histories: $(ls "$T/history/runs")"
-grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/out" && ok "the report names the sides" ||
-  fail "sides: $(cat "$T/out")"
+grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/output" && ok "the report names the sides" ||
+  fail "sides: $(cat "$T/output")"
 
 # A planted slowdown caught by the CPU-time rule alone (--measure init_cpu_s): the TF cell of hand in 5 rounds, run
 # twice unchanged; the second run gated on its exact measures, and a copy of the first with every round's init CPU
