@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -68,34 +69,45 @@ TEST(MachineCalibration, RoundTripsExactly) {
   const std::string path = temp_path("calibration_roundtrip.csv");
   c.save(path);
   const MachineCalibration back = MachineCalibration::load(path);
-  const BackendRates* got = back.find("multifrontal", Build::Structured, Method::Tf);
-  ASSERT_NE(got, nullptr);
+  const std::optional<BackendRates> got = back.find("multifrontal", Build::Structured, Method::Tf);
+  ASSERT_TRUE(got);
   EXPECT_EQ(got->build.points, r.build.points);
   EXPECT_EQ(got->analyze.points, r.analyze.points);
   EXPECT_EQ(got->factorize.points, r.factorize.points);
   EXPECT_EQ(got->peak_per_factor, r.peak_per_factor);
   EXPECT_EQ(got->peak_fixed_bytes, r.peak_fixed_bytes);
   EXPECT_EQ(back.provenance, c.provenance);
-  EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Lri), got);  // LRI takes TF's rates
-  EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Lap), nullptr);
-  EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Tf, "metis"), got);  // no key of its own: default
+  EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Lri)->factorize.points,
+            got->factorize.points);  // LRI takes TF's rates
+  EXPECT_FALSE(back.find("multifrontal", Build::Structured, Method::Lap));
+  EXPECT_EQ(back.find("multifrontal", Build::Structured, Method::Tf, "metis")->analyze.points,
+            got->analyze.points);  // no key of its own: the default's
   std::remove(path.c_str());
 }
 
-TEST(MachineCalibration, AnOrderingMeasuredApartHasItsOwnRates) {
+TEST(MachineCalibration, AnOrderingMeasuredApartHasItsOwnAnalysis) {
   MachineCalibration c;
-  c.rates[MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap)].peak_per_factor = 1;
-  c.rates[MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap, "metis")].peak_per_factor = 2;
+  BackendRates base, metis;
+  base.analyze = PhaseRate::fit({{0.1, 0.05}});
+  base.factorize = PhaseRate::fit({{1e9, 0.2}, {1e10, 1.0}});
+  base.peak_per_factor = 1;
+  metis.analyze = PhaseRate::fit({{0.1, 0.1}});
+  metis.factorize = PhaseRate::fit({{1e9, 0.3}});
+  metis.peak_per_factor = 2;
+  c.rates[MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap)] = base;
+  c.rates[MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap, "metis")] = metis;
   EXPECT_EQ(MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap, "default"),
             "cholmod_supernodal/structured/lap");
-  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "metis")->peak_per_factor, 2);
-  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "amd")->peak_per_factor, 1);
-  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "default")->peak_per_factor, 1);
+  const auto m = c.find("cholmod_supernodal", Build::Structured, Method::Lap, "metis");
+  EXPECT_EQ(m->analyze.points, metis.analyze.points);      // the ordering's own analysis
+  EXPECT_EQ(m->factorize.points, base.factorize.points);  // the rest as the default ordering's
+  EXPECT_EQ(m->peak_per_factor, 1);
+  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "amd")->analyze.points, base.analyze.points);
   const std::string path = temp_path("calibration_orderings.csv");
   c.save(path);
   EXPECT_EQ(MachineCalibration::load(path).find("cholmod_supernodal", Build::Structured, Method::Lap, "metis")
-                ->peak_per_factor,
-            2);
+                ->analyze.points,
+            metis.analyze.points);
   std::remove(path.c_str());
 }
 

@@ -152,7 +152,7 @@ std::vector<SystemShape> shapes(const DeformOptions& o) {
   return s;
 }
 
-void apply_rates(RunPrediction& p, const BackendRates* r) {
+void apply_rates(RunPrediction& p, const std::optional<BackendRates>& r) {
   const double factor_bytes = p.factor_bytes + p.workspace_bytes;
   p.peak_bytes = p.base_bytes + p.build_bytes + (r ? r->peak_fixed_bytes + factor_bytes * r->peak_per_factor
                                                    : factor_bytes);
@@ -236,12 +236,14 @@ std::string MachineCalibration::key(const std::string& backend, Build build, Met
   return ordering.empty() || ordering == "default" ? k : k + "/" + ordering;
 }
 
-const BackendRates* MachineCalibration::find(const std::string& backend, Build build, Method method,
-                                             const std::string& ordering) const {
+std::optional<BackendRates> MachineCalibration::find(const std::string& backend, Build build, Method method,
+                                                     const std::string& ordering) const {
   const Method m = method == Method::Lri ? Method::Tf : method;
-  auto it = rates.find(key(backend, build, m, ordering));
-  if (it == rates.end()) it = rates.find(key(backend, build, m));
-  return it == rates.end() ? nullptr : &it->second;
+  const auto base = rates.find(key(backend, build, m)), own = rates.find(key(backend, build, m, ordering));
+  if (base == rates.end() && own == rates.end()) return std::nullopt;
+  BackendRates r = base != rates.end() ? base->second : own->second;
+  if (own != rates.end()) r.analyze = own->second.analyze;
+  return r;
 }
 
 void MachineCalibration::save(const std::string& path) const {

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -58,15 +59,17 @@ struct BackendRates {
 };
 
 //! Rates per backend, build and method (key "BACKEND/BUILD/METHOD"), and per ordering where a backend's orderings
-//! differ in their analysis's cost ("BACKEND/BUILD/METHOD/ORDERING"), with where they were measured.
+//! differ in their analysis's cost ("BACKEND/BUILD/METHOD/ORDERING": its analysis phase is used), with where they
+//! were measured.
 struct MachineCalibration {
   std::map<std::string, BackendRates> rates;
   std::string provenance;  //!< host, cpu, BLAS core, threads, git sha, timestamp of the calibration
   bool empty() const { return rates.empty(); }
-  //! The rates for a backend, build, method and ordering, else for the method's default ordering (LRI, which is
-  //! not calibrated, takes TF's), or nullptr.
-  const BackendRates* find(const std::string& backend, Build build, Method method,
-                           const std::string& ordering = "") const;
+  //! The rates for a backend, build and method (LRI, which is not calibrated, takes TF's): those of the method's
+  //! default ordering, with the analysis phase of `ordering` where it was calibrated apart (the orderings differ in
+  //! the analysis's cost; the factorization's rate per flop, the build and the memory do not depend on it).
+  std::optional<BackendRates> find(const std::string& backend, Build build, Method method,
+                                   const std::string& ordering = "") const;
   static std::string key(const std::string& backend, Build build, Method method, const std::string& ordering = "");
   //! CSV with one row per key; `provenance` in every row.
   void save(const std::string& path) const;
