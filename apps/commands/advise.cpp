@@ -18,7 +18,6 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include "commands.h"
 #include "core/child_process.h"

@@ -8,10 +8,11 @@
 # Writes analysis_{tf,lap}.csv, frames.csv, init.csv and table.md here. A copy of 2026-11-26-analysis-2core's script
 # with part (c) added, run on a quiet machine.
 # usage: results/records/2026-11-26-analysis-2core-quiet/run.sh ROUNDS [analysis|frames|init]   (from the repository root,
-#        after building exp_analysis and deformbench in build/; both parts by default)
+#        after building exp_analysis and deformbench in build/; both parts by default). RECORD_DIR=DIR writes
+#        the files into DIR instead of beside this script (2026-11-26-analysis-levers/quiet does).
 set -euo pipefail
 rounds=${1:-3} part=${2:-both}
-here=$(cd "$(dirname "$0")" && pwd)
+here=${RECORD_DIR:-$(cd "$(dirname "$0")" && pwd)}
 edits=(--edit data/edits/armadillo_whole.edit --edit data/edits/armadillo_loop1_whole.edit)
 export DEFORMBENCH_THREADS=2 OPENBLAS_NUM_THREADS=2
 echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
