@@ -85,9 +85,11 @@ TEST(MachineCalibration, RoundTripsExactly) {
   std::remove(path.c_str());
 }
 
-TEST(MachineCalibration, AnOrderingMeasuredApartHasItsOwnAnalysis) {
+TEST(MachineCalibration, AnOrderingMeasuredApartHasItsOwnBuildAndAnalysis) {
   MachineCalibration c;
   BackendRates base, metis;
+  base.build = PhaseRate::fit({{1e6, 0.01}});
+  metis.build = PhaseRate::fit({{1e6, 0.005}});
   base.analyze = PhaseRate::fit({{0.1, 0.05}});
   base.factorize = PhaseRate::fit({{1e9, 0.2}, {1e10, 1.0}});
   base.peak_per_factor = 1;
@@ -99,10 +101,12 @@ TEST(MachineCalibration, AnOrderingMeasuredApartHasItsOwnAnalysis) {
   EXPECT_EQ(MachineCalibration::key("cholmod_supernodal", Build::Structured, Method::Lap, "default"),
             "cholmod_supernodal/structured/lap");
   const auto m = c.find("cholmod_supernodal", Build::Structured, Method::Lap, "metis");
-  EXPECT_EQ(m->analyze.points, metis.analyze.points);      // the ordering's own analysis
+  EXPECT_EQ(m->build.points, metis.build.points);          // the ordering's own build
+  EXPECT_EQ(m->analyze.points, metis.analyze.points);      // and analysis
   EXPECT_EQ(m->factorize.points, base.factorize.points);  // the rest as the default ordering's
   EXPECT_EQ(m->peak_per_factor, 1);
   EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "amd")->analyze.points, base.analyze.points);
+  EXPECT_EQ(c.find("cholmod_supernodal", Build::Structured, Method::Lap, "amd")->build.points, base.build.points);
   const std::string path = temp_path("calibration_orderings.csv");
   c.save(path);
   EXPECT_EQ(MachineCalibration::load(path).find("cholmod_supernodal", Build::Structured, Method::Lap, "metis")

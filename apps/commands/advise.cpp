@@ -32,6 +32,7 @@
 #include "methods/deform_options.h"
 #include "methods/deform_option_flags.h"
 #include "methods/run_prediction.h"
+#include "methods/scaled_edit.h"
 #include "solvers/base/atomic_file.h"
 #include "solvers/base/error.h"
 #include "solvers/linear_solver.h"
@@ -121,7 +122,8 @@ struct Session {
   GivenOptions given;
   EditCase ec;
   MachineCalibration calibration;
-  std::unique_ptr<RunPredictor> predictor;  // of `ec`, made once it is loaded
+  std::unique_ptr<RunPredictor> predictor;  // of `ec` (of `scaled` with --scale), made once it is loaded
+  std::unique_ptr<ScaledEdit> scaled;       // --scale: the mesh subdivided to about K times its vertices
   std::size_t budget = 0;
   std::unique_ptr<ScratchPrefix> scratch;  // the children's outputs
   Points reference;
@@ -183,7 +185,7 @@ std::string sec(double s) { return std::isnan(s) ? "-" : fmt::format("{:.3g}", s
 //! Predicts the row; sets the status of one predicted over the budget or the time limit.
 void predict(const Session& s, Row& r) {
   const DeformOptions o = row_options(s.given.options, r);
-  r.predicted = s.predictor->predict(o, s.calibration, s.args.scale, true);
+  r.predicted = s.predictor->predict(o, s.calibration, s.scaled ? s.scaled->residual : 1, true);
   if (r.predicted.peak_bytes > static_cast<double>(s.budget)) r.status = "predicted over budget";
   else if (r.predicted.init_s > s.args.timeout_s) r.status = "predicted over time";
   else if (std::isnan(r.predicted.init_s) && solver_info(r.backend).family == "dense" && r.predicted.n > 20000)
@@ -294,6 +296,12 @@ void reference(Session& s) {
     s.reference = read_mesh(mesh).V;
 }
 
+std::string scale_note(const ScaledEdit& sc, double scale) {
+  return fmt::format(", predicted at {}x the vertices (the mesh Loop-subdivided {} time(s): {} vertices{})", scale,
+                     sc.levels, sc.mesh.num_vertices(),
+                     sc.residual != 1 ? fmt::format("; x{:.3g} more by the growth law", sc.residual) : "");
+}
+
 void progress(const Row& r, std::size_t i, std::size_t n) {
   const RunPrediction& p = r.predicted;
   if (!r.ok() || std::isnan(r.init_s))
@@ -340,14 +348,16 @@ namespace {
 int run_advise(const CLI::App& app, const AdviseArgs& a) {
   set_threads(a.threads);
   if (a.calibrate) return calibrate_machine(calibration_path(), a.timeout_s);
-  Session s{a, given_options(app, a), {}, {}, nullptr, 0, {}, {}};
+  Session s{a, given_options(app, a), {}, {}, nullptr, nullptr, 0, {}, {}};
   const std::vector<std::string> inputs = edit_case_files(a.edit);
   const std::string md = !a.md.empty() ? a.md : a.csv.empty() ? "" : fs::path(a.csv).replace_extension(".md").string();
   if (!a.csv.empty()) cli::check_output("--csv", a.csv, {".csv"}, inputs);
   if (!md.empty()) cli::check_output("--md", md, {".md"}, inputs);
   s.budget = a.budget_mb > 0 ? static_cast<std::size_t>(a.budget_mb * 1e6) : available_memory_bytes();
   s.ec = load_edit_case(a.edit);
-  s.predictor = std::make_unique<RunPredictor>(s.ec.mesh, s.ec.edit);
+  if (a.scale != 1) s.scaled = std::make_unique<ScaledEdit>(scale_edit(s.ec.mesh, s.ec.edit, a.scale));
+  s.predictor = s.scaled ? std::make_unique<RunPredictor>(s.scaled->mesh, s.scaled->edit)
+                         : std::make_unique<RunPredictor>(s.ec.mesh, s.ec.edit);
   try {
     s.calibration = MachineCalibration::load(calibration_path());
   } catch (const InputError& e) {
@@ -364,7 +374,7 @@ int run_advise(const CLI::App& app, const AdviseArgs& a) {
   fmt::print("{} ({} vertices), {} {} {}, {} frames, budget {} MB{}\n", s.ec.edit.name, s.ec.mesh.num_vertices(),
              to_string(s.given.options.method), to_string(s.given.options.constraints),
              to_string(s.given.options.build), a.frames, mb(static_cast<double>(s.budget)),
-             a.scale != 1 ? fmt::format(", predicted at {}x the vertices", a.scale) : "");
+             s.scaled ? scale_note(*s.scaled, a.scale) : "");
   print_table(rows, a.predict_only);
   if (!v.empty()) fmt::print("{}\n{}\n", v, provenance_summary());
   StagedOutputs out;

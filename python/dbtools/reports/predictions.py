@@ -38,9 +38,18 @@ def label(r):
     return f"{r['study']} | {r['mesh']} | {r['method']} {r['build']} | {b}"
 
 
+def spread(r):
+    """A cell measured several times (exp_predictions --repeats): its init's range and count; its row is the median's."""
+    n = number(r.get("repeats"))
+    if isnan(n) or n < 2:
+        return "1"
+    return f"{int(n)}: {fmt(number(r['init_s_min']))}-{fmt(number(r['init_s_max']))}"
+
+
 def table(ok):
     lines = ["| study | mesh | system | backend | peak RSS MB measured / predicted | ratio | init s measured / "
-             "predicted | ratio | in both bands |", "|---|---|---|---|---|---:|---|---:|---|"]
+             "predicted | ratio | init measurements: range | in both bands |",
+             "|---|---|---|---|---|---:|---|---:|---|---|"]
     for r in ok:
         pk, it = within(r["peak_ratio"], PEAK_BAND), within(r["init_ratio"], INIT_BAND)
         b = r["backend"] + ("" if r["ordering"] == "default" else "/" + r["ordering"])
@@ -48,7 +57,7 @@ def table(ok):
                      f"{fmt(number(r['peak_rss_bytes']) / 1e6, '{:.1f}')} / "
                      f"{fmt(number(r['predicted_peak_bytes']) / 1e6, '{:.1f}')} | {fmt(r['peak_ratio'], '{:.2f}')} | "
                      f"{fmt(number(r['init_s']))} / {fmt(number(r['predicted_init_s']))} | "
-                     f"{fmt(r['init_ratio'], '{:.2f}')} | {'yes' if pk and it else 'peak' if pk else 'init' if it else 'no'} |")
+                     f"{fmt(r['init_ratio'], '{:.2f}')} | {spread(r)} | {'yes' if pk and it else 'peak' if pk else 'init' if it else 'no'} |")
     return "\n".join(lines)
 
 
@@ -66,7 +75,8 @@ def write(results):
         "# Predictions against measurements",
         "",
         f"{len(ok)} cells measured ({len(skipped)} not run or failed: their status below). Peak RSS within "
-        f"+-{PEAK_BAND:.0%}: **{n_peak} of {len(ok)}**; init within +-{INIT_BAND:.0%}: **{n_init} of {len(ok)}**.",
+        f"+-{PEAK_BAND:.0%}: **{n_peak} of {len(ok)}**; init within +-{INIT_BAND:.0%}: **{n_init} of {len(ok)}**. "
+        "A cell measured several times (the short ones) is compared by its median init.",
         "",
         f"Figure: {cite_figure(results, 'predictions.png', 'dbtools.plots.predictions')} (log-log, the bands shaded).",
         "",

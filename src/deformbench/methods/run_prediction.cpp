@@ -242,7 +242,10 @@ std::optional<BackendRates> MachineCalibration::find(const std::string& backend,
   const auto base = rates.find(key(backend, build, m)), own = rates.find(key(backend, build, m, ordering));
   if (base == rates.end() && own == rates.end()) return std::nullopt;
   BackendRates r = base != rates.end() ? base->second : own->second;
-  if (own != rates.end()) r.analyze = own->second.analyze;
+  if (own != rates.end()) {
+    r.build = own->second.build;
+    r.analyze = own->second.analyze;
+  }
   return r;
 }
 

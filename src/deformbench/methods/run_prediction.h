@@ -59,15 +59,17 @@ struct BackendRates {
 };
 
 //! Rates per backend, build and method (key "BACKEND/BUILD/METHOD"), and per ordering where a backend's orderings
-//! differ in their analysis's cost ("BACKEND/BUILD/METHOD/ORDERING": its analysis phase is used), with where they
-//! were measured.
+//! differ in their build and analysis ("BACKEND/BUILD/METHOD/ORDERING": its build and analysis phases are used),
+//! with where they were measured.
 struct MachineCalibration {
   std::map<std::string, BackendRates> rates;
   std::string provenance;  //!< host, cpu, BLAS core, threads, git sha, timestamp of the calibration
   bool empty() const { return rates.empty(); }
   //! The rates for a backend, build and method (LRI, which is not calibrated, takes TF's): those of the method's
-  //! default ordering, with the analysis phase of `ordering` where it was calibrated apart (the orderings differ in
-  //! the analysis's cost; the factorization's rate per flop, the build and the memory do not depend on it).
+  //! default ordering, with the build and analysis phases of `ordering` where it was calibrated apart. The orderings
+  //! differ in the analysis's cost, and in the build's: the structured build runs on one thread beside AMD
+  //! (build_structured_while_ordering) and on all of them after METIS. The factorization's rate per flop and the
+  //! memory do not depend on the ordering.
   std::optional<BackendRates> find(const std::string& backend, Build build, Method method,
                                    const std::string& ordering = "") const;
   static std::string key(const std::string& backend, Build build, Method method, const std::string& ordering = "");
@@ -139,9 +141,10 @@ class RunPredictor {
   std::map<std::string, std::unique_ptr<Graph>> graphs_;
 };
 
-//! Predicts a run of `edit` on `mesh` with `options` (resolved: resolve_options). `scale` > 1: a mesh of the same
-//! shape with `scale` times the vertices (counts grow as a surface's under nested dissection: nonzeros of K and the
-//! build linearly, nnz(L) as n log n, flops as n^1.5). `exact_ordering` false: the vertex graph is ordered by AMD
+//! Predicts a run of `edit` on `mesh` with `options` (resolved: resolve_options). `scale` != 1: a mesh of the same
+//! shape with `scale` times the vertices by a growth law (nonzeros of K and the build linearly, nnz(L) as n log n,
+//! flops as n^1.5: a surface under nested dissection; advise --scale subdivides the mesh first, methods/
+//! scaled_edit.h, and leaves the law a factor within [1/2, 2]). `exact_ordering` false: the vertex graph is ordered by AMD
 //! whatever the run uses (cheap; `deform`'s budget check), true: as the run orders it.
 //! \throw as make_deformer for options that do not go together or a singular constraint set.
 RunPrediction predict_run(const Mesh& mesh, const Edit& edit, const DeformOptions& options,
