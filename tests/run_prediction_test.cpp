@@ -115,6 +115,20 @@ TEST(MachineCalibration, AnOrderingMeasuredApartHasItsOwnBuildAndAnalysis) {
   std::remove(path.c_str());
 }
 
+TEST(MachineCalibration, NoFactorizationOutrunsTheDenseCholesky) {
+  MachineCalibration c;
+  BackendRates mf, potrf;
+  mf.factorize = PhaseRate::fit({{1e9, 0.1}, {1e10, 0.5}});  // 10, then 20 GFlop/s: the rate still grows
+  potrf.factorize = PhaseRate::fit({{1e9, 0.05}, {8e9, 0.32}});  // 20, then 25 GFlop/s
+  c.rates[MachineCalibration::key("multifrontal", Build::Structured, Method::Tf)] = mf;
+  c.rates[MachineCalibration::key("lapack_potrf", Build::Dense, Method::Tf)] = potrf;
+  EXPECT_EQ(c.dense_flop_rate(), 8e9 / 0.32);
+  const auto r = c.find("multifrontal", Build::Structured, Method::Tf);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->peak_flop_rate, 8e9 / 0.32);
+  EXPECT_EQ(MachineCalibration{}.dense_flop_rate(), 0);
+}
+
 TEST(MachineCalibration, RefusesAnOlderLayoutAndBadValues) {
   const std::string path = temp_path("calibration_old.csv");
   std::ofstream(path) << "key,factor_s_per_unit,factor_units,factor_exponent,analyze_ratio,build_s_per_unit,"
@@ -152,6 +166,27 @@ TEST(RunPrediction, CountsTheFactorALapRunMakes) {
     EXPECT_TRUE(std::isnan(p.init_s)) << "uncalibrated: no time";
     EXPECT_GT(p.peak_bytes, p.base_bytes + p.build_bytes) << solver;
   }
+}
+
+TEST(RunPrediction, AFactorizationTakesAtLeastItsFlopsAtTheDenseRate) {
+  const Mesh plane = make_bumpy_plane(24, 24, 1.0, 0.05, 3);
+  Edit edit;
+  edit.roles.assign(plane.num_vertices(), Role::Free);
+  for (int v : {0, 1, 25}) edit.roles[v] = Role::Handle;
+  DeformOptions o;
+  set_deform_option(o, "method", "lap");
+  set_deform_option(o, "constraints", "soft");
+  MachineCalibration c;
+  BackendRates fast, potrf;
+  fast.factorize = PhaseRate::fit({{1e3, 1e-12}});  // a rate no machine has
+  potrf.factorize = PhaseRate::fit({{2e9, 1.0}});   // 2 GFlop/s
+  c.rates[MachineCalibration::key("multifrontal", Build::Structured, Method::Lap)] = fast;
+  c.rates[MachineCalibration::key("lapack_potrf", Build::Dense, Method::Lap)] = potrf;
+  const RunPrediction p = predict_run(plane, edit, resolve_options(o), c);
+  ASSERT_GT(p.factor_flops, 0);
+  EXPECT_EQ(p.factorize_s, p.factor_flops / 2e9);
+  c.rates.erase(MachineCalibration::key("lapack_potrf", Build::Dense, Method::Lap));
+  EXPECT_LT(predict_run(plane, edit, resolve_options(o), c).factorize_s, p.factorize_s) << "no bound without it";
 }
 
 }  // namespace

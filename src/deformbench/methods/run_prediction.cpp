@@ -163,6 +163,7 @@ void apply_rates(RunPrediction& p, const std::optional<BackendRates>& r) {
   p.build_s = r->build.seconds(p.build_flops);
   p.analyze_s = r->analyze.seconds(p.analysis_s);
   p.factorize_s = r->factorize.seconds(p.factor_flops > 0 ? p.factor_flops : p.nnz_matrix);
+  if (r->peak_flop_rate > 0) p.factorize_s = std::max(p.factorize_s, p.factor_flops / r->peak_flop_rate);
   p.init_s = p.build_s + p.analyze_s + p.factorize_s;
 }
 
@@ -246,7 +247,16 @@ std::optional<BackendRates> MachineCalibration::find(const std::string& backend,
     r.build = own->second.build;
     r.analyze = own->second.analyze;
   }
+  r.peak_flop_rate = dense_flop_rate();
   return r;
+}
+
+double MachineCalibration::dense_flop_rate() const {
+  double best = 0;
+  for (const auto& [k, r] : rates)
+    if (k.rfind("lapack_potrf/", 0) == 0)
+      for (const auto& [flops, seconds] : r.factorize.points) best = std::max(best, flops / seconds);
+  return best;
 }
 
 void MachineCalibration::save(const std::string& path) const {

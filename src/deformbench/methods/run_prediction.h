@@ -56,6 +56,11 @@ struct BackendRates {
   //! Peak RSS = base + build bytes + peak_fixed_bytes + peak_per_factor x (factor + workspace bytes): the fixed
   //! part is what a backend holds whatever the size (MUMPS's MPI, a dense backend's LAPACK buffers).
   double peak_per_factor = 1, peak_fixed_bytes = 0;
+  //! Flops per second no factorization exceeds (0: no bound): the best the dense LAPACK Cholesky reached in the
+  //! calibration (MachineCalibration::find sets it). Why: beyond the largest plane the factorizations' rate still
+  //! grows by the last segment's power, but their large fronts run the same BLAS kernels as a dense Cholesky and
+  //! level off at its rate.
+  double peak_flop_rate = 0;
 };
 
 //! Rates per backend, build and method (key "BACKEND/BUILD/METHOD"), and per ordering where a backend's orderings
@@ -73,6 +78,8 @@ struct MachineCalibration {
   std::optional<BackendRates> find(const std::string& backend, Build build, Method method,
                                    const std::string& ordering = "") const;
   static std::string key(const std::string& backend, Build build, Method method, const std::string& ordering = "");
+  //! The best factorization flops per second of the lapack_potrf keys (0 without them).
+  double dense_flop_rate() const;
   //! CSV with one row per key; `provenance` in every row.
   void save(const std::string& path) const;
   //! \throw InputError for a malformed file (or one of an older layout). A missing file gives an empty calibration.
