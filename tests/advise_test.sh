@@ -42,6 +42,15 @@ expect "advise under a budget nothing fits" 0 "no backend finished" -- "$BIN" ad
 grep -q "predicted over budget" "$T/stdout" "$T/stderr" && ok "budget: each backend predicted over it" || fail "no \"predicted over budget\" status"
 expect "deform predicted over its budget" 4 "predicted to peak at .* over --memory-budget-mb 5; not started" -- \
   "$BIN" deform "$T/plane.edit" --method tf --constraints soft --build dense --memory-budget-mb 5 --out "$T/out.off"
+# --scale 4: the plane Loop-subdivided once, V + E vertices (its edges counted here from the faces).
+VE=$(/usr/bin/python3 -c "
+import sys
+t = open(sys.argv[1]).read().split()
+nv, nf = int(t[1]), int(t[2])
+f = [tuple(map(int, t[4 + 3 * nv + 4 * i + 1:4 + 3 * nv + 4 * i + 4])) for i in range(nf)]
+print(nv + len({tuple(sorted((a[i], a[(i + 1) % 3]))) for a in f for i in range(3)}))" "$T/plane.off")
+expect "advise --predict-only --scale 4" 0 "predicted at 4x the vertices \\(the mesh Loop-subdivided 1 time\\(s\\): $VE vertices\\)" \
+  -- "$BIN" advise "$T/plane.edit" --method tf --constraints soft --backends multifrontal --predict-only --scale 4
 expect "advise --scale without --predict-only" 1 "--scale predicts only" -- "$BIN" advise "$T/plane.edit" --scale 4
 
 echo "$fails failed"

@@ -296,6 +296,18 @@ void reference(Session& s) {
     s.reference = read_mesh(mesh).V;
 }
 
+//! --scale's mesh: the edit's subdivided (scale_edit), or where it cannot be (not an oriented 2-manifold) the edit's
+//! own with all of the scale left to the growth law, said on stderr.
+std::unique_ptr<ScaledEdit> scaled_for_prediction(const EditCase& ec, double scale) {
+  try {
+    return std::make_unique<ScaledEdit>(scale_edit(ec.mesh, ec.edit, scale));
+  } catch (const InputError& e) {
+    fmt::print(stderr, "[advise] --scale: the mesh cannot be subdivided ({}): the growth law predicts all of it\n",
+               e.what());
+    return std::make_unique<ScaledEdit>(ScaledEdit{ec.mesh, ec.edit, 0, scale});
+  }
+}
+
 std::string scale_note(const ScaledEdit& sc, double scale) {
   return fmt::format(", predicted at {}x the vertices (the mesh Loop-subdivided {} time(s): {} vertices{})", scale,
                      sc.levels, sc.mesh.num_vertices(),
@@ -355,7 +367,7 @@ int run_advise(const CLI::App& app, const AdviseArgs& a) {
   if (!md.empty()) cli::check_output("--md", md, {".md"}, inputs);
   s.budget = a.budget_mb > 0 ? static_cast<std::size_t>(a.budget_mb * 1e6) : available_memory_bytes();
   s.ec = load_edit_case(a.edit);
-  if (a.scale != 1) s.scaled = std::make_unique<ScaledEdit>(scale_edit(s.ec.mesh, s.ec.edit, a.scale));
+  if (a.scale != 1) s.scaled = scaled_for_prediction(s.ec, a.scale);
   s.predictor = s.scaled ? std::make_unique<RunPredictor>(s.scaled->mesh, s.scaled->edit)
                          : std::make_unique<RunPredictor>(s.ec.mesh, s.ec.edit);
   try {
