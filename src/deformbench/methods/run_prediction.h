@@ -150,9 +150,9 @@ class RunPredictor {
 
 //! Predicts a run of `edit` on `mesh` with `options` (resolved: resolve_options). `scale` != 1: a mesh of the same
 //! shape with `scale` times the vertices by a growth law (nonzeros of K and the build linearly, nnz(L) as n log n,
-//! flops as n^1.5: a surface under nested dissection; advise --scale subdivides the mesh first, methods/
-//! scaled_edit.h, and leaves the law a factor within [1/2, 2]). `exact_ordering` false: the vertex graph is ordered by AMD
-//! whatever the run uses (cheap; `deform`'s budget check), true: as the run orders it.
+//! flops as n^1.5: a surface under nested dissection; advise --scale subdivides the mesh first,
+//! methods/scaled_edit.h, and leaves the law a factor within [1/2, 2]). `exact_ordering` false: the vertex graph is
+//! ordered by AMD whatever the run uses (cheap; `deform`'s budget check), true: as the run orders it.
 //! \throw as make_deformer for options that do not go together or a singular constraint set.
 RunPrediction predict_run(const Mesh& mesh, const Edit& edit, const DeformOptions& options,
                           const MachineCalibration& calibration, double scale = 1, bool exact_ordering = true);

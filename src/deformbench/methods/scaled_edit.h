@@ -21,9 +21,10 @@ constexpr double kMaxScaledVertices = 4e6;
 //! log4(scale) rounded, fewer where a mesh of `num_vertices` subdivided that often would exceed kMaxScaledVertices.
 int scale_levels(int num_vertices, double scale);
 
-//! The mesh subdivided scale_levels times; residual = scale / 4^levels. A vertex on an edge between two vertices of one role takes that role, any other new
-//! vertex is free (a handle or a fixed region keeps its area). The edit's targets (per-vertex drags) are dropped:
-//! a prediction needs the roles only. \throw InputError as loop_subdivide, or for scale < 1.
+//! The mesh subdivided scale_levels times; residual = scale / 4^levels. A vertex on an edge between two vertices of
+//! one role takes that role, any other new vertex is free (a handle or a fixed region keeps its area). The edit's
+//! targets (per-vertex drags) are dropped: a prediction needs the roles only.
+//! \throw InputError as loop_subdivide, or for scale < 1.
 ScaledEdit scale_edit(const Mesh& mesh, const Edit& edit, double scale);
 
 }  // namespace db
