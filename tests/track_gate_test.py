@@ -418,20 +418,24 @@ class PowerScript(unittest.TestCase):
     """python3 -m dbtools.track.power on four synthetic runs of one commit (12 phases of 0.5 s, 2% noise)."""
     write = CommandLine.write
 
+    def four_runs(self, d, rng, extra=lambda i: []):
+        """Four history files of 12 phases of 0.5 s with 2% noise, run i with the rows extra(i) besides."""
+        return [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
+                                            for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))] +
+                           extra(i)) for i in range(4)]
+
     def test_false_alarms_and_planted_slowdowns(self):
         rng = random.Random(21)
         with tempfile.TemporaryDirectory() as d:
-            paths = [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
-                                                 for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))])
-                     for i in range(4)]
+            paths = self.four_runs(d, rng)
             tool = ["-m", "dbtools.track.power"]
             p = subprocess.run([sys.executable, *tool, *paths, "--pool", "1", "--slowdown", "1.5"], text=True,
                                capture_output=True)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertIn("NOT ./run track's default", p.stdout.splitlines()[0])
             self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side", p.stdout)
-            self.assertIn("planted x1.5 slowdowns caught where the gate can fail them (its resolution under x1.5): 50 ms "
-                          "and over 1.00 of 144, all 1.00 of 144\n", p.stdout)
+            self.assertIn("planted x1.5 slowdowns caught where the gate can fail them (its resolution under x1.5): "
+                          "50 ms and over 1.00 of 144, all 1.00 of 144\n", p.stdout)
             self.assertIn("phases caught in fewer than 80% of the pairs where gateable: 0 of 12\n", p.stdout)
             self.assertIn("phases not gateable at x1.5 in some pairs (its resolution there set by): 0\n", p.stdout)
             # The default: ./run track's sides, two consecutive runs (one invocation) against two, pooled.
@@ -456,17 +460,14 @@ class PowerScript(unittest.TestCase):
             self.assertEqual(subprocess.run([sys.executable, *tool, paths[0], "--pool", "1"]).returncode, 1)
             self.assertEqual(subprocess.run([sys.executable, *tool, *paths[:3], "--pool", "2"]).returncode, 1)
 
-
     def test_a_phase_whose_runs_spread_is_listed_not_counted(self):
         # Twelve phases with 2% noise and one whose runs alternate between medians 25% apart: with two runs a side
         # (the default) that phase's resolution is 2 x 25%, coarser than x1.3: listed, its misses not in the power.
         rng = random.Random(22)
         with tempfile.TemporaryDirectory() as d:
-            paths = [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
-                                                 for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))] +
-                                [row("init_cpu_s", "cpu", "", (0.5, 0.625)[i % 2] * f, r + 1, cell="deform/wide")
-                                 for r, f in enumerate((1.0, 1.01, 0.99, 1.005, 0.995))])
-                     for i in range(4)]
+            paths = self.four_runs(d, rng, lambda i: [
+                row("init_cpu_s", "cpu", "", (0.5, 0.625)[i % 2] * f, r + 1, cell="deform/wide")
+                for r, f in enumerate((1.0, 1.01, 0.99, 1.005, 0.995))])
             p = subprocess.run([sys.executable, "-m", "dbtools.track.power", *paths], text=True, capture_output=True)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertIn("false alarms: 0 in 2 ordered pairs", p.stdout)

@@ -17,19 +17,19 @@ its rows): the same rules gate both. By measure class (the `class` column):
                  p < --alpha (0.01) AND the normalized median is also more than --threshold slower AND the
                  slowdown (the smaller of the raw and normalized medians' increase) is at least --min-delta-ms
                  (3 ms): a slowdown past the threshold and significant but under that floor is "recorded only"
-                 (named, not failed). With several runs a side (pooled), the slowdown must also exceed
-                 --noise-k (2) times the phase's run-to-run spread (the larger of the two sides': how far the
-                 medians of a side's runs, taken back to back, differ once normalized by the rounds' drift):
-                 a phase that moves that much between runs of one commit cannot be gated more finely. Each
-                 comparison's resolution (the smallest slowdown the rule can fail there: the threshold, the
-                 spread's bar or the floor) is kept; the report names the phases whose resolution is coarser
-                 than --target (30%: the slowdown the gate is meant to catch), with what sets it. alpha is 0.01 because a run makes tens of CPU-time comparisons; the floor
+                 (named, not failed). alpha is 0.01 because a run makes tens of CPU-time comparisons; the floor
                  because short phases of one commit move by milliseconds between runs (power.py measures both on
                  runs of one commit; the record: results/history/README.md). A round's drift: the median ratio
                  of all the CPU times of that round to their baseline medians, when >= --drift-cells (10) are
                  compared (contention with other processes moves every cell of a round; one cell's regression
                  does not move the median). Needs >= --min-repeats (5) runs on each side; baseline medians under
-                 --min-time-s (5 ms) are reported, not gated
+                 --min-time-s (5 ms) are reported, not gated. With several runs a side (pooled), the slowdown
+                 must also exceed --noise-k (2) times the phase's run-to-run spread (the larger of the two
+                 sides': how far the medians of a side's runs, taken back to back, differ once normalized by the
+                 rounds' drift): a phase that moves that much between runs of one commit cannot be gated more
+                 finely. Each comparison keeps its resolution (the smallest slowdown the rule can fail there: the
+                 threshold, the spread's bar or the floor); the report names the phases whose resolution is
+                 coarser than --target (30%: the slowdown the gate is meant to catch), with what sets it
   time           wall time of the same phases, each run normalized by the machine rates measured just before and
                  after it (its `rate`: the memory read rate for builds, analyses and solves, the BLAS dgemm rate
                  for factorizations, both for init = build + analyze + factorize; gbench: no rates, raw),
