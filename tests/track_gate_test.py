@@ -2,7 +2,9 @@
 """Unit tests of the regression gate (python/dbtools/track) on synthetic records: a 30% slowdown of a CPU time is
 flagged, a 5% one and pure noise pass, a 30% slowdown of a phase so short that it is under the absolute floor
 (--min-delta-ms) is recorded only, a suite of 50 phases with this box's run-to-run spread and no change rarely
-fails, a loaded machine (wall times x3, CPU times as they were) passes; the power measurement (power.py); wall times
+fails, a loaded machine (wall times x3, CPU times as they were) passes; with two runs a side, a slowdown within twice
+the run-to-run spread passes, each comparison's resolution and what sets it, the report's list of the phases coarser
+than --target; the power measurement (power.py, counting only what the gate can fail); wall times
 are reported, and with --gate-wall a machine that is slower as a whole passes (normalization by the rates); the
 deterministic, memory and status rules; a subset run compares what ran ("not run", never a failure); stale and
 foreign baselines refused with their messages and exit codes (3, 4) unless allowed; bench_phases JSON records
@@ -162,6 +164,70 @@ class CpuTimeRule(unittest.TestCase):
         c = verdicts(timed([1.0] * 5, measure="cell_cpu_s", cls="info"), timed([9.0] * 5, measure="cell_cpu_s",
                                                                                cls="info"))
         self.assertEqual(c[(CELL, "cell_cpu_s")].verdict, "not gated")
+
+
+def two_runs(medians, spread=(1.0, 1.01, 0.99, 1.005, 0.995), **kw):
+    """A side of two runs (pooled as ./run track pools them), their rounds `spread` times each run's median."""
+    from dbtools.track.history import pooled
+    return pooled([cpu([m * f for f in spread], **kw) for m in medians])
+
+
+class RunSpreadRule(unittest.TestCase):
+    """With several runs a side, a CPU-time slowdown must also exceed --noise-k (2) x the run-to-run spread."""
+
+    def test_run_spread(self):
+        from dbtools.track.history import pooled_round
+        self.assertEqual(g.run_spread({1: 2.0, 2: 2.0, 3: 9.0, pooled_round(1, 1): 2.5, pooled_round(1, 2): 2.5}), 0.25)
+        self.assertEqual(g.run_spread({1: 2.0, 2: 3.0, 3: 9.0}), 0.0)  # one run: no spread measured
+
+    def test_a_slowdown_within_twice_the_spread_passes_past_it_fails(self):
+        # Runs of each side 25% apart (medians 2.0 and 2.5): the bar is 50%; x1.25 is significant and past the
+        # threshold but within it; x1.6 fails; with --noise-k 0 (the threshold alone) x1.25 fails.
+        base = two_runs([2.0, 2.5])
+        c = verdicts(base, two_runs([2.5, 3.125]))[CPU]
+        self.assertEqual(c.verdict, "ok", c)
+        self.assertLess(c.p, 0.01)
+        self.assertGreater(c.ratio, 1.15)
+        self.assertIn("run spread 25.0%: within 2 x the run-to-run spread (25.0%), not failed", c.note)
+        self.assertEqual((c.resolution, c.bound_by), (0.5, "run spread"))
+        self.assertFalse(c.gateable_at(0.3))
+        self.assertEqual(verdicts(base, two_runs([3.2, 4.0]))[CPU].verdict, "FAIL")
+        self.assertEqual(verdicts(base, two_runs([2.5, 3.125]), noise_k=0)[CPU].verdict, "FAIL")
+
+    def test_the_larger_sides_spread_counts(self):
+        # A quiet baseline (runs 1% apart) against a run whose two runs are 25% apart: the run's spread sets the bar.
+        c = verdicts(two_runs([2.0, 2.02]), two_runs([2.5, 3.125]))[CPU]
+        self.assertEqual((c.verdict, c.bound_by, c.resolution), ("ok", "run spread", 0.5))
+
+    def test_resolution_set_by_the_threshold_or_the_floor(self):
+        c = verdicts(two_runs([2.0, 2.1]), two_runs([2.6, 2.73]))[CPU]  # spread 5%: the threshold's 15% holds
+        self.assertEqual((c.verdict, c.bound_by, c.resolution), ("FAIL", "threshold", 0.15))
+        c = verdicts(two_runs([0.006, 0.006]), two_runs([0.0078, 0.0078]))[CPU]  # 3 ms floor / 6 ms = 50%
+        self.assertEqual((c.verdict, c.bound_by, c.resolution), ("recorded only", "floor", 0.5))
+        self.assertTrue(c.gateable_at(0.6))
+
+    def test_one_run_a_side_is_the_threshold_alone(self):
+        base = [2.0, 2.5, 2.1, 2.4, 2.2]
+        c = verdicts(cpu(base), cpu([1.3 * x for x in base]))[CPU]
+        self.assertEqual((c.verdict, c.bound_by, c.resolution), ("FAIL", "threshold", 0.15))
+        self.assertNotIn("run spread", c.note)
+
+    def test_the_report_names_the_phases_coarser_than_the_target(self):
+        from dbtools.track import report
+        base = pooled_sides([("init_cpu_s", [2.0, 2.5]), ("solve_cpu_s", [2.0, 2.1])])
+        now = pooled_sides([("init_cpu_s", [2.0, 2.5]), ("solve_cpu_s", [2.0, 2.1])])
+        lines = report.resolution_lines(g.compare(base, now), g.Settings())
+        self.assertEqual(lines, [f"CPU-time resolution: 1 of 2 phases gated can fail a slowdown of x1.3 (--target); "
+                                 f"coarser: 1; {CELL} init_cpu_s x1.50 (run spread)"])
+        self.assertIn("coarser: 0", report.resolution_lines(g.compare(base, now), g.Settings(target=0.6))[0])
+
+
+def pooled_sides(measures):
+    """Two runs pooled, each with the CPU-time measures `measures` ((name, [median of run 1, of run 2]))."""
+    from dbtools.track.history import pooled
+    spread = (1.0, 1.01, 0.99, 1.005, 0.995)
+    return pooled([g.History.from_rows([row(m, "cpu", "", med[k] * f, i + 1) for m, med in measures
+                                        for i, f in enumerate(spread)]) for k in (0, 1)])
 
 
 class WallTimeRule(unittest.TestCase):
@@ -352,20 +418,26 @@ class PowerScript(unittest.TestCase):
     """python3 -m dbtools.track.power on four synthetic runs of one commit (12 phases of 0.5 s, 2% noise)."""
     write = CommandLine.write
 
+    def four_runs(self, d, rng, extra=lambda i: []):
+        """Four history files of 12 phases of 0.5 s with 2% noise, run i with the rows extra(i) besides."""
+        return [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
+                                            for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))] +
+                           extra(i)) for i in range(4)]
+
     def test_false_alarms_and_planted_slowdowns(self):
         rng = random.Random(21)
         with tempfile.TemporaryDirectory() as d:
-            paths = [self.write(d, f"r{i}.csv", [row("init_cpu_s", "cpu", "", t, r + 1, cell=f"deform/c{k}")
-                                                 for k in range(12) for r, t in enumerate(noisy(0.5, 5, 0.02, rng))])
-                     for i in range(4)]
+            paths = self.four_runs(d, rng)
             tool = ["-m", "dbtools.track.power"]
             p = subprocess.run([sys.executable, *tool, *paths, "--pool", "1", "--slowdown", "1.5"], text=True,
                                capture_output=True)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertIn("NOT ./run track's default", p.stdout.splitlines()[0])
             self.assertIn("false alarms: 0 in 12 ordered pairs (1 run(s) a side", p.stdout)
-            self.assertIn("planted x1.5 slowdowns caught: 50 ms and over 1.00 of 144; all 1.00", p.stdout)
-            self.assertIn("phases caught in fewer than 80% of the pairs: 0 of 12\n", p.stdout)
+            self.assertIn("planted x1.5 slowdowns caught where the gate can fail them (its resolution under x1.5): "
+                          "50 ms and over 1.00 of 144, all 1.00 of 144\n", p.stdout)
+            self.assertIn("phases caught in fewer than 80% of the pairs where gateable: 0 of 12\n", p.stdout)
+            self.assertIn("phases not gateable at x1.5 in some pairs (its resolution there set by): 0\n", p.stdout)
             # The default: ./run track's sides, two consecutive runs (one invocation) against two, pooled.
             p = subprocess.run([sys.executable, *tool, *paths, "--slowdown", "1.01"], text=True, capture_output=True)
             self.assertRegex(p.stdout.splitlines()[0], r"^configuration: 2 run\(s\) a side \(consecutive runs, one "
@@ -373,8 +445,11 @@ class PowerScript(unittest.TestCase):
                              r"default")
             self.assertIn("runs 1+2 -> 3+4: 12 CPU comparisons", p.stdout)
             self.assertIn("false alarms: 0 in 2 ordered pairs (2 run(s) a side", p.stdout)
-            self.assertIn("50 ms and over 0.00 of 24", p.stdout)
-            self.assertIn("phases caught in fewer than 80% of the pairs: 12 of 12; deform/c0 init_cpu_s 0/2;", p.stdout)
+            # A 1% slowdown is finer than the 15% threshold: no phase is gateable at x1.01, and the output says so.
+            self.assertIn("(its resolution under x1.01): all none of 0\n", p.stdout)
+            self.assertIn("every gated comparison counted: 0.00 of 24; 24 of 24 not gateable at x1.01", p.stdout)
+            self.assertIn("phases not gateable at x1.01 in some pairs (its resolution there set by): 12; deform/c0 "
+                          "init_cpu_s in 2 of 2 (threshold);", p.stdout)
             p = subprocess.run([sys.executable, *tool, *paths, "--any-sets"], text=True, capture_output=True)
             self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side", p.stdout)
             self.assertIn("(any disjoint sets)", p.stdout.splitlines()[0])
@@ -384,6 +459,23 @@ class PowerScript(unittest.TestCase):
             self.assertIn(f"left out (not a whole side of 2): {paths[0]}", p.stdout)  # the fifth run
             self.assertEqual(subprocess.run([sys.executable, *tool, paths[0], "--pool", "1"]).returncode, 1)
             self.assertEqual(subprocess.run([sys.executable, *tool, *paths[:3], "--pool", "2"]).returncode, 1)
+
+    def test_a_phase_whose_runs_spread_is_listed_not_counted(self):
+        # Twelve phases with 2% noise and one whose runs alternate between medians 25% apart: with two runs a side
+        # (the default) that phase's resolution is 2 x 25%, coarser than x1.3: listed, its misses not in the power.
+        rng = random.Random(22)
+        with tempfile.TemporaryDirectory() as d:
+            paths = self.four_runs(d, rng, lambda i: [
+                row("init_cpu_s", "cpu", "", (0.5, 0.625)[i % 2] * f, r + 1, cell="deform/wide")
+                for r, f in enumerate((1.0, 1.01, 0.99, 1.005, 0.995))])
+            p = subprocess.run([sys.executable, "-m", "dbtools.track.power", *paths], text=True, capture_output=True)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("false alarms: 0 in 2 ordered pairs", p.stdout)
+            self.assertIn("(its resolution under x1.3): 50 ms and over 1.00 of 24, all 1.00 of 24\n", p.stdout)
+            self.assertIn("every gated comparison counted: 0.92 of 26; 2 of 26 not gateable at x1.3", p.stdout)
+            self.assertIn("phases caught in fewer than 80% of the pairs where gateable: 0 of 12\n", p.stdout)
+            self.assertIn("not gateable at x1.3 in some pairs (its resolution there set by): 1; deform/wide init_cpu_s "
+                          "in 2 of 2 (run spread)\n", p.stdout)
 
 
 class Pooled(unittest.TestCase):

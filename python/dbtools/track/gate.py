@@ -1,7 +1,8 @@
 """The regression gate: the one comparator of two records of a suite (a baseline and a run), by measure class.
 
   python3 -m dbtools.track.gate BASELINE NOW [--threshold PCT] [--alpha P] [--min-delta-ms MS] [--markdown FILE]
-                                [--cell GLOB] [--measure M] [--allow-stale] [--allow-foreign]
+                                [--noise-k K] [--target PCT] [--cell GLOB] [--measure M]
+                                [--allow-stale] [--allow-foreign]
 
 A record is a history CSV of the tracking suite (experiments/track.cpp) or a bench_phases JSON (gbench.py makes
 its rows): the same rules gate both. By measure class (the `class` column):
@@ -22,7 +23,13 @@ its rows): the same rules gate both. By measure class (the `class` column):
                  of all the CPU times of that round to their baseline medians, when >= --drift-cells (10) are
                  compared (contention with other processes moves every cell of a round; one cell's regression
                  does not move the median). Needs >= --min-repeats (5) runs on each side; baseline medians under
-                 --min-time-s (5 ms) are reported, not gated
+                 --min-time-s (5 ms) are reported, not gated. With several runs a side (pooled), the slowdown
+                 must also exceed --noise-k (2) times the phase's run-to-run spread (the larger of the two
+                 sides': how far the medians of a side's runs, taken back to back, differ once normalized by the
+                 rounds' drift): a phase that moves that much between runs of one commit cannot be gated more
+                 finely. Each comparison keeps its resolution (the smallest slowdown the rule can fail there: the
+                 threshold, the spread's bar or the floor); the report names the phases whose resolution is
+                 coarser than --target (30%: the slowdown the gate is meant to catch), with what sets it
   time           wall time of the same phases, each run normalized by the machine rates measured just before and
                  after it (its `rate`: the memory read rate for builds, analyses and solves, the BLAS dgemm rate
                  for factorizations, both for init = build + analyze + factorize; gbench: no rates, raw),
@@ -46,7 +53,7 @@ import statistics
 import sys
 from dataclasses import dataclass, field
 
-from .history import History, InputError, load_history  # noqa: F401 (the gate's API: History, load_history)
+from .history import History, InputError, load_history, run_of  # noqa: F401 (the gate's API: History, load_history)
 from .provenance import Refused, check
 
 
@@ -61,6 +68,12 @@ class Comparison:
     p: float = math.nan
     verdict: str = "ok"  # ok | FAIL | recorded only | changed | new | not run | not gated
     note: str = ""
+    resolution: float = math.nan  # CPU time: the smallest slowdown (a fraction) the rule could fail here
+    bound_by: str = ""  # what sets the resolution: "threshold", "run spread" or "floor"
+
+    def gateable_at(self, slowdown):
+        """Whether the rule can fail a slowdown by the fraction `slowdown` of this comparison (CPU time)."""
+        return self.resolution < slowdown
 
 
 @dataclass
@@ -76,6 +89,8 @@ class Settings:
     gate_wall: bool = False
     drift_cells: int = 10
     min_delta_s: float = 0.003
+    noise_k: float = 2.0
+    target: float = 0.30
 
 
 def _ref_rates(h, cell):
@@ -143,8 +158,22 @@ class Drift:
     now: dict = field(default_factory=dict)
 
     def normalized(self, h, key, side):
+        return list(self.by_round(h, key, side).values())
+
+    def by_round(self, h, key, side):
+        """round -> the run of that round divided by the round's drift."""
         factors = self.base if side == "base" else self.now
-        return [v / factors.get(r, 1.0) for r, v in sorted(h.values[key].items()) if not math.isnan(v)]
+        return {r: v / factors.get(r, 1.0) for r, v in sorted(h.values[key].items()) if not math.isnan(v)}
+
+
+def run_spread(rounds):
+    """The run-to-run spread of one measure on one side (round -> value; several runs pooled, history.run_of):
+    (largest - smallest) / smallest of the medians of its runs' rounds; 0 with one run."""
+    by_run = {}
+    for r, v in rounds.items():
+        by_run.setdefault(run_of(r), []).append(v)
+    meds = [statistics.median(v) for v in by_run.values()]
+    return (max(meds) - min(meds)) / min(meds) if len(meds) > 1 and min(meds) > 0 else 0.0
 
 
 def cpu_drift(base, now, s):
@@ -174,6 +203,21 @@ def round_drift(h, ref, s):
     return {r: statistics.median(x) for r, x in by_round.items() if s.drift_cells > 0 and len(x) >= s.drift_cells}
 
 
+def _cpu_bar(c, base, now, key, s, drift):
+    """(noise, the slowdown a CPU time must exceed): the runs of a side share a commit, a machine and (taken back to
+    back) a load, so how far their medians still differ once normalized by the rounds' drift is the noise a
+    slowdown must stand out from: the larger of the two sides' run_spread, times --noise-k, when over the
+    threshold. Sets c.resolution: that bar, or the floor's share of the baseline median when larger."""
+    noise = max(run_spread(drift.by_round(base, key, "base")), run_spread(drift.by_round(now, key, "now")))
+    need = max(s.threshold, s.noise_k * noise)
+    floor = s.min_delta_s / c.base if c.base > 0 else math.inf
+    c.resolution = max(need, floor)
+    c.bound_by = "floor" if floor > need else "run spread" if need > s.threshold else "threshold"
+    if base.runs > 1 or now.runs > 1:
+        c.note += f", run spread {noise:.1%}"
+    return noise, need
+
+
 def _compare_cpu(c, base, now, key, s, same_machine, drift):
     b, n = _runs(base, key), _runs(now, key)
     c.base, c.now = statistics.median(b), statistics.median(n)
@@ -181,13 +225,16 @@ def _compare_cpu(c, base, now, key, s, same_machine, drift):
     nb, nn = drift.normalized(base, key, "base"), drift.normalized(now, key, "now")
     norm = statistics.median(nn) / statistics.median(nb) if statistics.median(nb) > 0 else math.nan
     c.note = f"normalized {norm:.3f}"
+    noise, need = _cpu_bar(c, base, now, key, s, drift)
     # The U test on the runs normalized round by round; both the raw and the normalized medians must be more than
     # the threshold slower: normalization may excuse a slowdown the whole round shared, never make a failure.
     if _time_verdict(c, nb, nn, c.base, s, same_machine):
-        if norm > 1 + s.threshold:
-            _floor_verdict(c, c.base * (min(c.ratio, norm) - 1), s)
-        else:
+        if norm <= 1 + s.threshold:
             c.note += ": within the threshold once normalized by the round's drift, not failed"
+        elif min(c.ratio, norm) <= 1 + need:
+            c.note += f": within {s.noise_k:g} x the run-to-run spread ({noise:.1%}), not failed"
+        else:
+            _floor_verdict(c, c.base * (min(c.ratio, norm) - 1), s)
 
 
 def _compare_time(c, base, now, key, rate, s, same_machine):
@@ -289,6 +336,10 @@ def add_rule_options(ap):
     ap.add_argument("--gate-wall", action="store_true", help="gate wall times too (normalized; a quiet machine)")
     ap.add_argument("--drift-cells", type=int, default=d.drift_cells, help="CPU time: measures needed to measure a "
                     "round's drift (10; 0 never normalizes)")
+    ap.add_argument("--noise-k", type=float, default=d.noise_k, help="CPU time: a slowdown must also exceed this "
+                    "many times the phase's run-to-run spread on either side (2; 0: the threshold alone)")
+    ap.add_argument("--target", type=float, default=d.target * 100, help="CPU time: the slowdown, percent, the gate "
+                    "is meant to catch: the report names the phases whose resolution is coarser (30)")
 
 
 def add_baseline_options(ap):
@@ -299,7 +350,7 @@ def add_baseline_options(ap):
 
 
 RULE_OPTIONS = ("threshold", "alpha", "min_delta_ms", "det_threshold", "rss_threshold", "min_repeats", "min_time_s",
-                "drift_cells")
+                "drift_cells", "noise_k", "target")
 
 
 def rule_args(a):
@@ -315,12 +366,14 @@ def add_filter_options(ap):
 
 def settings(ap, a, cells=(), measures=()):
     """The Settings of parsed rule options (a usage error through `ap` when out of range)."""
-    bad = not (0 < a.alpha < 1) or min(a.threshold, a.det_threshold, a.rss_threshold, a.min_time_s,
-                                        a.min_delta_ms) < 0 or a.min_repeats < 1 or a.drift_cells < 0
+    bad = not (0 < a.alpha < 1) or min(a.threshold, a.det_threshold, a.rss_threshold, a.min_time_s, a.min_delta_ms,
+                                        a.drift_cells, a.noise_k) < 0 or a.min_repeats < 1 or a.target <= 0
     if ap and bad:
-        ap.error("thresholds must be >= 0, --alpha in (0, 1), --min-repeats >= 1, --drift-cells >= 0")
+        ap.error("thresholds, --drift-cells and --noise-k must be >= 0, --alpha in (0, 1), --min-repeats >= 1, "
+                 "--target > 0")
     return Settings(a.threshold / 100, a.alpha, a.det_threshold / 100, a.rss_threshold / 100, a.min_repeats,
-                    a.min_time_s, tuple(cells), tuple(measures), a.gate_wall, a.drift_cells, a.min_delta_ms / 1e3)
+                    a.min_time_s, tuple(cells), tuple(measures), a.gate_wall, a.drift_cells, a.min_delta_ms / 1e3,
+                    a.noise_k, a.target / 100)
 
 
 def gate(base, now, s, suite_cells=None, allow_stale=False, allow_foreign=False, markdown=None, quiet=False,

@@ -82,6 +82,11 @@ def pooled_round(k, r):
     return 1000 * k + r
 
 
+def run_of(r):
+    """The run (from 0) of a pooled record that round r came from (pooled_round's inverse)."""
+    return r // 1000
+
+
 def pooled(hs):
     """One record of the runs `hs` (of one commit, one machine), their rounds side by side (pooled_round): what
     `./run track` gates on each side when it has several runs (--runs, --baseline-runs), and power.py measures."""

@@ -10,8 +10,11 @@ sides: by default `./run track`'s own: the runs given in the order they were tak
   but not the default's sides: its K runs are taken back to back, under one load). --pool 1: one run a side.
 false alarms: every ordered pair of sides gated as they are: any FAIL is one (the runs are of one commit).
 power: for each pair and each CPU-time measure the gate tests, that measure of the later side multiplied by F
-  (--slowdown, 1.3) and gated again: the share of planted slowdowns that fail, by the phase's baseline median
-  (under / over 50 ms) and in all, and the phases caught in fewer than 80% of the pairs, each with its share.
+  (--slowdown, 1.3) and gated again. Where the gate says it can fail a slowdown by F there (its resolution, the
+  smallest slowdown it can fail: the threshold, --noise-k x the run-to-run spread, or the floor, is under F - 1),
+  the share of the planted slowdowns that fail, by the phase's baseline median (under / over 50 ms) and in all,
+  and the phases caught in fewer than 80% of the pairs where gateable, each with its share; the share over every
+  planted slowdown, gateable or not; and the phases not gateable at F in some pairs, with what set the resolution.
 The first line of the output names the configuration, and whether it is `./run track`'s default.
 Exit: 0 (a measurement, not a gate), 1 usage, 2 unreadable history. Run with Debian's /usr/bin/python3.
 """
@@ -19,6 +22,7 @@ import copy
 import itertools
 import statistics
 import sys
+from dataclasses import dataclass, field
 
 from . import gate as g
 from .driver import DEFAULT_RUNS
@@ -41,6 +45,62 @@ def planted(h, key, factor):
     out.values = dict(h.values)
     out.values[key] = {r: v * factor for r, v in h.values[key].items()}
     return out
+
+
+@dataclass
+class Tally:
+    """What power.py counts over the ordered pairs of sides."""
+    alarms: int = 0        # pairs with a FAIL (the runs are of one commit: false alarms)
+    fails: int = 0         # FAILs in all
+    caught: dict = field(default_factory=lambda: {"under 50 ms": [], "50 ms and over": []})  # gateable: caught?
+    every: list = field(default_factory=list)      # every planted slowdown, gateable or not: caught?
+    by_phase: dict = field(default_factory=dict)   # (cell, measure) -> [caught?] where gateable
+    ungateable: dict = field(default_factory=dict)  # (cell, measure) -> [what set the resolution] where not
+
+
+def tally(pairs, s, slowdown):
+    """Every pair gated as it is (false alarms), then each CPU time the gate tests planted `slowdown` times slower
+    on the later side and gated again (power); a planted slowdown counts towards the power where the gate says it
+    can fail one that size there (Comparison.gateable_at), and is listed with what set the resolution where not."""
+    t = Tally()
+    for base, now, ia, ib in pairs:
+        tested = [c for c in g.compare(base, now, s) if c.cls == "cpu" and c.verdict in ("ok", "FAIL", "recorded only")]
+        fails = [c for c in tested if c.verdict == "FAIL"]
+        t.alarms, t.fails = t.alarms + bool(fails), t.fails + len(fails)
+        print(f"runs {'+'.join(str(i + 1) for i in ia)} -> {'+'.join(str(i + 1) for i in ib)}: {len(tested)} CPU "
+              f"comparisons, {len(fails)} fail" + "".join(f"; {c.cell} {c.measure} {c.ratio:.3f}" for c in fails))
+        for c in tested:
+            key = (c.cell, c.measure)
+            one = g.Settings(**{**s.__dict__, "cells": (c.cell,), "measures": (c.measure,)})
+            hit = [x for x in g.compare(base, planted(now, key, slowdown), one) if x.measure == c.measure][0]
+            t.every.append(hit.verdict == "FAIL")
+            if c.gateable_at(slowdown - 1):
+                t.caught["under 50 ms" if c.base < 0.05 else "50 ms and over"].append(hit.verdict == "FAIL")
+                t.by_phase.setdefault(key, []).append(hit.verdict == "FAIL")
+            else:
+                t.ungateable.setdefault(key, []).append(c.bound_by)
+    return t
+
+
+def report(t, a, n_pairs):
+    x = f"x{a.slowdown:g}"
+    print(f"\nfalse alarms: {t.alarms} in {n_pairs} ordered pairs ({a.pool} run(s) a side; pairs with a FAIL, "
+          f"{t.fails} FAIL(s) in all)")
+    gated = [hit for v in t.caught.values() for hit in v]
+    print(f"planted {x} slowdowns caught where the gate can fail them (its resolution under {x}): " +
+          "".join(f"{k} {share(v)}, " for k, v in t.caught.items() if v) + f"all {share(gated)}")
+    print(f"planted {x} slowdowns caught, every gated comparison counted: {share(t.every)}; "
+          f"{len(t.every) - len(gated)} of {len(t.every)} not gateable at {x}")
+    weak = sorted((statistics.mean(v), k) for k, v in t.by_phase.items() if statistics.mean(v) < 0.8)
+    print(f"phases caught in fewer than 80% of the pairs where gateable: {len(weak)} of {len(t.by_phase)}" +
+          "".join(f"; {c} {m} {sum(t.by_phase[(c, m)])}/{len(t.by_phase[(c, m)])}" for _, (c, m) in weak))
+    print(f"phases not gateable at {x} in some pairs (its resolution there set by): {len(t.ungateable)}" +
+          "".join(f"; {c} {m} in {len(w)} of {n_pairs} ({', '.join(sorted(set(w)))})"
+                  for (c, m), w in sorted(t.ungateable.items())))
+
+
+def share(v):
+    return f"{statistics.mean(v):.2f} of {len(v)}" if v else "none of 0"
 
 
 def configuration(a, s, n):
@@ -75,30 +135,8 @@ def main(argv=None):
     left = [] if a.any_sets else a.runs[len(a.runs) - len(a.runs) % a.pool:]
     if left:
         print(f"left out (not a whole side of {a.pool}): {', '.join(left)}")
-    caught, by_phase = {"under 50 ms": [], "50 ms and over": []}, {}
-    alarms, fails_all = 0, 0
     pairs = sides(hs, a.pool, a.any_sets)
-    for base, now, ia, ib in pairs:
-        tested = [c for c in g.compare(base, now, s) if c.cls == "cpu" and c.verdict in ("ok", "FAIL", "recorded only")]
-        fails = [c for c in tested if c.verdict == "FAIL"]
-        alarms, fails_all = alarms + bool(fails), fails_all + len(fails)
-        print(f"runs {'+'.join(str(i + 1) for i in ia)} -> {'+'.join(str(i + 1) for i in ib)}: {len(tested)} CPU "
-              f"comparisons, {len(fails)} fail" + "".join(f"; {c.cell} {c.measure} {c.ratio:.3f}" for c in fails))
-        for c in tested:
-            key = (c.cell, c.measure)
-            one = g.Settings(**{**s.__dict__, "cells": (c.cell,), "measures": (c.measure,)})
-            v = [x for x in g.compare(base, planted(now, key, a.slowdown), one) if x.measure == c.measure][0]
-            caught["under 50 ms" if c.base < 0.05 else "50 ms and over"].append(v.verdict == "FAIL")
-            by_phase.setdefault(key, []).append(v.verdict == "FAIL")
-    every = [x for v in caught.values() for x in v]
-    print(f"\nfalse alarms: {alarms} in {len(pairs)} ordered pairs ({a.pool} run(s) a side; pairs with a FAIL, "
-          f"{fails_all} FAIL(s) in all)")
-    print(f"planted x{a.slowdown:g} slowdowns caught: " + ", ".join(
-        f"{k} {statistics.mean(v):.2f} of {len(v)}" for k, v in caught.items() if v) +
-        f"; all {statistics.mean(every):.2f}" if every else "no CPU-time comparison")
-    weak = sorted((statistics.mean(v), k) for k, v in by_phase.items() if statistics.mean(v) < 0.8)
-    print(f"phases caught in fewer than 80% of the pairs: {len(weak)} of {len(by_phase)}" +
-          "".join(f"; {c} {m} {sum(by_phase[(c, m)])}/{len(by_phase[(c, m)])}" for _, (c, m) in weak))
+    report(tally(pairs, s, a.slowdown), a, len(pairs))
     return 0
 
 

@@ -78,6 +78,19 @@ def gated_lines(cmps, s):
     return lines
 
 
+def resolution_lines(cmps, s):
+    """The CPU-time phases gated whose resolution (the smallest slowdown the rule can fail there) is coarser than
+    --target, each with why: what the gate cannot promise to catch, said rather than hidden."""
+    gated = [c for c in cmps if c.cls == "cpu" and c.verdict in ("ok", "FAIL", "recorded only")]
+    coarse = [c for c in gated if not c.gateable_at(s.target)]
+    if not gated:
+        return []
+    return [f"CPU-time resolution: {len(gated) - len(coarse)} of {len(gated)} phases gated can fail a slowdown of "
+            f"x{1 + s.target:g} (--target); coarser: {len(coarse)}" +
+            "".join(f"; {c.cell} {c.measure} x{1 + c.resolution:.2f} ({c.bound_by})"
+                    for c in sorted(coarse, key=lambda c: -c.resolution))]
+
+
 def summary_lines(base, now, cmps, s, notes=()):
     drift = cpu_drift(base, now, s)
     fails = [c for c in cmps if c.verdict == "FAIL"]
@@ -86,7 +99,8 @@ def summary_lines(base, now, cmps, s, notes=()):
         counts[c.verdict] = counts.get(c.verdict, 0) + 1
     lines = [f"baseline: {describe(base)}", f"now:      {describe(now)}",
              f"rules: deterministic +{s.det_threshold:.1%} | peak RSS +{s.rss_threshold:.0%} | CPU time "
-             f"+{s.threshold:.0%}, U-test p < {s.alpha:g} (>= {s.min_repeats} runs), at least "
+             f"+{s.threshold:.0%} and more than {s.noise_k:g} x its run-to-run spread (several runs a side), U-test "
+             f"p < {s.alpha:g} (>= {s.min_repeats} runs), at least "
              f"{s.min_delta_s * 1e3:g} ms slower (else recorded only) | wall time "
              + ("the same, normalized by the machine rates, raw too" if s.gate_wall else "reported (--gate-wall)"),
              *notes,
@@ -96,6 +110,7 @@ def summary_lines(base, now, cmps, s, notes=()):
              + " / ".join(" ".join(f"{f:.3f}" for _, f in sorted(d.items())) or "none"
                           for d in (drift.base, drift.now))]
     lines += gated_lines(cmps, s)
+    lines += resolution_lines(cmps, s)
     recorded = [c for c in cmps if c.verdict == "recorded only"]
     if recorded:
         lines.append(f"recorded only (past the threshold and significant, but under the {s.min_delta_s * 1e3:g} ms "
