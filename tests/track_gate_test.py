@@ -450,6 +450,15 @@ class PowerScript(unittest.TestCase):
             self.assertIn("every gated comparison counted: 0.00 of 24; 24 of 24 not gateable at x1.01", p.stdout)
             self.assertIn("phases not gateable at x1.01 in some pairs (its resolution there set by): 12; deform/c0 "
                           "init_cpu_s in 2 of 2 (threshold);", p.stdout)
+            # --interleaved: ./run track --interleave's sides, the alternate runs of each four, in both orders.
+            p = subprocess.run([sys.executable, *tool, *paths, "--interleaved"], text=True, capture_output=True)
+            self.assertIn("(alternate runs of one invocation, both orders (./run track --interleave))",
+                          p.stdout.splitlines()[0])
+            self.assertIn("runs 1+3 -> 2+4: 12 CPU comparisons", p.stdout)
+            self.assertIn("runs 2+4 -> 1+3: 12 CPU comparisons", p.stdout)
+            self.assertIn("false alarms: 0 in 2 ordered pairs", p.stdout)
+            self.assertEqual(subprocess.run([sys.executable, *tool, *paths, "--interleaved", "--any-sets"],
+                                            capture_output=True).returncode, 1)
             p = subprocess.run([sys.executable, *tool, *paths, "--any-sets"], text=True, capture_output=True)
             self.assertIn("false alarms: 0 in 6 ordered pairs (2 run(s) a side", p.stdout)
             self.assertIn("(any disjoint sets)", p.stdout.splitlines()[0])

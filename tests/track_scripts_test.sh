@@ -82,6 +82,20 @@ no_worktrees "--baseline c1"
 expect "--baseline REV with history: reused" 1 \
   "the newest histories of $(sha c1 | cut -c1-12) on this machine: 2 run\(s\) of $(sha c1 | cut -c1-12)" -- "${TRACK[@]}" \
   --baseline c1
+# --interleave: c1 built in a worktree whatever its histories, its runs alternated with this tree's.
+n0=$(ncsv "$T/history/runs")
+expect "--baseline REV --interleave" 1 \
+  "$(sha c1 | cut -c1-12) built in a worktree, its runs interleaved with this tree's \(2 of each\)" -- "${TRACK[@]}" \
+  --baseline c1 --interleave
+grep -Eq "fake/cell +nnz_factor +deterministic +1000 +1300 +1.300 .*FAIL" "$T/output" &&
+  [ "$(ncsv "$T/history/runs")" -eq $((n0 + 4)) ] && ok "--interleave: two runs of each, gated" ||
+  fail "--interleave: $(ls "$T/history/runs"; cat "$T/output")"
+grep -o "measuring [0-9a-f]*" "$T/output" | awk '{print $2}' | cut -c1-7 | tr '\n' ' ' >"$T/order"
+c1s=$(sha c1 | cut -c1-7); hs=$(sha HEAD | cut -c1-7)
+[ "$(cat "$T/order")" = "$c1s $hs $c1s $hs " ] && ok "--interleave: the baseline's runs first, alternated" ||
+  fail "--interleave order: $(cat "$T/order")"
+no_worktrees "--interleave"
+expect "--interleave without --baseline" 1 "--interleave needs --baseline REV" -- "${TRACK[@]}" --interleave
 expect "--baseline-file" 0 "the history file\(s\) given \(1\)" -- "${TRACK[@]}" \
   --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
 grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/output" && ok "--baseline-file: one run" ||

@@ -1,6 +1,7 @@
 """Regression tracking of init time and memory across commits (`./run track`, `python3 -m dbtools.track`).
 
-  python3 -m dbtools.track [--runs N] [--baseline REV | --baseline-file CSV... | --baseline-runs N] [--repeats N]
+  python3 -m dbtools.track [--runs N] [--baseline REV [--interleave] | --baseline-file CSV... | --baseline-runs N]
+                           [--repeats N]
                            [--only GLOBS] [--override RULE]...
                            [gate options: --threshold PCT ...] [--allow-stale] [--allow-foreign]
                            [--save-reference] [--no-plots]
@@ -21,6 +22,10 @@ and missed planted slowdowns on a shared machine; the measurements are in result
             says so); else the newest committed reference of this machine, else of another machine (foreign:
             refused, exit 4, unless --allow-foreign, which gates its deterministic measures only); none at all: the
             runs are recorded, nothing gated. The baseline's histories are pooled as the runs are.
+  --interleave (with --baseline REV): REV built in a worktree whatever its histories, and its runs alternated with
+            this tree's, REV's first (B N B N ...: --runs of each): both sides then see the machine in the same
+            states, minute by minute, which a baseline measured earlier does not (a VM's CPU speed moves between
+            runs minutes apart; records 2026-11-26-gate-rule, 2026-11-26-gate-interleaved). Twice the time of a run.
 --bisect: finds the first commit between GOOD and BAD where MEASURE of CELL regressed by the gate's rules: GOOD and
   BAD with --runs histories each (those there are, the others measured: that cell only, built in the worktree
   WORK/bisect), then `git bisect run` with this script's bisect-step (build, measure --runs times, gate against
@@ -223,6 +228,22 @@ def measure_commit(ctx, sha, machine, only, n, tree="rev"):
             drop_worktree(ctx, wt)
 
 
+def interleaved(ctx, sha, head, label, machine):
+    """--interleave: `sha` built in a worktree, then its runs and this tree's alternated, `sha`'s first, --runs of
+    each: (the baseline's paths, the run's paths). The worktree is removed afterwards."""
+    wt = worktree(ctx, f"rev-{sha[:12]}", sha)
+    try:
+        build(ctx, wt, wt / "build")
+        base, now = [], []
+        for _ in range(ctx.runs):
+            base.append(measure(ctx, wt, wt / "build", run_path(ctx, sha[:12], machine), sha, ctx.only, []))
+            now.append(measure(ctx, ctx.repo, ctx.build, run_path(ctx, label, machine), head, ctx.only,
+                               ctx.overrides))
+        return base, now
+    finally:
+        drop_worktree(ctx, wt)
+
+
 # ------------------------------------------------------------------------------------------------ histories
 def read_meta(path):
     """The first row of a history file (its metadata), or None when it is no history."""
@@ -383,17 +404,22 @@ def cmd_run(ctx, a):
     elif not ctx.hook:
         check_release(ctx.build)
     machine, head = machine_id(ctx), rev(ctx.repo, "HEAD")
-    base, why = None, ""
-    if a.baseline:
+    base, why, now = None, "", None
+    label = short_sha(ctx.repo)
+    if a.interleave:
+        sha = rev(ctx.repo, a.baseline)
+        base, now = interleaved(ctx, sha, head, label, machine)
+        why = f"{sha[:12]} built in a worktree, its runs interleaved with this tree's ({ctx.runs} of each)"
+    elif a.baseline:
         base, why = baseline_of_rev(ctx, rev(ctx.repo, a.baseline), machine)
     elif a.baseline_file:
         base, why = [Path(p) for p in a.baseline_file], f"the history file(s) given ({len(a.baseline_file)})"
-    label = short_sha(ctx.repo)
     if base is None and a.baseline_runs:
         base, why = local_baseline(ctx, machine, head, label, a.baseline_runs)
         if base is None:
             log(why)
-    now = measure_runs(ctx, ctx.repo, ctx.build, head, label, machine, ctx.only, ctx.overrides, ctx.runs)
+    if now is None:
+        now = measure_runs(ctx, ctx.repo, ctx.build, head, label, machine, ctx.only, ctx.overrides, ctx.runs)
     try:
         log(f"github-action-benchmark JSON: {', '.join(ci.write(now, ctx.history / 'latest.json'))} and "
             f"{ctx.history / 'latest.json'} ({len(now)} run(s) pooled)")
@@ -503,6 +529,8 @@ def parse_args(argv):
     ap = track_gate.UsageParser(prog="./run track", description=__doc__.split("\n")[0], allow_abbrev=False,
                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog="\n".join(__doc__.split("\n")[2:]))
     ap.add_argument("--baseline", metavar="REV", help="compare with this commit (measured now when it has no history)")
+    ap.add_argument("--interleave", action="store_true", help="with --baseline: build REV now and alternate its runs "
+                    "with this tree's (both sides in the same machine state)")
     ap.add_argument("--runs", type=int, default=DEFAULT_RUNS, metavar="N", help="runs of the suite a side of the "
                     f"gate, rounds pooled: N runs now, the newest N of the baseline commit ({DEFAULT_RUNS})")
     ap.add_argument("--baseline-file", metavar="CSV", action="append", help="compare with this history file "
@@ -536,6 +564,8 @@ def parse_args(argv):
         ap.error("--bisect needs --cell and --measure")
     if sum(map(bool, (a.bisect, a.baseline, a.baseline_file))) > 1:
         ap.error("--bisect, --baseline and --baseline-file do not go together")
+    if a.interleave and not a.baseline:
+        ap.error("--interleave needs --baseline REV")
     if a.repeats is not None and a.repeats < 1:
         ap.error("--repeats must be >= 1")
     if a.runs < 1:

@@ -1,13 +1,16 @@
 """The gate's false alarms and power on this machine's own noise: runs of ONE commit (records: history files of
 experiments/track.cpp or bench_phases JSONs), gated side against side with gate.py's rules.
 
-  python3 -m dbtools.track.power RUN RUN [RUN ...] [--pool K] [--any-sets] [--slowdown F] [gate options: --alpha P ...]
+  python3 -m dbtools.track.power RUN RUN [RUN ...] [--pool K] [--any-sets | --interleaved] [--slowdown F]
+                                 [gate options: --alpha P ...]
 
 sides: by default `./run track`'s own: the runs given in the order they were taken, each K consecutive ones
   (--pool, default the driver's --runs default) one invocation of `./run track`, pooled (history.pooled), gated
   against every other invocation's K (the default baseline: the newest runs of the baseline commit); runs left
   over are named and left out. --any-sets: any disjoint sets of K runs against K (more pairs from the same runs,
   but not the default's sides: its K runs are taken back to back, under one load). --pool 1: one run a side.
+  --interleaved: each 2K consecutive runs one invocation of `./run track --interleave` (B N B N ...): its alternate
+  runs against each other, in both orders.
 false alarms: every ordered pair of sides gated as they are: any FAIL is one (the runs are of one commit).
 power: for each pair and each CPU-time measure the gate tests, that measure of the later side multiplied by F
   (--slowdown, 1.3) and gated again. Where the gate says it can fail a slowdown by F there (its resolution, the
@@ -29,9 +32,15 @@ from .driver import DEFAULT_RUNS
 from .history import pooled
 
 
-def sides(hs, pool, any_sets=False):
+def sides(hs, pool, any_sets=False, interleaved=False):
     """Ordered pairs (A, B, indices of A, indices of B) of disjoint sides of `pool` runs each, pooled: consecutive
-    groups (one invocation each), or with `any_sets` any disjoint sets."""
+    groups (one invocation each), or with `any_sets` any disjoint sets, or with `interleaved` the alternate runs of
+    each group of 2 x `pool` consecutive runs (`./run track --interleave`: B N B N), in both orders."""
+    if interleaved:
+        groups = [tuple(range(i, i + 2 * pool)) for i in range(0, len(hs) - 2 * pool + 1, 2 * pool)]
+        halves = [(grp[0::2], grp[1::2]) for grp in groups]
+        return [(pooled([hs[i] for i in a]), pooled([hs[i] for i in b]), a, b)
+                for x, y in halves for a, b in ((x, y), (y, x))]
     if any_sets:
         groups = list(itertools.combinations(range(len(hs)), pool))
     else:
@@ -105,8 +114,9 @@ def share(v):
 
 def configuration(a, s, n):
     """The first line of the output: the sides, the rules, and whether this is `./run track`'s default."""
-    default = a.pool == DEFAULT_RUNS and not a.any_sets and s == g.Settings()
-    how = "any disjoint sets" if a.any_sets else "consecutive runs, one invocation of ./run track each"
+    default = a.pool == DEFAULT_RUNS and not a.any_sets and not a.interleaved and s == g.Settings()
+    how = ("any disjoint sets" if a.any_sets else "alternate runs of one invocation, both orders (./run track "
+           "--interleave)" if a.interleaved else "consecutive runs, one invocation of ./run track each")
     rules = " ".join(g.rule_args(a))
     return (f"configuration: {a.pool} run(s) a side ({how}), rounds pooled; {n} run(s) given; gate rules {rules}: "
             + ("./run track's default (--runs and the default baseline)" if default else "NOT ./run track's default "
@@ -121,10 +131,12 @@ def main(argv=None):
                     f"default, {DEFAULT_RUNS})")
     ap.add_argument("--any-sets", action="store_true", help="sides from any disjoint sets of --pool runs, not "
                     "consecutive ones")
+    ap.add_argument("--interleaved", action="store_true", help="sides from the alternate runs of each 2 x --pool "
+                    "consecutive runs, in both orders (./run track --interleave)")
     g.add_rule_options(ap)
     a = ap.parse_args(sys.argv[1:] if argv is None else argv)
-    if a.pool < 1 or len(a.runs) < 2 * a.pool or a.slowdown <= 0:
-        ap.error("needs at least 2 x --pool runs, --pool >= 1, --slowdown > 0")
+    if a.pool < 1 or len(a.runs) < 2 * a.pool or a.slowdown <= 0 or (a.any_sets and a.interleaved):
+        ap.error("needs at least 2 x --pool runs, --pool >= 1, --slowdown > 0; --any-sets or --interleaved")
     s = g.settings(ap, a)
     try:
         hs = [g.load_history(p) for p in a.runs]
@@ -132,10 +144,11 @@ def main(argv=None):
         print(f"power: error: {e}", file=sys.stderr)
         return 2
     print(configuration(a, s, len(hs)))
-    left = [] if a.any_sets else a.runs[len(a.runs) - len(a.runs) % a.pool:]
+    group = 2 * a.pool if a.interleaved else a.pool
+    left = [] if a.any_sets else a.runs[len(a.runs) - len(a.runs) % group:]
     if left:
         print(f"left out (not a whole side of {a.pool}): {', '.join(left)}")
-    pairs = sides(hs, a.pool, a.any_sets)
+    pairs = sides(hs, a.pool, a.any_sets, a.interleaved)
     report(tally(pairs, s, a.slowdown), a, len(pairs))
     return 0
 
