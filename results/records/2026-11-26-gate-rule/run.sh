@@ -57,6 +57,8 @@ for i in $(seq 1 "$INVOCATIONS"); do
   [ -n "$load" ] && kill -- -"$load" 2>/dev/null
   load=""
 done
+# RUNS_ONLY: stop here (another record analyses the runs: 2026-11-26-gate-interleaved).
+[ -n "${RUNS_ONLY:-}" ] && exit 0
 export PYTHONPATH=$PWD/python
 runs=() first=()
 for i in $(seq 1 "$INVOCATIONS"); do
