@@ -7,7 +7,9 @@
 # that configuration). QUIET: a file whose presence means another measurement needs the machine (this box's lock):
 # no run starts while it exists, and the load beside a run stops when it appears.
 #   results/records/2026-11-26-gate-default/run.sh      (OUT=/tmp/gate-runs INVOCATIONS=5 by default: the record)
-# Runs already in OUT are kept (a longer series continues a shorter one: INVOCATIONS=7 after 5).
+# Runs already in OUT are kept (a longer series continues a shorter one: INVOCATIONS=7 after 5). RUNS (default 2):
+# runs per invocation; RUNS_ONLY: stop after the runs (the later gate records take their runs with this script and
+# analyse them their own way: 2026-11-26-gate-rule, 2026-11-26-gate-interleaved).
 set -u
 cd "$(dirname "$0")/../../.."   # the repository root, with build/exp_track built (Release)
 C=$(git rev-parse HEAD)
@@ -15,6 +17,7 @@ export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 DEFORMBENCH_THREADS=1 DEFORMBENC
 export DEFORMBENCH_GIT_SHA=${C:0:12}
 OUT=${OUT:-/tmp/gate-runs}
 INVOCATIONS=${INVOCATIONS:-5}
+RUNS=${RUNS:-2}
 QUIET=${QUIET:-/work/notes/QUIET}
 LOADS=(none yes build none yes build)
 ONLY='solve/armadillo/lap/*,deform/hand/*'
@@ -39,8 +42,8 @@ start_load() {  # start_load KIND: the load's process group runs in the backgrou
 load=""
 for i in $(seq 1 "$INVOCATIONS"); do
   kind=${LOADS[$(((i - 1) % ${#LOADS[@]}))]}
-  for k in 1 2; do
-    n=$((2 * (i - 1) + k))
+  for k in $(seq 1 "$RUNS"); do
+    n=$((RUNS * (i - 1) + k))
     [ -s "$OUT/run$n.csv" ] && continue
     while [ -e "$QUIET" ]; do sleep 15; done
     { [ -n "$load" ] && kill -0 "$load" 2>/dev/null; } || start_load "$kind"
@@ -53,6 +56,7 @@ for i in $(seq 1 "$INVOCATIONS"); do
   [ -n "$load" ] && kill -- -"$load" 2>/dev/null
   load=""
 done
+[ -n "${RUNS_ONLY:-}" ] && exit 0
 export PYTHONPATH=$PWD/python
 runs=$(for n in $(seq 1 $((2 * INVOCATIONS))); do echo "$OUT/run$n.csv"; done)
 # ./run track's default sides: each invocation's two runs, pooled, against another invocation's two.

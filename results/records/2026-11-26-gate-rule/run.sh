@@ -13,52 +13,11 @@
 # comparison; the same on the runs of record 2026-11-26-gate-default, which the rule was chosen on).
 set -u
 cd "$(dirname "$0")/../../.."   # the repository root, with build/exp_track built (Release)
-C=$(git rev-parse HEAD)
-export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 DEFORMBENCH_THREADS=1 DEFORMBENCH_SOURCE_DIR=$PWD
-export DEFORMBENCH_GIT_SHA=${C:0:12}
 OUT=${OUT:-/tmp/gate-rule-runs}
 INVOCATIONS=${INVOCATIONS:-8}
 RUNS=${RUNS:-3}
-QUIET=${QUIET:-/work/notes/QUIET}
-LOADS=(none yes build none yes build)
-ONLY='solve/armadillo/lap/*,deform/hand/*'
-mkdir -p "$OUT"
-log() { echo "$*" >>"$OUT/runs.log"; }
-
-start_load() {  # start_load KIND: the load's process group runs in the background; its pid in $load
-  load=""
-  case $1 in
-    yes) setsid yes >/dev/null & load=$! ;;
-    build) # one of the project's larger sources compiled again and again, without ccache, as a build would
-      setsid bash -c 'while :; do g++ -std=gnu++17 -O3 -DNDEBUG -DFMT_SHARED -I"$0/src/deformbench" -I"$0" \
-        -isystem /usr/include/eigen3 -isystem /usr/include/suitesparse -c "$0/src/deformbench/methods/deformer.cpp" \
-        -o /tmp/gate-load-$$.o 2>/dev/null; done' "$PWD" & load=$! ;;
-  esac
-  # The load stops when the lock appears (a quieter run then, said in runs.log).
-  [ -n "$load" ] && { (while kill -0 "$load" 2>/dev/null; do
-      [ -e "$QUIET" ] && { log "load $load stopped: $QUIET appeared $(date -u +%T)"; kill -- -"$load"; }
-      sleep 5; done) & }
-}
-
-load=""
-for i in $(seq 1 "$INVOCATIONS"); do
-  kind=${LOADS[$(((i - 1) % ${#LOADS[@]}))]}
-  for k in $(seq 1 "$RUNS"); do
-    n=$((RUNS * (i - 1) + k))
-    [ -s "$OUT/run$n.csv" ] && continue
-    while [ -e "$QUIET" ]; do sleep 15; done
-    { [ -n "$load" ] && kill -0 "$load" 2>/dev/null; } || start_load "$kind"
-    s=$(date +%s)
-    log "invocation $i run $k (run$n) start $(date -u +%T) load $(cut -d' ' -f1-3 /proc/loadavg) beside: $kind"
-    ./build/exp_track --config data/experiments/track.toml --data data --commit "$C" --out "$OUT/run$n.csv" \
-      --mesh-cache "$OUT/meshes" --only "$ONLY" >"$OUT/run$n.log" 2>&1
-    log "run$n rc=$? wall=$(($(date +%s) - s)) s end $(date -u +%T) load $(cut -d' ' -f1-3 /proc/loadavg)"
-  done
-  [ -n "$load" ] && kill -- -"$load" 2>/dev/null
-  load=""
-done
-# RUNS_ONLY: stop here (another record analyses the runs: 2026-11-26-gate-interleaved).
-[ -n "${RUNS_ONLY:-}" ] && exit 0
+# The runs, with their loads and the lock, as the gate-default record takes them.
+OUT=$OUT INVOCATIONS=$INVOCATIONS RUNS=$RUNS RUNS_ONLY=1 bash results/records/2026-11-26-gate-default/run.sh
 export PYTHONPATH=$PWD/python
 runs=() first=()
 for i in $(seq 1 "$INVOCATIONS"); do
