@@ -82,7 +82,8 @@ no_worktrees "--baseline c1"
 expect "--baseline REV with history: reused" 1 \
   "the newest histories of $(sha c1 | cut -c1-12) on this machine: 2 run\(s\) of $(sha c1 | cut -c1-12)" -- "${TRACK[@]}" \
   --baseline c1
-# --interleave: c1 built in a worktree whatever its histories, its runs alternated with this tree's.
+# --interleave: c1 built in a worktree whatever its histories, its runs alternated with this tree's (their history
+# files may share a second with this tree's: the checks after it pick HEAD's files by name).
 n0=$(ncsv "$T/history/runs")
 expect "--baseline REV --interleave" 1 \
   "$(sha c1 | cut -c1-12) built in a worktree, its runs interleaved with this tree's \(2 of each\)" -- "${TRACK[@]}" \
@@ -97,11 +98,11 @@ c1s=$(sha c1 | cut -c1-7); hs=$(sha HEAD | cut -c1-7)
 no_worktrees "--interleave"
 expect "--interleave without --baseline" 1 "--interleave needs --baseline REV" -- "${TRACK[@]}" --interleave
 expect "--baseline-file" 0 "the history file\(s\) given \(1\)" -- "${TRACK[@]}" \
-  --baseline-file "$(ls "$T"/history/runs/*.csv | tail -1)"
+  --baseline-file "$(ls "$T"/history/runs/*_"$(sha HEAD | cut -c1-12)"_*.csv | tail -1)"
 grep -q "^runs a side: 2 run(s) now, 1 run(s) in the baseline" "$T/output" && ok "--baseline-file: one run" ||
   fail "--baseline-file: $(cat "$T/output")"
 expect "--baseline-file twice: pooled" 0 "the history file\(s\) given \(2\)" -- "${TRACK[@]}" --runs 1 \
-  $(ls "$T"/history/runs/*.csv | tail -2 | sed 's/^/--baseline-file /')
+  $(ls "$T"/history/runs/*_"$(sha HEAD | cut -c1-12)"_*.csv | tail -2 | sed 's/^/--baseline-file /')
 grep -q "^runs a side: 1 run(s) now, 2 run(s) in the baseline" "$T/output" && ok "--runs 1, two baseline files" ||
   fail "--runs 1: $(cat "$T/output")"
 expect "--runs 0" 1 "--runs must be >= 1" -- "${TRACK[@]}" --runs 0
