@@ -36,17 +36,15 @@ def sides(hs, pool, any_sets=False, interleaved=False):
     """Ordered pairs (A, B, indices of A, indices of B) of disjoint sides of `pool` runs each, pooled: consecutive
     groups (one invocation each), or with `any_sets` any disjoint sets, or with `interleaved` the alternate runs of
     each group of 2 x `pool` consecutive runs (`./run track --interleave`: B N B N), in both orders."""
+    def consecutive(k):
+        return [tuple(range(i, i + k)) for i in range(0, len(hs) - k + 1, k)]
+
     if interleaved:
-        groups = [tuple(range(i, i + 2 * pool)) for i in range(0, len(hs) - 2 * pool + 1, 2 * pool)]
-        halves = [(grp[0::2], grp[1::2]) for grp in groups]
-        return [(pooled([hs[i] for i in a]), pooled([hs[i] for i in b]), a, b)
-                for x, y in halves for a, b in ((x, y), (y, x))]
-    if any_sets:
-        groups = list(itertools.combinations(range(len(hs)), pool))
+        pairs = [p for g in consecutive(2 * pool) for p in ((g[0::2], g[1::2]), (g[1::2], g[0::2]))]
     else:
-        groups = [tuple(range(i, i + pool)) for i in range(0, len(hs) - pool + 1, pool)]
-    return [(pooled([hs[i] for i in a]), pooled([hs[i] for i in b]), a, b)
-            for a, b in itertools.permutations(groups, 2) if not set(a) & set(b)]
+        groups = list(itertools.combinations(range(len(hs)), pool)) if any_sets else consecutive(pool)
+        pairs = [(a, b) for a, b in itertools.permutations(groups, 2) if not set(a) & set(b)]
+    return [(pooled([hs[i] for i in a]), pooled([hs[i] for i in b]), a, b) for a, b in pairs]
 
 
 def planted(h, key, factor):
