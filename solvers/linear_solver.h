@@ -58,6 +58,11 @@ struct FactorStats {
   //! Bytes the factorization holds at once besides the factor and the input (the multifrontal update matrices,
   //! an upper bound from the schedule); 0 where the backend does not say.
   std::size_t workspace_bytes = 0;
+  //! The multifrontal backends' top phase (multifrontal/schedule.h): the flops of the supernodes factored one
+  //! after another with the BLAS's threads once the subtrees are done, and that phase's wall time in the last
+  //! factorization; 0 with one thread (no top phase) and where the backend has no such phase.
+  double top_flops = 0;
+  double top_seconds = 0;
   std::string ordering_used;
   int iterations = 0;          //!< iterative backends (and multifrontal_mixed): iterations of the last solve
   double achieved_tolerance = 0;  //!< the same: the last solve's relative residual ||b - A x|| / ||b|| (worst column)

@@ -20,6 +20,7 @@
 //! solves the same way: the accuracy reference (the exact solution of the double system, to the tolerance).
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -154,6 +155,7 @@ void MultifrontalSolver::analyze(const SpMat& upper_in) {
   stats_.factor_bytes = factor_bytes();
   stats_.factor_on_disk = !options_.factor_dir.empty() && !mixed_;
   stats_.workspace_bytes = std::size_t(update_peak(S_, factor_plan_));
+  stats_.top_flops = plan_counts(S_, factor_plan_, flops).top;
 }
 
 void MultifrontalSolver::factorize_impl(const SpMat& upper_in, SpMat* consumed) {
@@ -248,6 +250,7 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
   });
   if (!ok) return false;
   fronts.close_pool();
+  const auto top_start = std::chrono::steady_clock::now();
   Workspace ws(S_.n);
   MatrixChunk chunk;
   ColumnRelease release(A, may_release);
@@ -258,6 +261,7 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
     release_block(s);
     release.dead_before(S_.col0[std::size_t(s) + 1], true);
   }
+  stats_.top_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - top_start).count();
   return true;
 }
 

@@ -82,6 +82,37 @@ Plan schedule(const Symbolic& S, int threads, const std::vector<double>& cost) {
   return P;
 }
 
+PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<double>& cost) {
+  PlanCounts c;
+  double groups = 0;
+  for (const auto& roots : plan.subtrees) {
+    double w = 0;
+    for (int r : roots)
+      for (int s = S.first[std::size_t(r)]; s <= r; ++s) w += cost[std::size_t(s)];
+    c.group_max = std::max(c.group_max, w);
+    groups += w;
+  }
+  c.group_mean = plan.subtrees.empty() ? 0 : groups / double(plan.subtrees.size());
+  std::vector<double> path(std::size_t(S.nsuper()), 0.0);  // costliest chain ending at each top supernode
+  std::vector<int> rows;
+  for (int s : plan.top) {  // ascending: a top child comes before its parent
+    double below = 0;
+    for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q)
+      below = std::max(below, path[std::size_t(S.child[std::size_t(q)])]);
+    path[std::size_t(s)] = below + cost[std::size_t(s)];
+    c.top += cost[std::size_t(s)];
+    c.top_path = std::max(c.top_path, path[std::size_t(s)]);
+    rows.push_back(S.nrows(s));
+  }
+  c.top_supernodes = int(rows.size());
+  if (!rows.empty()) {
+    std::sort(rows.begin(), rows.end());
+    c.top_rows_median = rows[rows.size() / 2];
+    c.top_rows_max = rows.back();
+  }
+  return c;
+}
+
 namespace {
 
 double update_bytes(const Symbolic& S, int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); }

@@ -30,6 +30,20 @@ struct Plan {
 //! (its root moves to the top set) until a greedy assignment of the open subtrees balances within 10%.
 Plan schedule(const Symbolic& S, int threads, const std::vector<double>& cost);
 
+//! What a plan leaves to each phase, in the costs it was made with (flops for the factorization's plan): the
+//! largest and the mean group of the subtree phase, and the top phase, which runs its supernodes one after another
+//! with the BLAS's threads, so that only the BLAS's parallel efficiency on those fronts speeds it up. Why: the top
+//! phase's share grows with the thread count (more subtrees opened to balance more groups), and whether it or
+//! the subtrees limit a factorization on many cores can be counted on any machine.
+struct PlanCounts {
+  double group_max = 0, group_mean = 0;  //!< cost of the subtree phase's groups
+  double top = 0;                        //!< cost of the top supernodes
+  double top_path = 0;                   //!< the costliest chain of top supernodes (child to parent)
+  int top_supernodes = 0;
+  int top_rows_median = 0, top_rows_max = 0;  //!< rows of the top supernodes' fronts
+};
+PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<double>& cost);
+
 //! Bytes of update matrices alive at once in a factorization by `plan`, an upper bound: each thread's subtrees in
 //! order (a supernode's matrix is born while its children's still live; theirs die after it), the threads'
 //! peaks summed as if they coincided, plus the matrices of the top supernodes that receive a subtree root's

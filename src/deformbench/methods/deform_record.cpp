@@ -45,10 +45,12 @@ DeformRecord deform_record(const Mesh& mesh, const Edit& edit, const DeformOptio
   add_number(r, "nnz", static_cast<double>(sys.nnz), "count");
   add_number(r, "nnz_factor", static_cast<double>(sys.factor.nnz_factor), "count");
   add_number(r, "factor_flops", sys.factor.flops, "flop");
+  add_number(r, "factor_top_flops", sys.factor.top_flops, "flop");
   add_number(r, "min_pivot_ratio", sys.factor.min_pivot_ratio, "ratio");
   add_number(r, "build_s", t.build, "s");
   add_number(r, "analyze_s", t.analyze, "s");
   add_number(r, "factorize_s", t.factorize, "s");
+  add_number(r, "factorize_top_s", sys.factor.top_seconds, "s");
   add_number(r, "init_s", t.init(), "s");
   const bool handle = d.frame_mode() == FrameMode::Handle;  // the responses' columns, else not measured
   add_number(r, "precompute_s", handle ? t.precompute : nan, "s");

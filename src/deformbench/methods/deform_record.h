@@ -33,11 +33,12 @@ void add_spread(DeformRecord& r, const std::string& name, const std::vector<doub
 
 //! The columns, in order: mesh, edit, method, weights, constraints, build, backend, ordering_used,
 //! factor_storage, drag, frame_mode, precision (texts); vertices, faces, handle, fixed, n, nnz, nnz_factor,
-//! factor_flops, min_pivot_ratio (of the first system); build_s, analyze_s, factorize_s, init_s, precompute_s,
-//! frames; frame_s, rhs_s, solve_s, write_s, response_s (medians over the drag's frames, each with its spread:
-//! NAME_min_s, NAME_max_s, NAME_reps); response_bytes, matrix_bytes, factor_bytes; refine_iterations,
-//! refine_residual, refine_correction, refine_tolerance. NaN where not measured: precompute_s, response_s and
-//! response_bytes in full frame mode, refine_* with a backend that does not refine. `o`: the resolved options.
+//! factor_flops, factor_top_flops, min_pivot_ratio (of the first system); build_s, analyze_s, factorize_s,
+//! factorize_top_s (the first system's FactorStats::top_seconds), init_s, precompute_s, frames; frame_s, rhs_s,
+//! solve_s, write_s, response_s (medians over the drag's frames, each with its spread: NAME_min_s, NAME_max_s,
+//! NAME_reps); response_bytes, matrix_bytes, factor_bytes; refine_iterations, refine_residual, refine_correction,
+//! refine_tolerance. NaN where not measured: precompute_s, response_s and response_bytes in full frame mode,
+//! refine_* with a backend that does not refine. `o`: the resolved options.
 DeformRecord deform_record(const Mesh& mesh, const Edit& edit, const DeformOptions& o, const Deformer& d,
                            const Drag& g);
 
