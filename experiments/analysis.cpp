@@ -1,8 +1,9 @@
 // The analysis phase of the structured LAP / TF systems under several vertex orderings, in interleaved rounds
 // (a shared machine drifts: each round runs every ordering once, so ratios within a round compare like with
 // like). Per edit, system, ordering and round one CSV row: the vertex ordering's wall time (order_s), this
-// process's CPU time in it (order_cpu_s: forked METIS children not included) and its forked children's
-// (order_children_cpu_s: the side of a split a child orders, counted once the child is waited for), the
+// process's CPU time in it, all threads (order_cpu_s), and its children's (order_children_cpu_s: builds before
+// the per-thread METIS draws of solvers/ordering/metis_random.h ordered one side of a split in a forked child;
+// 0 since), the
 // multifrontal backend's symbolic analysis of the ordered system (mf_analyze_s; with the natural ordering, as
 // the deformation hands it the ordered matrix), their sum (analysis_s, the deformation's "analyze" phase) and
 // the factor's nnz(L) and flops. Soft constraints, as the solver study's systems.

@@ -135,7 +135,7 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
   cc.supernodal = CHOLMOD_SUPERNODAL;
   // CHOLMOD's amalgamation thresholds count columns; a block column is b scalar columns.
   for (int k = 0; k < 3; ++k) cc.nrelax[k] = std::max<std::size_t>(1, (cc.nrelax[k] + std::size_t(b) - 1) / std::size_t(b));
-  // The shared graph analysis: METIS on large graphs runs dissected on two processes (solvers/ordering).
+  // The shared graph analysis: METIS on large graphs runs dissected on two threads (solvers/ordering).
   FactorPtr L(analyze_graph(G, method == "default" ? default_ordering(b) : method, cc), FactorFree{&cc});
   if (!L->is_super)
     throw SolverError(fmt::format("multifrontal: the symbolic analysis of the {0}x{0} block graph is not supernodal",

@@ -1,6 +1,5 @@
 #include "solvers/ordering/graph_ordering.h"
 
-#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -8,8 +7,8 @@
 
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
-#include "solvers/ordering/child_task.h"
 #include "solvers/ordering/cholmod_views.h"
+#include "solvers/ordering/metis_random.h"
 #include "solvers/ordering/ordering_cache.h"
 
 namespace db {
@@ -91,11 +90,14 @@ std::vector<int> metis_order(MetisGraph& h) {
 constexpr idx_t kSplitUfactor = 20;
 
 //! METIS nested dissection whose first level is done here, so that the two sides can be ordered at once: a
-//! METIS vertex separator splits the graph into nearly equal sides, each side is ordered by METIS (one in a
-//! child process when there are two worker threads), the separator comes last: METIS_NodeND's own first step,
-//! with a tighter balance, while the two sides' orderings overlap in time. The result does not depend on the
-//! thread count. A second level (four parts) was tried and dropped: on the bundled meshes it cost more flops
-//! and a larger factor than its balance saved. Empty if the bisection fails (the caller then runs METIS whole).
+//! METIS vertex separator splits the graph into nearly equal sides, each side is ordered by METIS (on two
+//! threads when there are two worker threads and METIS draws per thread, metis_random.h), the separator comes
+//! last: METIS_NodeND's own first step, with a tighter balance, while the two sides' orderings overlap in time.
+//! The result does not depend on the thread count. Threads rather than forked processes: a fork write-protects
+//! every page of the process, and on a virtual machine whose page faults are slow the faults that follow cost
+//! more than the ordering's second half. A second level (four parts) was tried and dropped: on the bundled
+//! meshes it cost more flops and a larger factor than its balance saved. Empty if the bisection fails (the
+//! caller then runs METIS whole).
 std::vector<int> dissected_metis_order(const GraphPattern& pat) {
   MetisGraph whole = full_graph(pat);
   idx_t n = whole.size(), separator = 0;
@@ -108,24 +110,22 @@ std::vector<int> dissected_metis_order(const GraphPattern& pat) {
     return {};
   MetisGraph side[2] = {induced(whole, part, 0), induced(whole, part, 1)};
   whole = {};
-  const int small = side[1].size() < side[0].size() ? 1 : 0;
-
   std::vector<int> order[2];
-  {
-    std::optional<ChildTask> child;
-    if (worker_threads() > 1) child.emplace(side[small].vertices.size(), [&] { return metis_order(side[small]); });
-    order[1 - small] = metis_order(side[1 - small]);
-    if (child)
-      if (auto got = child->result()) order[small] = std::move(*got);
+  const int large = side[1].size() > side[0].size() ? 1 : 0;  // claimed first
+  const auto order_side = [&](int task) { order[task ^ large] = metis_order(side[task ^ large]); };
+  if (worker_threads() > 1 && metis_draws_per_thread()) {
+    run_tasks(2, order_side);
+  } else {
+    order_side(0);
+    order_side(1);
   }
-  if (order[small].size() != side[small].vertices.size()) order[small] = metis_order(side[small]);
 
   std::vector<int> perm;
   perm.reserve(std::size_t(n));
   for (const auto& o : order) perm.insert(perm.end(), o.begin(), o.end());
   for (idx_t v = 0; v < n; ++v)
     if (part[std::size_t(v)] == 2) perm.push_back(int(v));
-  // A child's answer is checked like any input: together, a permutation of the whole graph.
+  // The sides and the separator together: a permutation of the whole graph.
   std::vector<char> seen(std::size_t(n), 0);
   for (int v : perm)
     if (v < 0 || v >= n || seen[std::size_t(v)]++)

@@ -19,9 +19,8 @@ struct GraphPattern {
 
 //! CHOLMOD's analysis of `g` under `method` ("amd" | "metis" | "nesdis" | "natural"), postordered; simplicial
 //! or supernodal (and its amalgamation) as the caller set `cc`. METIS on 20000 vertices or more is dissected
-//! here: a METIS separator splits the graph into nearly equal sides, ordered at once, one in a forked child
-//! process (METIS draws from the C library's shared random generator, so threads would make the ordering vary
-//! between runs); the result does not depend on the thread count. With DEFORMBENCH_ORDERING_CACHE set, the
+//! here: a METIS separator splits the graph into nearly equal sides, ordered at once on two threads (METIS's
+//! random draws kept per thread: metis_random.h); the result does not depend on the thread count. With DEFORMBENCH_ORDERING_CACHE set, the
 //! ordering comes from (or goes to) that cache (ordering_cache.h). The caller frees the factor.
 //! \throw SolverError when CHOLMOD fails; Error when the cache directory cannot be written.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc);

@@ -1,7 +1,7 @@
 #include "solvers/ordering/ring_dissection.h"
 
 #include <algorithm>
-#include <optional>
+#include <atomic>
 #include <memory>
 
 #include <cholmod.h>
@@ -9,8 +9,8 @@
 
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
-#include "solvers/ordering/child_task.h"
 #include "solvers/ordering/cholmod_views.h"
+#include "solvers/ordering/metis_random.h"
 
 namespace db {
 namespace {
@@ -20,12 +20,11 @@ constexpr int kSeparated = -2;   // where[v] of a vertex in a separator
 
 using CommonPtr = std::unique_ptr<cholmod_common, int (*)(cholmod_common*)>;
 
-//! A node of the dissection tree: a part of the ordered vertices; split into two children and a separator, or a
+//! A node of the dissection tree: a part of the ordered vertices, split into two children and a separator, or a
 //! leaf.
 struct Node {
+  int id = 0;                 //!< where_[v] of its vertices
   std::vector<int> vertices;  //!< graph vertices, ascending
-  int child[2] = {-1, -1};
-  std::vector<int> separator;  //!< graph vertices, ascending; ordered after both children
 };
 
 //! A local upper pattern (CSC, row < column) over a part's vertices 0 .. size - 1.
@@ -37,26 +36,33 @@ struct LocalPattern {
 class Dissection {
  public:
   Dissection(const RingGraph& g, const RingDissection& s)
-      : g_(g), settings_(s), where_(std::size_t(g.n), kNotOrdered), local_(std::size_t(g.n), -1) {}
+      : g_(g), settings_(s), where_(std::size_t(g.n)), local_(std::size_t(g.n), -1) {}
 
   //! perm[new] = old over the ordered vertices' numbers.
-  std::vector<int> run(int processes) {
-    Node root;
-    for (int v = 0; v < g_.n; ++v)
+  std::vector<int> run(int threads) {
+    Node root{next_id_++, {}};
+    for (int v = 0; v < g_.n; ++v) {
+      where_[std::size_t(v)].store(g_.index[v] >= 0 ? root.id : kNotOrdered, std::memory_order_relaxed);
       if (g_.index[v] >= 0) root.vertices.push_back(v);
-    nodes_.push_back(std::move(root));
-    for (int v : nodes_[0].vertices) where_[std::size_t(v)] = 0;
-    std::vector<int> perm = order_subtree(0, processes);
+    }
+    std::vector<int> perm = order_subtree(root, threads);
     for (int& v : perm) v = g_.index[v];
     return perm;
   }
 
  private:
-  bool in_part(int v, int id) const { return where_[std::size_t(v)] == id; }
+  // Threads read where_ of vertices outside their own part (another thread's, changing meanwhile), only to see
+  // that it is not their part's id: relaxed atomics make those reads defined; no id is used twice. local_ is
+  // read and written only at a thread's own vertices.
+  bool in_part(int v, int id) const { return where_[std::size_t(v)].load(std::memory_order_relaxed) == id; }
+  void assign(const std::vector<int>& vertices, int id) {
+    for (int v : vertices) where_[std::size_t(v)].store(id, std::memory_order_relaxed);
+  }
 
-  //! The upper pattern of the 1-ring graph induced by node id's vertices; local_ numbers them.
-  LocalPattern one_ring(int id) {
-    const std::vector<int>& verts = nodes_[std::size_t(id)].vertices;
+  //! The upper pattern of the 1-ring graph induced by the node's vertices; local_ numbers them.
+  LocalPattern one_ring(const Node& node) {
+    const std::vector<int>& verts = node.vertices;
+    const int id = node.id;
     for (std::size_t j = 0; j < verts.size(); ++j) local_[std::size_t(verts[j])] = int(j);
     LocalPattern p;
     for (std::size_t j = 0; j < verts.size(); ++j) {
@@ -73,8 +79,9 @@ class Dissection {
 
   //! The vertices of side `s` (local numbers) that reach the separator or the other side in two steps, the
   //! latter through a vertex outside the part; part[] in local numbers: 0, 1 the sides, 2 the separator.
-  std::vector<int> widening(int id, const std::vector<int>& part, int s) const {
-    const std::vector<int>& verts = nodes_[std::size_t(id)].vertices;
+  std::vector<int> widening(const Node& node, const std::vector<int>& part, int s) const {
+    const std::vector<int>& verts = node.vertices;
+    const int id = node.id;
     std::vector<int> w;
     for (std::size_t j = 0; j < verts.size(); ++j) {
       if (part[j] != s) continue;
@@ -96,8 +103,9 @@ class Dissection {
 
   //! Moves separator vertices that reach only one side in two steps into that side (in ascending order, each
   //! move seen by the next check): what is left still separates the 2-ring graph.
-  void thin(int id, std::vector<int>& part, int count[3]) const {
-    const std::vector<int>& verts = nodes_[std::size_t(id)].vertices;
+  void thin(const Node& node, std::vector<int>& part, int count[3]) const {
+    const std::vector<int>& verts = node.vertices;
+    const int id = node.id;
     for (std::size_t j = 0; j < verts.size(); ++j) {
       if (part[j] != 2) continue;
       bool reaches[3] = {false, false, false};
@@ -119,11 +127,12 @@ class Dissection {
     }
   }
 
-  //! Splits node id by a METIS separator of its 1-ring graph widened on one side; false: a leaf.
-  bool split(int id) {
-    const std::size_t size = nodes_[std::size_t(id)].vertices.size();
+  //! Splits the node by a METIS separator of its 1-ring graph widened on one side into `sides` (new ids) and
+  //! `separator` (ascending); false: a leaf.
+  bool split(const Node& node, Node sides[2], std::vector<int>& separator) {
+    const std::size_t size = node.vertices.size();
     if (size < std::size_t(std::max(settings_.leaf, 2))) return false;
-    LocalPattern p = one_ring(id);
+    LocalPattern p = one_ring(node);
     cholmod_common cc;
     cholmod_start(&cc);
     const CommonPtr guard(&cc, cholmod_finish);
@@ -135,33 +144,29 @@ class Dissection {
     for (int k : part) ++count[std::size_t(k)];
     if (count[0] == 0 || count[1] == 0) return false;
     // Widen on the side that adds fewer vertices; on a tie, the larger side (better balance).
-    const std::vector<int> w0 = widening(id, part, 0), w1 = widening(id, part, 1);
+    const std::vector<int> w0 = widening(node, part, 0), w1 = widening(node, part, 1);
     const bool first = w0.size() != w1.size() ? w0.size() < w1.size() : count[0] >= count[1];
     for (int j : first ? w0 : w1) part[std::size_t(j)] = 2;
     count[2] += int((first ? w0 : w1).size());
     count[first ? 0 : 1] -= int((first ? w0 : w1).size());
-    thin(id, part, count.data());
-    Node sides[2];
-    Node& node = nodes_[std::size_t(id)];
+    thin(node, part, count.data());
     for (std::size_t j = 0; j < size; ++j) {
       const int v = node.vertices[j];
-      if (part[j] == 2) node.separator.push_back(v);
+      if (part[j] == 2) separator.push_back(v);
       else sides[part[j]].vertices.push_back(v);
     }
-    node.vertices = {};
-    for (int v : node.separator) where_[std::size_t(v)] = kSeparated;
+    assign(separator, kSeparated);
     for (int s = 0; s < 2; ++s) {
-      const int child = int(nodes_.size());
-      for (int v : sides[s].vertices) where_[std::size_t(v)] = child;
-      nodes_[std::size_t(id)].child[s] = child;
-      nodes_.push_back(std::move(sides[s]));
+      sides[s].id = next_id_++;
+      assign(sides[s].vertices, sides[s].id);
     }
     return true;
   }
 
-  //! The upper pattern of the 2-ring graph of leaf id's vertices (paths through any vertex count).
-  LocalPattern two_ring(int id) {
-    const std::vector<int>& verts = nodes_[std::size_t(id)].vertices;
+  //! The upper pattern of the 2-ring graph of a leaf's vertices (paths through any vertex count).
+  LocalPattern two_ring(const Node& node) {
+    const std::vector<int>& verts = node.vertices;
+    const int id = node.id;
     for (std::size_t j = 0; j < verts.size(); ++j) local_[std::size_t(verts[j])] = int(j);
     LocalPattern p;
     std::vector<int> mark(verts.size(), -1);
@@ -186,10 +191,10 @@ class Dissection {
     return p;
   }
 
-  //! Leaf id's vertices in METIS's order of their 2-ring graph.
-  std::vector<int> leaf_order(int id) {
-    const std::vector<int>& verts = nodes_[std::size_t(id)].vertices;
-    LocalPattern p = two_ring(id);
+  //! A leaf's vertices in METIS's order of their 2-ring graph.
+  std::vector<int> leaf_order(const Node& node) {
+    const std::vector<int>& verts = node.vertices;
+    LocalPattern p = two_ring(node);
     cholmod_common cc;
     cholmod_start(&cc);
     const CommonPtr guard(&cc, cholmod_finish);
@@ -203,32 +208,33 @@ class Dissection {
     return perm;
   }
 
-  //! The elimination order of node id's vertices (graph vertices): its sides' orders, then its separator; a
-  //! leaf's by METIS. With `processes` > 1 the first side is ordered in a forked child process (ChildTask: METIS's
-  //! random draws would interleave on threads) with half of them, while this one orders the second; the child
-  //! computes what this process would, so the result does not depend on the process count. A child that fails
-  //! is replaced by ordering its side here.
-  std::vector<int> order_subtree(int id, int processes) {
-    if (!split(id)) return nodes_[std::size_t(id)].vertices.empty() ? std::vector<int>{} : leaf_order(id);
-    const int a = nodes_[std::size_t(id)].child[0], b = nodes_[std::size_t(id)].child[1];
-    std::optional<ChildTask> child;
-    if (processes > 1 && !nodes_[std::size_t(a)].vertices.empty())
-      child.emplace(nodes_[std::size_t(a)].vertices.size(), [&] { return order_subtree(a, processes / 2); });
-    std::optional<std::vector<int>> first;
-    if (!child) first = order_subtree(a, 1);
-    std::vector<int> second = order_subtree(b, child ? processes - processes / 2 : processes);
-    if (child) first = child->result();
-    if (!first) first = order_subtree(a, 1);
-    first->insert(first->end(), second.begin(), second.end());
-    const std::vector<int>& sep = nodes_[std::size_t(id)].separator;
-    first->insert(first->end(), sep.begin(), sep.end());
-    return std::move(*first);
+  //! The elimination order of the node's vertices (graph vertices): its sides' orders, then its separator; a
+  //! leaf's by METIS. With `threads` > 1 (and METIS drawing per thread, metis_random.h) the two sides are ordered
+  //! at once, each with half of them; every side computes what it would alone, so the result does not depend on
+  //! the thread count.
+  std::vector<int> order_subtree(const Node& node, int threads) {
+    Node child[2];
+    std::vector<int> sep;
+    if (!split(node, child, sep)) return node.vertices.empty() ? std::vector<int>{} : leaf_order(node);
+    std::vector<int> order[2];
+    const int share[2] = {threads / 2, threads - threads / 2};
+    const auto order_side = [&](int s) { order[s] = order_subtree(child[s], std::max(share[s], 1)); };
+    if (threads > 1 && metis_draws_per_thread()) {
+      run_tasks(2, order_side);
+    } else {
+      order_side(0);
+      order_side(1);
+    }
+    std::vector<int>& out = order[0];
+    out.insert(out.end(), order[1].begin(), order[1].end());
+    out.insert(out.end(), sep.begin(), sep.end());
+    return std::move(out);
   }
 
   const RingGraph& g_;
   RingDissection settings_;
-  std::vector<Node> nodes_;
-  std::vector<int> where_;  //!< the node holding each ordered vertex, kSeparated or kNotOrdered
+  std::atomic<int> next_id_{0};
+  std::vector<std::atomic<int>> where_;  //!< the node holding each ordered vertex, kSeparated or kNotOrdered
   std::vector<int> local_;  //!< each vertex's number within the part being split or ordered
 };
 
@@ -245,7 +251,7 @@ void check_permutation(const std::vector<int>& perm, int m) {
 
 std::vector<int> ring_dissection_order(const RingGraph& g, const RingDissection& settings) {
   if (g.m == 0) return {};
-  std::vector<int> perm = Dissection(g, settings).run(settings.processes > 0 ? settings.processes : worker_threads());
+  std::vector<int> perm = Dissection(g, settings).run(settings.threads > 0 ? settings.threads : worker_threads());
   check_permutation(perm, g.m);
   return perm;
 }

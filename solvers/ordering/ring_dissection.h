@@ -25,17 +25,16 @@ struct RingDissection {
   //! Parts of fewer ordered vertices are leaves, ordered by METIS on their 2-ring graphs: below a few thousand
   //! vertices widened separators cost more fill than METIS's own (and AMD on the leaves more still).
   int leaf = 4000;
-  //! Processes ordering at once (the two sides of a split, recursively); 0: worker_threads(). The result
+  //! Threads ordering at once (the two sides of a split, recursively); 0: worker_threads(). The result
   //! does not depend on it.
-  int processes = 0;
+  int threads = 0;
 };
 
 //! A fill-reducing order of the ordered vertices for the pattern of vertices within two steps of each other
 //! (through any vertex of the graph): perm[new] = old (numbers among the ordered vertices), not postordered.
 //! Each dissection level orders its two sides first, then its widened separator; the separators come from
-//! METIS (CHOLMOD's bisection) on the 1-ring graph of each part. The two sides of a split are ordered at once,
-//! one in a forked child process, recursively while processes remain. Same input, same output, whatever the
-//! process count. \throw SolverError when METIS or AMD fails.
+//! METIS (CHOLMOD's bisection) on the 1-ring graph of each part. The two sides of a split are ordered at once on
+//! two threads, recursively while threads remain. Same input, same output, whatever the thread count. \throw SolverError when METIS or AMD fails.
 std::vector<int> ring_dissection_order(const RingGraph& g, const RingDissection& settings = {});
 
 }  // namespace db

@@ -1,5 +1,5 @@
 // Nested dissection on the 1-ring graph for the 2-ring pattern (solvers/ordering/ring_dissection.h): a
-// permutation of the ordered vertices, the same whatever the process count, with the fill of METIS run on the
+// permutation of the ordered vertices, the same whatever the thread count, with the fill of METIS run on the
 // 2-ring graph itself (within 2%) on a triangulated grid, the mesh-like graph it is meant for.
 #include <algorithm>
 #include <memory>
@@ -80,22 +80,22 @@ TEST(RingDissection, IsAPermutationOfTheOrderedVertices) {
   Mesh mesh(60);
   db::RingDissection s;
   s.leaf = 200;  // several levels
-  s.processes = 1;
+  s.threads = 1;
   std::vector<int> perm = db::ring_dissection_order(mesh.graph(), s);
   ASSERT_EQ(int(perm.size()), mesh.m);
   std::sort(perm.begin(), perm.end());
   for (int k = 0; k < mesh.m; ++k) EXPECT_EQ(perm[std::size_t(k)], k);
 }
 
-TEST(RingDissection, SameOrderWhateverTheProcessCount) {
+TEST(RingDissection, SameOrderWhateverTheThreadCount) {
   Mesh mesh(80);
   db::RingDissection s;
   s.leaf = 300;
-  s.processes = 1;
+  s.threads = 1;
   const std::vector<int> one = db::ring_dissection_order(mesh.graph(), s);
   for (int p : {2, 3, 4}) {
-    s.processes = p;
-    EXPECT_EQ(db::ring_dissection_order(mesh.graph(), s), one) << p << " processes";
+    s.threads = p;
+    EXPECT_EQ(db::ring_dissection_order(mesh.graph(), s), one) << p << " threads";
   }
 }
 

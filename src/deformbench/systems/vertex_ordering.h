@@ -18,7 +18,7 @@ inline const char* default_vertex_ordering(int block_size) { return block_size >
 
 //! Renumbers the unknowns of `unk` in a fill-reducing, postordered order of their interaction graph
 //! (unknowns are adjacent when they share a 1-ring, i.e. the pattern of A^T A). method: "amd" | "metis" |
-//! "nesdis" (solvers/graph_ordering: METIS on 20000 unknowns or more is dissected and runs on two processes,
+//! "nesdis" (solvers/graph_ordering: METIS on 20000 unknowns or more is dissected and runs on two threads,
 //! with the same result on one) | "ringnd" (solvers/ordering/ring_dissection.h: nested dissection of the 1-ring
 //! graph with widened separators, then CHOLMOD's postordering analysis of the 2-ring graph).
 //! \throw SolverError when the ordering library fails, InputError on an unknown method.
