@@ -3,14 +3,17 @@
 // into T groups of independent subtrees, factored at once with a single-threaded BLAS, and a top set of
 // supernodes factored one after another with the BLAS's T threads. This driver counts, from the symbolic analysis
 // alone, the flops each phase gets: they are the same on every machine, so the share the top phase takes at 16 or
-// 64 threads is known on 2 cores. Per edit, system (tf: 3x3 blocks under METIS, lap: scalar under AMD, the
-// structured builds' default vertex orderings) and T, one CSV row: supernodes, flops, the largest and mean group,
+// 64 threads is known on 2 cores. The vertex ordering is the one a run on T threads computes (METIS dissects one
+// more level per doubling of the threads beyond two: solvers/ordering/graph_ordering.h), so the rows also give its
+// fill per thread count. Per edit, system (tf: 3x3 blocks under METIS, lap: scalar under AMD, the structured
+// builds' default vertex orderings) and T, one CSV row: nnz(L), supernodes, flops, the largest and mean group,
 // the top set (supernodes, flops, share, the costliest chain of top supernodes, its fronts' rows median and
 // largest), and two bounds on the factorization's speedup over one thread: `bound_top_serial` with the top phase
 // on one core, `bound_top_ideal` with it at T times one core's rate (a BLAS that scales perfectly on those fronts).
 //
 //   build/exp_tree_parallelism --edit data/edits/armadillo_loop1_whole.edit --threads 1,2,4,8,16,32,64
 //       --csv results/tree_parallelism.csv
+#include <cstdlib>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -57,10 +60,20 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
-//! The multifrontal backend's symbolic analysis of the edit's structured system, as a deformation runs it: the
-//! unknowns numbered in the default vertex ordering, the ordered matrix analyzed in its natural order.
-db::multifrontal::Symbolic symbolic(const db::EditCase& c, const std::string& system) {
+//! The multifrontal backend's symbolic analysis of the edit's structured system, as a deformation on `threads`
+//! threads runs it: the unknowns numbered in the default vertex ordering, the ordered matrix analyzed in its
+//! natural order.
+db::multifrontal::Symbolic symbolic(const db::EditCase& c, const std::string& system, int threads) {
   const int b = system == "tf" ? 3 : 1;
+  // worker_threads() reads the variable; it is put back afterwards, for the rows' provenance.
+  const char* was = std::getenv("DEFORMBENCH_THREADS");
+  const std::string saved = was ? was : "";
+  setenv("DEFORMBENCH_THREADS", std::to_string(threads).c_str(), 1);
+  struct Restore {
+    const char* was;
+    const std::string& saved;
+    ~Restore() { was ? setenv("DEFORMBENCH_THREADS", saved.c_str(), 1) : unsetenv("DEFORMBENCH_THREADS"); }
+  } restore{was, saved};
   const db::Adjacency adj = db::vertex_adjacency(c.mesh);
   db::Unknowns unk = db::make_unknowns(db::classify(c.edit, db::ConstraintMode::Soft), 1.0);
   db::order_unknowns(adj, unk, db::default_vertex_ordering(b));
@@ -74,6 +87,7 @@ db::CsvTable::Row row(const db::EditCase& c, const std::string& system, const db
           {"vertices", std::to_string(c.mesh.V.rows())},
           {"system", system},
           {"threads", std::to_string(T)},
+          {"nnz_L", std::to_string(S.nnz)},
           {"supernodes", std::to_string(S.nsuper())},
           {"flops", db::num(S.flops)},
           {"group_flops_max", db::num(p.group_max)},
@@ -98,11 +112,14 @@ int main(int argc, char** argv) {
       const db::EditCase c = db::load_edit_case(e);
       for (const std::string& system : a.systems) {
         if (system != "tf" && system != "lap") throw db::UsageError("--system: " + system + " is not tf or lap");
-        const db::multifrontal::Symbolic S = symbolic(c, system);
-        std::vector<double> flops(std::size_t(S.nsuper()));
-        for (int s = 0; s < S.nsuper(); ++s) flops[std::size_t(s)] = db::multifrontal::supernode_flops(S, s);
-        for (int T : a.threads) table.add(row(c, system, S, flops, T));
-        std::cout << fmt::format("{} {}: {} supernodes, {:.3g} flops\n", c.edit.name, system, S.nsuper(), S.flops);
+        for (int T : a.threads) {
+          const db::multifrontal::Symbolic S = symbolic(c, system, T);
+          std::vector<double> flops(std::size_t(S.nsuper()));
+          for (int s = 0; s < S.nsuper(); ++s) flops[std::size_t(s)] = db::multifrontal::supernode_flops(S, s);
+          table.add(row(c, system, S, flops, T));
+          std::cout << fmt::format("{} {} T={}: nnz(L) {}, {} supernodes, {:.4g} flops\n", c.edit.name, system, T, S.nnz,
+                                   S.nsuper(), S.flops);
+        }
       }
     }
     table.write(a.csv);

@@ -1,5 +1,6 @@
 #include "solvers/ordering/graph_ordering.h"
 
+#include <algorithm>
 #include <vector>
 
 #include <fmt/format.h>
@@ -84,48 +85,80 @@ std::vector<int> metis_order(MetisGraph& h) {
 }
 
 // The first split's imbalance bound (METIS's ufactor, in thousandths): METIS_NodeND's own (200: sides up to 1.2x
-// half) can leave one process ordering 60% of the graph while the other waits; a nearly even split (1.02x)
+// half) can leave one thread ordering 60% of the graph while the other waits; a nearly even split (1.02x)
 // shortens the longer of the two orderings that run at once, and on the armadillo edits its fill is no larger
-// (results/records/2026-11-26-analysis-levers).
+// (results/records/2026-11-26-analysis-levers). The deeper splits keep METIS's own bound: a tight one there costs
+// fill (several percent of nnz(L) at four levels) and their parts are ordered by more threads than there are
+// cores left idle.
 constexpr idx_t kSplitUfactor = 20;
+// Below the first level, parts of fewer vertices are ordered whole: METIS takes a few tens of milliseconds on them.
+constexpr idx_t kSplitVertices = 10000;
 
-//! METIS nested dissection whose first level is done here, so that the two sides can be ordered at once: a
-//! METIS vertex separator splits the graph into nearly equal sides, each side is ordered by METIS (on two
-//! threads when there are two worker threads and METIS draws per thread, metis_random.h), the separator comes
-//! last: METIS_NodeND's own first step, with a tighter balance, while the two sides' orderings overlap in time.
-//! The result does not depend on the thread count. Threads rather than forked processes: a fork write-protects
-//! every page of the process, and on a virtual machine whose page faults are slow the faults that follow cost
-//! more than the ordering's second half. A second level (four parts) was tried and dropped: on the bundled
-//! meshes it cost more flops and a larger factor than its balance saved. Empty if the bisection fails (the
-//! caller then runs METIS whole).
-std::vector<int> dissected_metis_order(const GraphPattern& pat) {
-  MetisGraph whole = full_graph(pat);
-  idx_t n = whole.size(), separator = 0;
-  std::vector<idx_t> part(static_cast<std::size_t>(n));
+//! METIS's vertex separator of h: part[v] 0 or 1 (the sides) or 2 (the separator); `ufactor` 0: METIS's own
+//! balance. False when METIS fails or leaves a side empty.
+bool bisect(MetisGraph& h, idx_t ufactor, std::vector<idx_t>& part) {
+  idx_t n = h.size(), separator = 0;
+  part.assign(std::size_t(n), 0);
   idx_t options[METIS_NOPTIONS];
   METIS_SetDefaultOptions(options);
-  options[METIS_OPTION_UFACTOR] = kSplitUfactor;
-  if (METIS_ComputeVertexSeparator(&n, whole.xadj.data(), whole.adjncy.data(), nullptr, options, &separator,
-                                   part.data()) != METIS_OK)
-    return {};
-  MetisGraph side[2] = {induced(whole, part, 0), induced(whole, part, 1)};
-  whole = {};
+  if (ufactor > 0) options[METIS_OPTION_UFACTOR] = ufactor;
+  if (METIS_ComputeVertexSeparator(&n, h.xadj.data(), h.adjncy.data(), nullptr, options, &separator, part.data()) !=
+      METIS_OK)
+    return false;
+  const auto side = [&](idx_t s) { return std::count(part.begin(), part.end(), s); };
+  return side(0) > 0 && side(1) > 0;
+}
+
+//! h's vertices (graph indices) in elimination order: `levels` levels of METIS vertex separators (the first at
+//! `ufactor`, the deeper at METIS's own balance), the parts below them ordered by METIS_NodeND, each separator
+//! after its two sides. With `threads` > 1 (and METIS drawing per thread, metis_random.h) the two sides of a split
+//! are ordered at once, each with a share of the threads; the result does not depend on `threads`.
+std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
+  std::vector<idx_t> part;
+  if (levels == 0 || h.size() < kSplitVertices || !bisect(h, ufactor, part)) return metis_order(h);
+  MetisGraph side[2] = {induced(h, part, 0), induced(h, part, 1)};
+  std::vector<int> separator;
+  for (idx_t v = 0; v < h.size(); ++v)
+    if (part[std::size_t(v)] == 2) separator.push_back(h.vertices[std::size_t(v)]);
+  h = {};
   std::vector<int> order[2];
-  const int large = side[1].size() > side[0].size() ? 1 : 0;  // claimed first
-  const auto order_side = [&](int task) { order[task ^ large] = metis_order(side[task ^ large]); };
-  if (worker_threads() > 1 && metis_draws_per_thread()) {
+  const int large = side[1].size() > side[0].size() ? 1 : 0;  // claimed first, with the larger share of threads
+  const int share[2] = {threads - threads / 2, std::max(threads / 2, 1)};
+  const auto order_side = [&](int task) {
+    const int s = task ^ large;
+    order[s] = dissect(std::move(side[s]), levels - 1, 0, share[task]);
+  };
+  if (threads > 1 && metis_draws_per_thread()) {
     run_tasks(2, order_side);
   } else {
     order_side(0);
     order_side(1);
   }
+  order[0].insert(order[0].end(), order[1].begin(), order[1].end());
+  order[0].insert(order[0].end(), separator.begin(), separator.end());
+  return std::move(order[0]);
+}
 
-  std::vector<int> perm;
-  perm.reserve(std::size_t(n));
-  for (const auto& o : order) perm.insert(perm.end(), o.begin(), o.end());
-  for (idx_t v = 0; v < n; ++v)
-    if (part[std::size_t(v)] == 2) perm.push_back(int(v));
-  // The sides and the separator together: a permutation of the whole graph.
+//! Levels of dissection for `threads`: one up to two threads, one more for each doubling beyond, so that every
+//! thread gets a part to order. Why not more levels everywhere: each level below the first costs some fill
+//! (results/records/2026-11-26-parallel-dissection) and pays only where threads order its parts.
+int dissection_levels(int threads) {
+  int levels = 1;
+  while ((1 << levels) < threads && levels < 6) ++levels;
+  return levels;
+}
+
+//! METIS nested dissection whose first dissection_levels(threads) levels are done here, so that their parts can
+//! be ordered at once: METIS vertex separators split the graph (the first into nearly equal sides), the parts are
+//! ordered by METIS, each separator comes after its sides: METIS_NodeND's own first steps, while the parts'
+//! orderings overlap in time. The result depends on the thread count only through the levels: the same for one
+//! and two threads. Threads rather than forked processes: a fork write-protects every page of the process, and
+//! on a virtual machine whose page faults are slow the faults that follow cost more than a side's ordering
+//! (results/records/2026-11-26-ordering-threads).
+std::vector<int> dissected_metis_order(const GraphPattern& pat, int threads) {
+  const idx_t n = pat.n;
+  std::vector<int> perm = dissect(full_graph(pat), dissection_levels(threads), kSplitUfactor, threads);
+  // The parts and the separators together: a permutation of the whole graph.
   std::vector<char> seen(std::size_t(n), 0);
   for (int v : perm)
     if (v < 0 || v >= n || seen[std::size_t(v)]++)
@@ -164,13 +197,17 @@ cholmod_factor* analyze_with(const GraphPattern& g, const std::vector<int>& give
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc) {
   const OrderingCache cache = OrderingCache::from_environment();
   const bool cacheable = cache.enabled() && method != "natural";
-  std::vector<int> given = cacheable ? cache.find(g, method) : std::vector<int>{};
+  const bool dissected = method == "metis" && g.n >= kDissectVertices;
+  const int threads = worker_threads(), levels = dissection_levels(threads);
+  // A dissected ordering depends on its levels: the cache keeps one per level count ("metis" for one level).
+  const std::string key = dissected && levels > 1 ? fmt::format("metis{}", levels) : method;
+  std::vector<int> given = cacheable ? cache.find(g, key) : std::vector<int>{};
   const bool cached = !given.empty();  // postordered already: the analysis keeps it as it is
-  if (!cached && method == "metis" && g.n >= kDissectVertices) given = dissected_metis_order(g);
+  if (!cached && dissected) given = dissected_metis_order(g, threads);
   cholmod_factor* L = analyze_with(g, given, method, cc);
   if (cacheable && !cached) {
     try {
-      cache.store(g, method, static_cast<const int*>(L->Perm));
+      cache.store(g, key, static_cast<const int*>(L->Perm));
     } catch (...) {
       cholmod_free_factor(&L, &cc);
       throw;
@@ -186,8 +223,7 @@ cholmod_factor* analyze_graph_given(const GraphPattern& g, const std::vector<int
 }
 
 std::vector<int> metis_permutation(const GraphPattern& g) {
-  if (g.n >= kDissectVertices)
-    if (std::vector<int> perm = dissected_metis_order(g); !perm.empty()) return perm;
+  if (g.n >= kDissectVertices) return dissected_metis_order(g, worker_threads());
   MetisGraph whole = full_graph(g);
   return metis_order(whole);
 }

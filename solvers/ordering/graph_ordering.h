@@ -19,9 +19,11 @@ struct GraphPattern {
 
 //! CHOLMOD's analysis of `g` under `method` ("amd" | "metis" | "nesdis" | "natural"), postordered; simplicial
 //! or supernodal (and its amalgamation) as the caller set `cc`. METIS on 20000 vertices or more is dissected
-//! here: a METIS separator splits the graph into nearly equal sides, ordered at once on two threads (METIS's
-//! random draws kept per thread: metis_random.h); the result does not depend on the thread count. With DEFORMBENCH_ORDERING_CACHE set, the
-//! ordering comes from (or goes to) that cache (ordering_cache.h). The caller frees the factor.
+//! here: a METIS separator splits the graph into nearly equal sides, and with more than two worker threads one
+//! more level of separators splits each part per doubling of the threads; the parts are ordered at once on the
+//! threads (METIS's random draws kept per thread: metis_random.h). The result is the same for one and two
+//! threads, and for a given thread count on every run. With DEFORMBENCH_ORDERING_CACHE set, the ordering comes
+//! from (or goes to) that cache (ordering_cache.h), per level count. The caller frees the factor.
 //! \throw SolverError when CHOLMOD fails; Error when the cache directory cannot be written.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc);
 
@@ -30,7 +32,8 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
 cholmod_factor* analyze_graph_given(const GraphPattern& g, const std::vector<int>& perm, cholmod_common& cc);
 
 //! METIS's fill-reducing order of `g` (perm[new] = old), not postordered; on 20000 vertices or more dissected
-//! as in analyze_graph, so that every METIS ordering in the project is the same for the same graph.
+//! as in analyze_graph, so that every METIS ordering in the project is the same for the same graph and thread
+//! count.
 //! \throw SolverError when METIS fails.
 std::vector<int> metis_permutation(const GraphPattern& g);
 

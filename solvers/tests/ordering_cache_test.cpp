@@ -90,6 +90,24 @@ TEST(OrderingCache, StoresWhatTheAnalysisComputesAndHitsGiveTheSameAnalysis) {
   EXPECT_FALSE(fs::exists(cache.path(g, "natural")));
 }
 
+// A dissected METIS ordering (20000 vertices or more) depends on its levels, one more per doubling of the threads
+// beyond two: each level count has its own entry, so a warm run gives what a cold run on its thread count gives.
+TEST(OrderingCache, DissectedOrderingsAreCachedPerLevelCount) {
+  const Grid grid(150);
+  const db::GraphPattern g = grid.pattern();
+  CacheDir tmp;
+  const db::OrderingCache cache = db::OrderingCache::from_environment();
+  setenv("DEFORMBENCH_THREADS", "4", 1);
+  const Analysis four = analyze(g, "metis");
+  setenv("DEFORMBENCH_THREADS", "2", 1);
+  EXPECT_TRUE(cache.find(g, "metis").empty());
+  const Analysis two = analyze(g, "metis");
+  unsetenv("DEFORMBENCH_THREADS");
+  EXPECT_EQ(cache.find(g, "metis2"), four.perm);
+  EXPECT_EQ(cache.find(g, "metis"), two.perm);
+  EXPECT_NE(two.perm, four.perm);
+}
+
 TEST(OrderingCache, DamagedEntriesAreRecomputed) {
   const Grid grid(30);
   const db::GraphPattern g = grid.pattern();
