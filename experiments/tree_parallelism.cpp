@@ -20,12 +20,11 @@
 
 #include <fmt/format.h>
 
+#include "core/cli.h"
 #include "core/csv.h"
-#include "core/csv_reader.h"
 #include "core/provenance.h"
 #include "edit/edit_io.h"
 #include "methods/deformer.h"
-#include "solvers/base/error.h"
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/symbolic.h"
 #include "systems/normal_system.h"
@@ -33,31 +32,20 @@
 
 namespace {
 
-struct Args {
+struct Options {
   std::vector<std::string> edits, systems{"tf", "lap"};
   std::vector<int> threads{1, 2, 4, 8, 16, 32, 64};
   std::string csv;
 };
 
-Args parse(int argc, char** argv) {
-  Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (i + 1 >= argc) throw db::UsageError(key + " needs a value");
-    const std::string value = argv[++i];
-    if (key == "--edit") a.edits.push_back(value);
-    else if (key == "--system") a.systems = db::split_csv_line(value);
-    else if (key == "--csv") a.csv = value;
-    else if (key == "--threads") {
-      a.threads.clear();
-      for (const std::string& t : db::split_csv_line(value)) a.threads.push_back(std::stoi(t));
-    } else throw db::UsageError("unknown option " + key + " (expected --edit, --system, --threads, --csv)");
-  }
-  for (int t : a.threads)
-    if (t < 1 || t > 64) throw db::UsageError(fmt::format("--threads: {} is not in 1..64 (the backend's range)", t));
-  if (a.edits.empty() || a.csv.empty())
-    throw db::UsageError("usage: exp_tree_parallelism --edit E [--edit E2] [--system tf,lap] [--threads 1,2,..] --csv OUT");
-  return a;
+void define_options(CLI::App& app, Options& o) {
+  app.add_option("--edit", o.edits, "an edit: a .edit file or a BS08 stem such as data/bs08/bar (repeatable)")
+      ->required();
+  app.add_option("--system", o.systems, "tf and/or lap (comma-separated)")->delimiter(',')
+      ->check(db::cli::OneOf({"tf", "lap"}))->capture_default_str();
+  app.add_option("--threads", o.threads, "thread counts (comma-separated, 1-64: the backend's range)")->delimiter(',')
+      ->check(db::cli::Integer(1, 64))->capture_default_str();
+  app.add_option("--csv", o.csv, "the rows, with provenance")->required();
 }
 
 //! The multifrontal backend's symbolic analysis of the edit's structured system, as a deformation on `threads`
@@ -102,34 +90,33 @@ db::CsvTable::Row row(const db::EditCase& c, const std::string& system, const db
           {"bound_top_ideal", db::num(S.flops / (p.group_max + p.top / T))}};
 }
 
+int run(const Options& o) {
+  db::cli::check_output("--csv", o.csv, {".csv"}, o.edits);
+  db::CsvTable table;
+  for (const std::string& e : o.edits) {
+    const db::EditCase c = db::load_edit_case(e);
+    for (const std::string& system : o.systems)
+      for (int T : o.threads) {
+        const db::multifrontal::Symbolic S = symbolic(c, system, T);
+        std::vector<double> flops(std::size_t(S.nsuper()));
+        for (int s = 0; s < S.nsuper(); ++s) flops[std::size_t(s)] = db::multifrontal::supernode_flops(S, s);
+        table.add(row(c, system, S, flops, T));
+        std::cout << fmt::format("{} {} T={}: nnz(L) {}, {} supernodes, {:.4g} flops\n", c.edit.name, system, T, S.nnz,
+                                 S.nsuper(), S.flops);
+      }
+  }
+  table.write(o.csv);
+  std::cout << "wrote " << o.csv << " | " << db::provenance_summary() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const Args a = parse(argc, argv);
-    db::CsvTable table;
-    for (const std::string& e : a.edits) {
-      const db::EditCase c = db::load_edit_case(e);
-      for (const std::string& system : a.systems) {
-        if (system != "tf" && system != "lap") throw db::UsageError("--system: " + system + " is not tf or lap");
-        for (int T : a.threads) {
-          const db::multifrontal::Symbolic S = symbolic(c, system, T);
-          std::vector<double> flops(std::size_t(S.nsuper()));
-          for (int s = 0; s < S.nsuper(); ++s) flops[std::size_t(s)] = db::multifrontal::supernode_flops(S, s);
-          table.add(row(c, system, S, flops, T));
-          std::cout << fmt::format("{} {} T={}: nnz(L) {}, {} supernodes, {:.4g} flops\n", c.edit.name, system, T, S.nnz,
-                                   S.nsuper(), S.flops);
-        }
-      }
-    }
-    table.write(a.csv);
-    std::cout << "wrote " << a.csv << " | " << db::provenance_summary() << "\n";
-    return 0;
-  } catch (const db::UsageError& e) {
-    std::cerr << "exp_tree_parallelism: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "exp_tree_parallelism: " << e.what() << "\n";
-    return 2;
-  }
+  CLI::App app("Per thread count, the fill of the vertex ordering a run computes and what the multifrontal "
+               "factorization's plan gives its subtree groups and its serial top phase (counts, no timing).",
+               "exp_tree_parallelism");
+  Options o;
+  define_options(app, o);
+  return db::cli::run(app, argc, argv, [&] { return run(o); });
 }

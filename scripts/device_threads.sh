@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Thread scaling on a lent 16-core device machine (issue 31 item 4), prepared for a session that has one:
 # T = 1 2 4 8 16; the 104k and 416k armadillo TF and LAP edits; multifrontal and CHOLMOD (supernodal); one
-# process per run; init split (build, analyze, factorize), full-frame median, factorization GFlop/s and the
-# parallel efficiency t(1) / (T t(T)). Three steps:
+# process per run; init split (build, analyze, factorize), full-frame median, factorization GFlop/s, the
+# multifrontal factorization's serial top phase (its time and share of the flops: what limits it beyond 8 threads,
+# issue 31 item 3) and the parallel efficiency t(1) / (T t(T)). Three steps:
 #   DEVICE_BUNDLE=PATH/device-bundle.sh scripts/device_threads.sh prepare
 #                                                # here: bundle build/ with the device tool's bundler (not part of
 #                                                # the project) and the 104k mesh into .device/ (git-ignored)
@@ -30,16 +31,17 @@ run)
   for k in 1 2; do  # the edit of data/edits/armadillo_loop1_whole.edit on the 104k (1) and 416k (2) meshes
     printf 'mesh = l%s.off\nroi = all\nhandle = nearest:-20.2599,97.1076,-28.8554,100\ntransform = translate:0,10,0\n' $k > e$k.edit
   done
-  echo "tier,method,solver,threads,rc,build_s,analyze_s,factorize_s,init_s,frame_s,factor_flops" > "$O/threads.csv"
+  cols="build_s analyze_s factorize_s init_s frame_s factor_flops factorize_top_s factor_top_flops"
+  echo "tier,method,solver,threads,rc,${cols// /,}" > "$O/threads.csv"
   one() {  # tier method solver threads
     [ $SECONDS -lt $deadline ] || return 0
     local rc=0
     DEFORMBENCH_THREADS=$4 OPENBLAS_NUM_THREADS=$4 OMP_NUM_THREADS=$4 timeout 150 "$D/bin/deformbench" deform e$1.edit \
       --method "$2" --constraints soft --frames 5 --solver "$3" --out o.ply --csv o.csv > log 2>&1 || rc=$?
     if [ $rc -eq 0 ]; then
-      python3 -c 'import csv,sys; r=next(csv.DictReader(open("o.csv"))); print(",".join([*sys.argv[1:], "0"] + [r[k] for k in ("build_s","analyze_s","factorize_s","init_s","frame_s","factor_flops")]))' "$1" "$2" "$3" "$4" >> "$O/threads.csv"
+      python3 -c 'import csv,sys; r=next(csv.DictReader(open("o.csv"))); print(",".join([*sys.argv[2:], "0"] + [r[k] for k in sys.argv[1].split()]))' "$cols" "$1" "$2" "$3" "$4" >> "$O/threads.csv"
     else
-      echo "$1,$2,$3,$4,$rc,,,,,," >> "$O/threads.csv"; tail -3 log >> "$O/machine.txt"
+      echo "$1,$2,$3,$4,$rc,,,,,,,," >> "$O/threads.csv"; tail -3 log >> "$O/machine.txt"
     fi
   }
   for T in 1 2 4 8 16; do for S in multifrontal cholmod_supernodal; do for M in tf lap; do one 1 $M $S $T; done; done; done
@@ -53,14 +55,15 @@ report)
 import csv, sys
 rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["rc"] == "0"]
 one = {(r["tier"], r["method"], r["solver"]): float(r["init_s"]) for r in rows if r["threads"] == "1"}
-print("| vertices | method | solver | T | init s = build + analyze + factorize | GFlop/s | frame ms | init efficiency t(1)/(T t(T)) |")
-print("|---|---|---|---|---|---|---|---|")
+print("| vertices | method | solver | T | init s = build + analyze + factorize | GFlop/s | top phase s (share of flops) | frame ms | init efficiency t(1)/(T t(T)) |")
+print("|---|---|---|---|---|---|---|---|---|")
 for r in rows:
     k = (r["tier"], r["method"], r["solver"]); T = int(r["threads"]); init = float(r["init_s"])
     eff = f"{one[k] / (T * init):.2f}" if k in one else "-"
     gf = float(r["factor_flops"]) / float(r["factorize_s"]) / 1e9 if float(r["factorize_s"]) > 0 else 0
+    top = f"{float(r['factorize_top_s']):.2f} ({float(r['factor_top_flops']) / float(r['factor_flops']):.2f})" if float(r["factor_flops"]) > 0 else "-"
     print(f"| {'104k' if r['tier'] == '1' else '416k'} | {r['method']} | {r['solver']} | {T} | {init:.2f} = {float(r['build_s']):.2f} + "
-          f"{float(r['analyze_s']):.2f} + {float(r['factorize_s']):.2f} | {gf:.0f} | {1e3 * float(r['frame_s']):.1f} | {eff} |")
+          f"{float(r['analyze_s']):.2f} + {float(r['factorize_s']):.2f} | {gf:.0f} | {top} | {1e3 * float(r['frame_s']):.1f} | {eff} |")
 failed = [r for r in csv.DictReader(open(sys.argv[1])) if r["rc"] != "0"]
 if failed: print("\nRuns that failed or timed out: " + "; ".join(f"{r['tier']} {r['method']} {r['solver']} T={r['threads']} rc {r['rc']}" for r in failed))
 PY

@@ -270,5 +270,23 @@ expect "experiments.sh goes on after a failed driver" 5 "failed: exp_table_2_1 \
 grep -q applications "$T/ran" && [ "$(cat "$T/failed_drivers")" = "$(printf 'exp_table_2_1 (exit 5)\nexp_frames (exit 2)')" ] &&
   ok "every driver ran; the failed ones listed" || fail "drivers ran: $(tr '\n' ' ' <"$T/ran"); failed: $(cat "$T/failed_drivers")"
 
+# ---------------------------------------------------------------- exp_tree_parallelism (counts of the plan)
+expect "tree_parallelism threads out of range" 1 "65 is outside" -- "$BIN/exp_tree_parallelism" --edit data/bs08/bar \
+  --threads 1,65 --csv "$T/tree.csv"
+expect "tree_parallelism tiny run" 0 "wrote" -- "$BIN/exp_tree_parallelism" --edit data/bs08/bar --threads 1,2,4,8 \
+  --csv "$T/tree.csv"
+# The plan partitions the supernodes: T groups and the top phase hold every flop, and one thread has no top phase.
+"$PY" - "$T/tree.csv" <<'PY' && ok "tree_parallelism: groups and top phase add up to the flops" ||
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 8, len(rows)
+for r in rows:
+    T, flops = int(r["threads"]), float(r["flops"])
+    assert abs(T * float(r["group_flops_mean"]) + float(r["top_flops"]) - flops) <= 1e-9 * flops, r
+    assert float(r["group_flops_max"]) >= float(r["group_flops_mean"]) > 0, r
+    assert T > 1 or (float(r["top_flops"]) == 0 and r["top_supernodes"] == "0"), r
+PY
+  fail "tree_parallelism: the phases do not add up ($T/tree.csv)"
+
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi
 echo "all passed"
