@@ -11,7 +11,9 @@
 #       bash .device/device_threads.sh run       # there: writes $OUT/threads.csv and $OUT/machine.txt
 #   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: the record's CSV and table
 # The device run stops starting runs after DEADLINE seconds (default 540), most needed first (104k, then 416k
-# multifrontal, then 416k CHOLMOD); a run not started is absent from the CSV, and the report says which.
+# multifrontal, then 416k CHOLMOD, then TF under the ringnd ordering at 8 and 16 threads); a run not started is
+# absent from the CSV, and the report says which. The vertex ordering is the default (METIS for TF: one more
+# dissection level per doubling of the threads beyond two) unless the row's `ordering` says otherwise.
 set -euo pipefail
 mode=${1:-}
 case $mode in
@@ -32,21 +34,24 @@ run)
     printf 'mesh = l%s.off\nroi = all\nhandle = nearest:-20.2599,97.1076,-28.8554,100\ntransform = translate:0,10,0\n' $k > e$k.edit
   done
   cols="build_s analyze_s factorize_s init_s frame_s factor_flops factorize_top_s factor_top_flops"
-  echo "tier,method,solver,threads,rc,${cols// /,}" > "$O/threads.csv"
-  one() {  # tier method solver threads
+  echo "tier,method,solver,threads,ordering,rc,${cols// /,}" > "$O/threads.csv"
+  one() {  # tier method solver threads [ordering]
     [ $SECONDS -lt $deadline ] || return 0
-    local rc=0
+    local rc=0 ord=${5:-default}
     DEFORMBENCH_THREADS=$4 OPENBLAS_NUM_THREADS=$4 OMP_NUM_THREADS=$4 timeout 150 "$D/bin/deformbench" deform e$1.edit \
-      --method "$2" --constraints soft --frames 5 --solver "$3" --out o.ply --csv o.csv > log 2>&1 || rc=$?
+      --method "$2" --constraints soft --frames 5 --solver "$3" --ordering "$ord" --out o.ply --csv o.csv > log 2>&1 || rc=$?
     if [ $rc -eq 0 ]; then
-      python3 -c 'import csv,sys; r=next(csv.DictReader(open("o.csv"))); print(",".join([*sys.argv[2:], "0"] + [r[k] for k in sys.argv[1].split()]))' "$cols" "$1" "$2" "$3" "$4" >> "$O/threads.csv"
+      python3 -c 'import csv,sys; r=next(csv.DictReader(open("o.csv"))); print(",".join([*sys.argv[2:], "0"] + [r[k] for k in sys.argv[1].split()]))' "$cols" "$1" "$2" "$3" "$4" "$ord" >> "$O/threads.csv"
     else
-      echo "$1,$2,$3,$4,$rc,,,,,,,," >> "$O/threads.csv"; tail -3 log >> "$O/machine.txt"
+      echo "$1,$2,$3,$4,$ord,$rc,,,,,,,," >> "$O/threads.csv"; tail -3 log >> "$O/machine.txt"
     fi
   }
   for T in 1 2 4 8 16; do for S in multifrontal cholmod_supernodal; do for M in tf lap; do one 1 $M $S $T; done; done; done
   for T in 16 8 4 2 1; do for M in tf lap; do one 2 $M multifrontal $T; done; done
   for T in 16 8 2; do for M in tf lap; do one 2 $M cholmod_supernodal $T; done; done
+  # The 1-ring dissection (ringnd: every level on threads, the same ordering for every thread count) beside METIS's
+  # (one more level per doubling of the threads), last: the analysis on 16 cores by both.
+  for k in 1 2; do for T in 16 8; do one $k tf multifrontal $T ringnd; done; done
   cat "$O/threads.csv" ;;
 report)
   src=${2:?FILES_AT}; dest=${3:?results/records/DATE-threads}
@@ -54,18 +59,18 @@ report)
   /usr/bin/python3 - "$dest/threads.csv" > "$dest/table.md" <<'PY'
 import csv, sys
 rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["rc"] == "0"]
-one = {(r["tier"], r["method"], r["solver"]): float(r["init_s"]) for r in rows if r["threads"] == "1"}
-print("| vertices | method | solver | T | init s = build + analyze + factorize | GFlop/s | top phase s (share of flops) | frame ms | init efficiency t(1)/(T t(T)) |")
-print("|---|---|---|---|---|---|---|---|---|")
+one = {(r["tier"], r["method"], r["solver"], r["ordering"]): float(r["init_s"]) for r in rows if r["threads"] == "1"}
+print("| vertices | method | solver | ordering | T | init s = build + analyze + factorize | GFlop/s | top phase s (share of flops) | frame ms | init efficiency t(1)/(T t(T)) |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for r in rows:
-    k = (r["tier"], r["method"], r["solver"]); T = int(r["threads"]); init = float(r["init_s"])
+    k = (r["tier"], r["method"], r["solver"], r["ordering"]); T = int(r["threads"]); init = float(r["init_s"])
     eff = f"{one[k] / (T * init):.2f}" if k in one else "-"
     gf = float(r["factor_flops"]) / float(r["factorize_s"]) / 1e9 if float(r["factorize_s"]) > 0 else 0
     top = f"{float(r['factorize_top_s']):.2f} ({float(r['factor_top_flops']) / float(r['factor_flops']):.2f})" if float(r["factor_flops"]) > 0 else "-"
-    print(f"| {'104k' if r['tier'] == '1' else '416k'} | {r['method']} | {r['solver']} | {T} | {init:.2f} = {float(r['build_s']):.2f} + "
+    print(f"| {'104k' if r['tier'] == '1' else '416k'} | {r['method']} | {r['solver']} | {r['ordering']} | {T} | {init:.2f} = {float(r['build_s']):.2f} + "
           f"{float(r['analyze_s']):.2f} + {float(r['factorize_s']):.2f} | {gf:.0f} | {top} | {1e3 * float(r['frame_s']):.1f} | {eff} |")
 failed = [r for r in csv.DictReader(open(sys.argv[1])) if r["rc"] != "0"]
-if failed: print("\nRuns that failed or timed out: " + "; ".join(f"{r['tier']} {r['method']} {r['solver']} T={r['threads']} rc {r['rc']}" for r in failed))
+if failed: print("\nRuns that failed or timed out: " + "; ".join(f"{r['tier']} {r['method']} {r['solver']} {r['ordering']} T={r['threads']} rc {r['rc']}" for r in failed))
 PY
   cat "$dest/table.md" ;;
 *) sed -n 2,13p "$0"; exit 1 ;;

@@ -3,11 +3,26 @@
 # threads computes (METIS dissects one more level per doubling beyond two) and its fill, and what the multifrontal
 # factorization's plan gives its two phases (subtree groups on single-threaded BLAS; the serial top phase on the
 # BLAS's threads): the 26k, 104k and 416k armadillo edits, TF and LAP (experiments/tree_parallelism.cpp).
-# Writes tree_parallelism.csv and table.md here.
-# usage: results/records/2026-11-26-tree-parallelism/run.sh   (from the repository root, after building
-#        exp_tree_parallelism in build/; the 416k edit's mesh is data/generated/armadillo_loop2.off)
+# Writes tree_parallelism.csv and table.md here. Part `measure` (on a quiet machine): the 104k TF factorization
+# on this machine's threads, 3 runs, its top phase timed (factorize_top_s) beside the whole: measured.csv.
+# usage: results/records/2026-11-26-tree-parallelism/run.sh [counts|measure]   (from the repository root, after
+#        building exp_tree_parallelism and deformbench in build/; the 416k edit's mesh is
+#        data/generated/armadillo_loop2.off)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
+if [ "${1:-counts}" = measure ]; then
+  t=$(mktemp -d); trap 'rm -rf "$t"' EXIT
+  cols="factorize_s factorize_top_s factor_flops factor_top_flops init_s"
+  echo "run,threads,load,${cols// /,}" > "$here/measured.csv"
+  for r in 1 2 3; do
+    build/deformbench deform data/edits/armadillo_loop1_whole.edit --method tf --constraints soft --frames 1 \
+      --solver multifrontal --out "$t/o.ply" --csv "$t/o.csv" > /dev/null
+    /usr/bin/python3 -c 'import csv,sys; r=next(csv.DictReader(open(sys.argv[1]))); print(",".join(sys.argv[3:] + [r[k] for k in sys.argv[2].split()]))' \
+      "$t/o.csv" "$cols" "$r" "${DEFORMBENCH_THREADS:-default}" "$(cut -d' ' -f1 /proc/loadavg)" >> "$here/measured.csv"
+  done
+  cat "$here/measured.csv"
+  exit 0
+fi
 build/exp_tree_parallelism --edit data/edits/armadillo_whole.edit --edit data/edits/armadillo_loop1_whole.edit \
   --edit data/edits/armadillo_loop2_whole.edit --threads 1,2,4,8,16,32,64 --csv "$here/tree_parallelism.csv"
 /usr/bin/python3 - "$here/tree_parallelism.csv" > "$here/table.md" <<'PY'
