@@ -87,9 +87,9 @@ std::vector<int> metis_order(MetisGraph& h) {
 // The first split's imbalance bound (METIS's ufactor, in thousandths): METIS_NodeND's own (200: sides up to 1.2x
 // half) can leave one thread ordering 60% of the graph while the other waits; a nearly even split (1.02x)
 // shortens the longer of the two orderings that run at once, and on the armadillo edits its fill is no larger
-// (results/records/2026-11-26-analysis-levers). The deeper splits keep METIS's own bound: a tight one there costs
-// fill (several percent of nnz(L) at four levels) and their parts are ordered by more threads than there are
-// cores left idle.
+// (results/records/2026-11-26-analysis-levers). The deeper splits (with more than two threads) keep METIS's own
+// bound: a tight one at every level cost several percent of nnz(L) at four levels on the armadillo patterns
+// (results/records/2026-11-26-ordering-threads/tuning, `depth` mode).
 constexpr idx_t kSplitUfactor = 20;
 // Below the first level, parts of fewer vertices are ordered whole: METIS takes a few tens of milliseconds on them.
 constexpr idx_t kSplitVertices = 10000;
@@ -141,7 +141,7 @@ std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
 
 //! Levels of dissection for `threads`: one up to two threads, one more for each doubling beyond, so that every
 //! thread gets a part to order. Why not more levels everywhere: each level below the first costs some fill
-//! (results/records/2026-11-26-parallel-dissection) and pays only where threads order its parts.
+//! (results/records/2026-11-26-tree-parallelism) and pays only where threads order its parts.
 int dissection_levels(int threads) {
   int levels = 1;
   while ((1 << levels) < threads && levels < 6) ++levels;
