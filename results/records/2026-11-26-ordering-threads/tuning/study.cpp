@@ -10,6 +10,8 @@
 //   ./study g104.bin g1 UFACTOR           the same with the separator computed on the 1-ring graph and widened
 //   ./study g104.bin rec LEAF amd|metis   METIS separators down to parts below LEAF vertices, ordered by AMD or METIS
 //   UF2=200 ./study g104.bin depth D U    D levels of separators (the first at ufactor U, deeper at UF2), NodeND below
+//   ./study g104.bin crit D               the project's D-level dissection (first split at ufactor 20, deeper at METIS's
+//                                         own, parts under 10000 vertices whole): CPU total and critical path
 #include <cholmod.h>
 #include <metis.h>
 #include <cstdio>
@@ -99,6 +101,21 @@ void recd(vector<idx_t>& xadj, vector<idx_t>& adj, const vector<int>& verts, int
   for(int w=0;w<2;++w){ vector<idx_t> hx,ha; vector<int> vv; induced(xadj,adj,part,w,hx,ha,vv); vector<int> gv(vv.size()); for(size_t k=0;k<vv.size();++k) gv[k]=verts[vv[k]]; recd(hx,ha,gv,depth-1,out,uf2); }
   for(int v=0;v<n;++v) if(part[v]==2) out.push_back(verts[v]);
 }
+
+// As recd, with the project's rule (parts under 10000 vertices not split) and the CPU time of each node: returns
+// the critical path (a split, then the longer of its two sides), the total in `total`.
+double recc(vector<idx_t>& xadj, vector<idx_t>& adj, const vector<int>& verts, int depth, vector<int>& out, int uf, double& total){
+  int n=verts.size();
+  double t0=cpu();
+  if(depth==0 || n<10000){ auto o=nodend(xadj,adj,nullptr,n); for(int k:o) out.push_back(verts[k]); double t=cpu()-t0; total+=t; return t; }
+  vector<idx_t> part; separator(xadj,adj,part,uf);
+  vector<idx_t> hx[2],ha[2]; vector<int> gv[2];
+  for(int w=0;w<2;++w){ vector<int> vv; induced(xadj,adj,part,w,hx[w],ha[w],vv); gv[w].resize(vv.size()); for(size_t k=0;k<vv.size();++k) gv[w][k]=verts[vv[k]]; }
+  double split=cpu()-t0; total+=split;
+  double c[2]; for(int w=0;w<2;++w) c[w]=recc(hx[w],ha[w],gv[w],depth-1,out,200,total);
+  for(int v=0;v<n;++v) if(part[v]==2) out.push_back(verts[v]);
+  return split+max(c[0],c[1]);
+}
 int main(int argc, char** argv) {
   G g = load(argv[1]); string mode = argv[2];
   vector<idx_t> xadj, adj; full(g, xadj, adj);
@@ -122,6 +139,8 @@ int main(int argc, char** argv) {
      printf("rec leaf %d %s cpu %.3f lnz %.0f flops %.4g\n",leaf,lm.c_str(),t,f.first,f.second); return 0; }
   if (mode=="depth") { int d=atoi(argv[3]); int uf=atoi(argv[4]); vector<int> verts(g.n); for(int v=0;v<g.n;++v) verts[v]=v; vector<int> perm; double t=cpu(); recd(xadj,adj,verts,d,perm,uf); t=cpu()-t; auto f=fill(g,perm);
      printf("depth %d uf %d cpu %.3f lnz %.0f flops %.4g\n",d,uf,t,f.first,f.second); return 0; }
+  if (mode=="crit") { int d=atoi(argv[3]); vector<int> verts(g.n); for(int v=0;v<g.n;++v) verts[v]=v; vector<int> perm; double total=0; double crit=recc(xadj,adj,verts,d,perm,20,total); auto f=fill(g,perm);
+     printf("levels %d: CPU total %.3f, critical path %.3f, lnz %.0f flops %.4g\n",d,total,crit,f.first,f.second); return 0; }
   if (mode=="base") {
     double t=cpu(); auto perm=nodend(xadj,adj,nullptr,g.n); t=cpu()-t; auto f=fill(g,perm); printf("base cpu %.3f lnz %.0f flops %.4g\n",t,f.first,f.second); return 0; }
   int levels = atoi(argv[3]); const char* on = argc>4?argv[4]:"g1";
