@@ -15,6 +15,7 @@
 //       --csv results/tree_parallelism.csv
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,21 +51,18 @@ void define_options(CLI::App& app, Options& o) {
 
 //! The multifrontal backend's symbolic analysis of the edit's structured system, as a deformation on `threads`
 //! threads runs it: the unknowns numbered in the default vertex ordering, the ordered matrix analyzed in its
-//! natural order.
-db::multifrontal::Symbolic symbolic(const db::EditCase& c, const std::string& system, int threads) {
+//! natural order. DEFORMBENCH_THREADS (what worker_threads() reads) is set for the ordering and put back after it,
+//! for the rows' provenance.
+db::multifrontal::Symbolic symbolic(const db::EditCase& c, const db::Adjacency& adj, const std::string& system,
+                                    int threads) {
   const int b = system == "tf" ? 3 : 1;
-  // worker_threads() reads the variable; it is put back afterwards, for the rows' provenance.
-  const char* was = std::getenv("DEFORMBENCH_THREADS");
-  const std::string saved = was ? was : "";
+  const char* set = std::getenv("DEFORMBENCH_THREADS");
+  const std::optional<std::string> was = set ? std::optional<std::string>(set) : std::nullopt;
   setenv("DEFORMBENCH_THREADS", std::to_string(threads).c_str(), 1);
-  struct Restore {
-    const char* was;
-    const std::string& saved;
-    ~Restore() { was ? setenv("DEFORMBENCH_THREADS", saved.c_str(), 1) : unsetenv("DEFORMBENCH_THREADS"); }
-  } restore{was, saved};
-  const db::Adjacency adj = db::vertex_adjacency(c.mesh);
   db::Unknowns unk = db::make_unknowns(db::classify(c.edit, db::ConstraintMode::Soft), 1.0);
   db::order_unknowns(adj, unk, db::default_vertex_ordering(b));
+  if (was) setenv("DEFORMBENCH_THREADS", was->c_str(), 1);
+  else unsetenv("DEFORMBENCH_THREADS");
   return db::multifrontal::analyze_blocks(db::expand_upper(db::interaction_pattern(adj, unk), b), b, "natural");
 }
 
@@ -95,9 +93,10 @@ int run(const Options& o) {
   db::CsvTable table;
   for (const std::string& e : o.edits) {
     const db::EditCase c = db::load_edit_case(e);
+    const db::Adjacency adj = db::vertex_adjacency(c.mesh);
     for (const std::string& system : o.systems)
       for (int T : o.threads) {
-        const db::multifrontal::Symbolic S = symbolic(c, system, T);
+        const db::multifrontal::Symbolic S = symbolic(c, adj, system, T);
         std::vector<double> flops(std::size_t(S.nsuper()));
         for (int s = 0; s < S.nsuper(); ++s) flops[std::size_t(s)] = db::multifrontal::supernode_flops(S, s);
         table.add(row(c, system, S, flops, T));
