@@ -67,8 +67,10 @@ db::multifrontal::Symbolic symbolic(const db::EditCase& c, const db::Adjacency& 
 }
 
 db::CsvTable::Row row(const db::EditCase& c, const std::string& system, const db::multifrontal::Symbolic& S,
-                      const std::vector<double>& flops, int T) {
+                      const std::vector<double>& flops, const std::vector<double>& entries, int T) {
   const db::multifrontal::PlanCounts p = db::multifrontal::plan_counts(S, db::multifrontal::schedule(S, T, flops), flops);
+  const db::multifrontal::PlanCounts q =
+      db::multifrontal::plan_counts(S, db::multifrontal::schedule(S, T, entries), entries);
   return {{"edit", c.edit.name},
           {"vertices", std::to_string(c.mesh.V.rows())},
           {"system", system},
@@ -85,7 +87,10 @@ db::CsvTable::Row row(const db::EditCase& c, const std::string& system, const db
           {"top_rows_median", std::to_string(p.top_rows_median)},
           {"top_rows_max", std::to_string(p.top_rows_max)},
           {"bound_top_serial", db::num(S.flops / (p.group_max + p.top))},
-          {"bound_top_ideal", db::num(S.flops / (p.group_max + p.top / T))}};
+          {"bound_top_ideal", db::num(S.flops / (p.group_max + p.top / T))},
+          {"solve_group_entries_max", db::num(q.group_max)},
+          {"solve_top_entries", db::num(q.top)},
+          {"solve_bound", db::num(double(S.nnz) / (q.group_max + q.top))}};
 }
 
 int run(const Options& o) {
@@ -98,8 +103,12 @@ int run(const Options& o) {
       for (int T : o.threads) {
         const db::multifrontal::Symbolic S = symbolic(c, adj, system, T);
         std::vector<double> flops(std::size_t(S.nsuper()));
-        for (int s = 0; s < S.nsuper(); ++s) flops[std::size_t(s)] = db::multifrontal::supernode_flops(S, s);
-        table.add(row(c, system, S, flops, T));
+        std::vector<double> entries(std::size_t(S.nsuper()));
+        for (int s = 0; s < S.nsuper(); ++s) {
+          flops[std::size_t(s)] = db::multifrontal::supernode_flops(S, s);
+          entries[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+        }
+        table.add(row(c, system, S, flops, entries, T));
         std::cout << fmt::format("{} {} T={}: nnz(L) {}, {} supernodes, {:.4g} flops\n", c.edit.name, system, T, S.nnz,
                                  S.nsuper(), S.flops);
       }

@@ -101,12 +101,13 @@ class MultifrontalSolver final : public LinearSolver {
   FloatFactor float_;  //!< mixed: the factor in single precision
   SpMat kept_;         //!< refined backends: P A P^T (upper), the refinement's products
   Symbolic S_;
-  //! The solves' plan for r right-hand sides: for as many threads as their work is worth (threads_worth), made
-  //! on first use and kept (the same thread count gives the same plan, so the same bytes).
+  //! The solves' plan for r right-hand sides: for at most as many threads as their work is worth (threads_worth),
+  //! fewer where more would lengthen its critical path (shortest_plan); made on first use and kept (the same thread
+  //! count gives the same plan, so the same bytes).
   const Plan& solve_plan(Index r);
 
   Plan factor_plan_;
-  std::map<int, Plan> solve_plans_;  //!< by thread count
+  std::map<int, Plan> solve_plans_;  //!< by the most threads the work is worth
   std::vector<double> entries_;      //!< per supernode: factor entries, the solves' cost
   int threads_ = 1;
   Mapping values_;  //!< the FactorBlocks of all supernodes
@@ -292,10 +293,10 @@ void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {
 }
 
 const Plan& MultifrontalSolver::solve_plan(Index r) {
-  const int T = threads_worth(solve_flops(S_, r), Work::Solve, threads_);
-  auto it = solve_plans_.find(T);
+  const int most = threads_worth(solve_flops(S_, r), Work::Solve, threads_);
+  auto it = solve_plans_.find(most);
   // A solve reads each factor entry once per direction: its threads are balanced by entries, not flops.
-  if (it == solve_plans_.end()) it = solve_plans_.emplace(T, schedule(S_, T, entries_)).first;
+  if (it == solve_plans_.end()) it = solve_plans_.emplace(most, shortest_plan(S_, most, entries_).plan).first;
   return it->second;
 }
 

@@ -113,6 +113,22 @@ PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<do
   return c;
 }
 
+SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& cost) {
+  std::vector<SolvePlan> plans;
+  std::vector<double> paths;
+  for (int T = 1;; T = std::min(2 * T, most)) {
+    Plan plan = schedule(S, T, cost);
+    const PlanCounts c = plan_counts(S, plan, cost);
+    paths.push_back(c.group_max + c.top);
+    plans.push_back({T, std::move(plan)});
+    if (T >= most) break;
+  }
+  const double shortest = *std::min_element(paths.begin(), paths.end());
+  std::size_t k = 0;
+  while (paths[k] > 1.03 * shortest) ++k;
+  return std::move(plans[k]);
+}
+
 namespace {
 
 double update_bytes(const Symbolic& S, int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); }

@@ -30,6 +30,18 @@ struct Plan {
 //! (its root moves to the top set) until a greedy assignment of the open subtrees balances within 10%.
 Plan schedule(const Symbolic& S, int threads, const std::vector<double>& cost);
 
+//! A solve's plan: of the thread counts up to `most` (the powers of two below it, and `most`), the fewest whose
+//! plan's critical path in `cost` (its largest group plus every top supernode, which the solves take serially) is
+//! within 3% of the shortest, with its plan. Why: a plan for more threads opens more subtrees to balance more
+//! groups, moving entries into the serial top, so that past some count the path, and the solve with it, grows
+//! (counted by exp_tree_parallelism's solve columns; measured on 16 cores in results/records/2026-11-26-threads).
+//! Depends only on the tree, `most` and the costs: a solve's bytes stay fixed for a given thread count.
+struct SolvePlan {
+  int threads = 1;
+  Plan plan;
+};
+SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& cost);
+
 //! What a plan leaves to each phase, in the costs it was made with (flops for the factorization's plan): the
 //! largest and the mean group of the subtree phase, and the top phase, which runs its supernodes one after another
 //! with the BLAS's threads, so that only the BLAS's parallel efficiency on those fronts speeds it up. Why: the top

@@ -6,6 +6,7 @@
 
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
+#include "solvers/multifrontal/symbolic.h"
 
 namespace {
 
@@ -85,4 +86,52 @@ TEST(ThreadsWorth, BoundedMonotoneAndConsistentWithWorthThreads) {
     }
     EXPECT_EQ(threads_worth(1e13, kind, 16), 16);  // hours of one core's work
   }
+}
+
+namespace {
+
+//! Upper triangle of the graph Laplacian of a g x h grid plus the identity.
+db::SpMat grid_upper(int g, int h) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (int x = 0; x < g; ++x)
+    for (int y = 0; y < h; ++y) {
+      const int v = x * h + y;
+      t.emplace_back(v, v, 5.0);
+      if (x + 1 < g) t.emplace_back(v, v + h, -1.0);
+      if (y + 1 < h) t.emplace_back(v, v + 1, -1.0);
+    }
+  db::SpMat U(g * h, g * h);
+  U.setFromTriplets(t.begin(), t.end());
+  return U;
+}
+
+}  // namespace
+
+// The solves' plan (schedule.h): never a longer critical path than the plan for the most threads allowed, the
+// fewest threads within 3% of the shortest path among the candidates, and one thread for a chain of supernodes
+// (nothing to run in parallel).
+TEST(ShortestPlan, NoLongerPathThanTheMostThreadsAndOneThreadForAChain) {
+  using namespace db::multifrontal;
+  const auto path = [](const Symbolic& S, const Plan& p, const std::vector<double>& cost) {
+    const PlanCounts c = plan_counts(S, p, cost);
+    return c.group_max + c.top;
+  };
+  const int g = 40;  // a 2-D grid Laplacian: a tree with parallelism at every level
+  const Symbolic S = analyze_blocks(grid_upper(g, g), 1, "metis");
+  std::vector<double> cost(std::size_t(S.nsuper()));
+  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  for (int most : {1, 2, 3, 8, 16}) {
+    const SolvePlan best = shortest_plan(S, most, cost);
+    EXPECT_GE(best.threads, 1);
+    EXPECT_LE(best.threads, most);
+    EXPECT_EQ(best.plan.subtrees.size(), std::size_t(best.threads));
+    const double chosen = path(S, best.plan, cost);
+    EXPECT_LE(chosen, 1.03 * path(S, schedule(S, most, cost), cost)) << most;
+    for (int T = 1; T < best.threads; T *= 2) EXPECT_GT(path(S, schedule(S, T, cost), cost), chosen / 1.03) << T;
+    // This grid's plan for 16 threads opens so many subtrees that its serial top outweighs what they take over.
+    if (most == 16) EXPECT_LT(chosen, path(S, schedule(S, most, cost), cost));
+  }
+  const Symbolic chain = analyze_blocks(grid_upper(1, 200), 1, "natural");  // a path graph in natural order
+  std::vector<double> ones(std::size_t(chain.nsuper()), 1.0);
+  EXPECT_EQ(shortest_plan(chain, 16, ones).threads, 1);
 }
