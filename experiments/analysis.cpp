@@ -12,7 +12,6 @@
 //       --rounds 5 --csv results/analysis.csv
 #include <cstdlib>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "core/cli.h"
 #include "core/csv.h"
 #include "core/provenance.h"
 #include "core/timer.h"
@@ -39,31 +39,15 @@ struct Args {
   std::string csv;
 };
 
-std::vector<std::string> split_list(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
-Args parse(int argc, char** argv) {
-  Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (i + 1 >= argc) throw db::UsageError(key + " needs a value");
-    const std::string value = argv[++i];
-    if (key == "--edit") a.edits.push_back(value);
-    else if (key == "--system") a.systems = split_list(value);
-    else if (key == "--orderings") a.orderings = split_list(value);
-    else if (key == "--rounds") a.rounds = std::atoi(value.c_str());
-    else if (key == "--csv") a.csv = value;
-    else throw db::UsageError("unknown option " + key + " (expected --edit, --system, --orderings, --rounds, --csv)");
-  }
-  if (a.edits.empty() || a.csv.empty() || a.rounds < 1 || a.rounds > 1000)
-    throw db::UsageError("usage: exp_analysis --edit E [--edit E2] [--system tf,lap] [--orderings metis,ringnd] "
-                         "[--rounds 1..1000] --csv OUT");
-  return a;
+void define_options(CLI::App& app, Args& a) {
+  app.add_option("--edit", a.edits, "an edit: a .edit file or a BS08 stem (repeatable)")->required();
+  app.add_option("--system", a.systems, "tf and/or lap (comma-separated)")->delimiter(',')
+      ->check(db::cli::OneOf({"tf", "lap"}))->capture_default_str();
+  app.add_option("--orderings", a.orderings, "vertex orderings (comma-separated)")->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--rounds", a.rounds, "rounds, each running every ordering once")->check(db::cli::Integer(1, 1000))
+      ->capture_default_str();
+  app.add_option("--csv", a.csv, "the rows, with provenance")->required();
 }
 
 //! The value of column `key` in `row`.
@@ -120,37 +104,38 @@ db::CsvTable::Row measure(const Case& c, const std::string& system, const std::s
           {"threads", std::to_string(db::worker_threads())}};
 }
 
+int run(const Args& a) {
+  db::cli::check_output("--csv", a.csv, {".csv"}, a.edits);
+  std::vector<Case> cases;
+  for (const std::string& e : a.edits) {
+    Case c{db::load_edit_case(e), {}, {}};
+    c.adj = db::vertex_adjacency(c.edit.mesh);
+    c.unk = db::make_unknowns(db::classify(c.edit.edit, db::ConstraintMode::Soft), 1.0);
+    cases.push_back(std::move(c));
+  }
+  db::CsvTable table;
+  for (int r = 0; r < a.rounds; ++r)
+    for (const Case& c : cases)
+      for (const std::string& s : a.systems)
+        for (const std::string& o : a.orderings) {
+          db::CsvTable::Row row = measure(c, s, o, r);
+          std::cout << fmt::format("round {} {} {} {}: analysis {} s, nnz(L) {}\n", r, c.edit.edit.name, s, o,
+                                   value(row, "analysis_s"), value(row, "nnz_L"))
+                    << std::flush;
+          table.add(std::move(row));
+        }
+  table.write(a.csv);
+  std::cout << "wrote " << a.csv << " | " << db::provenance_summary() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const Args a = parse(argc, argv);
-    std::vector<Case> cases;
-    for (const std::string& e : a.edits) {
-      Case c{db::load_edit_case(e), {}, {}};
-      c.adj = db::vertex_adjacency(c.edit.mesh);
-      c.unk = db::make_unknowns(db::classify(c.edit.edit, db::ConstraintMode::Soft), 1.0);
-      cases.push_back(std::move(c));
-    }
-    db::CsvTable table;
-    for (int r = 0; r < a.rounds; ++r)
-      for (const Case& c : cases)
-        for (const std::string& s : a.systems)
-          for (const std::string& o : a.orderings) {
-            db::CsvTable::Row row = measure(c, s, o, r);
-            std::cout << fmt::format("round {} {} {} {}: analysis {} s, nnz(L) {}\n", r, c.edit.edit.name, s, o,
-                                     value(row, "analysis_s"), value(row, "nnz_L"))
-                      << std::flush;
-            table.add(std::move(row));
-          }
-    table.write(a.csv);
-    std::cout << "wrote " << a.csv << " | " << db::provenance_summary() << "\n";
-    return 0;
-  } catch (const db::UsageError& e) {
-    std::cerr << "exp_analysis: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "exp_analysis: " << e.what() << "\n";
-    return 2;
-  }
+  CLI::App app("The analysis phase (vertex ordering + symbolic analysis) of the structured systems per vertex "
+               "ordering, in interleaved rounds.",
+               "exp_analysis");
+  Args a;
+  define_options(app, a);
+  return db::cli::run(app, argc, argv, [&] { return run(a); });
 }

@@ -10,6 +10,9 @@
 // the top set (supernodes, flops, share, the costliest chain of top supernodes, its fronts' rows median and
 // largest), and two bounds on the factorization's speedup over one thread: `bound_top_serial` with the top phase
 // on one core, `bound_top_ideal` with it at T times one core's rate (a BLAS that scales perfectly on those fronts).
+// The solves' plan for T threads, balanced by factor entries (what a solve reads): its largest group and top in
+// entries, and `solve_bound`, nnz(L) over their sum, the solve's speedup if each thread streamed at one core's
+// rate (the solves take the top serially; shortest_plan in solvers/multifrontal/schedule.h picks by this path).
 //
 //   build/exp_tree_parallelism --edit data/edits/armadillo_loop1_whole.edit --threads 1,2,4,8,16,32,64
 //       --csv results/tree_parallelism.csv

@@ -285,8 +285,40 @@ for r in rows:
     assert abs(T * float(r["group_flops_mean"]) + float(r["top_flops"]) - flops) <= 1e-9 * flops, r
     assert float(r["group_flops_max"]) >= float(r["group_flops_mean"]) > 0, r
     assert T > 1 or (float(r["top_flops"]) == 0 and r["top_supernodes"] == "0"), r
+    # The solves' plan (in factor entries): its largest group and top hold at most every entry, at least a T-th.
+    path = float(r["solve_group_entries_max"]) + float(r["solve_top_entries"])
+    assert int(r["nnz_L"]) / T <= path * (1 + 1e-12) and path <= int(r["nnz_L"]), r
+    assert abs(float(r["solve_bound"]) - int(r["nnz_L"]) / path) <= 1e-9 * T, r
 PY
   fail "tree_parallelism: the phases do not add up ($T/tree.csv)"
+
+# ---------------------------------------------------------------- exp_analysis (the analysis phase per ordering)
+expect "analysis unknown system" 1 "'xyz' is not one of" -- "$BIN/exp_analysis" --edit data/bs08/bar --system xyz --csv "$T/an.csv"
+expect "analysis tiny run" 0 "wrote" -- "$BIN/exp_analysis" --edit data/bs08/bar --system lap,tf --orderings amd,metis \
+  --rounds 2 --csv "$T/an.csv"
+"$PY" - "$T/an.csv" <<'PY' && ok "analysis: a row per round, system and ordering; its phases add up" ||
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 8, len(rows)
+for r in rows:
+    assert abs(float(r["order_s"]) + float(r["mf_analyze_s"]) - float(r["analysis_s"])) <= 1e-6, r
+    assert int(r["nnz_L"]) > 0, r
+same = {}
+for r in rows:  # the orderings are deterministic: every round gives the same fill
+    assert same.setdefault((r["system"], r["ordering"]), r["nnz_L"]) == r["nnz_L"], r
+PY
+  fail "analysis: the rows ($T/an.csv)"
+
+# ---------------------------------------------------------------- exp_machine_rates
+expect "machine_rates bad size" 1 "--gemm-size" -- "$BIN/exp_machine_rates" --gemm-size 10
+expect "machine_rates row" 0 "GFlop/s" -- "$BIN/exp_machine_rates" --gemm-size 256 --csv "$T/rates.csv"
+"$PY" - "$T/rates.csv" <<'PY' && ok "machine_rates: one row of positive rates with provenance" ||
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 1 and float(rows[0]["blas_dgemm_flops"]) > 0 and float(rows[0]["memory_read_bytes_per_s"]) > 0, rows
+assert rows[0]["git_sha"] and rows[0]["blas"], rows
+PY
+  fail "machine_rates: the row ($T/rates.csv)"
 
 if ((fails)); then echo "$fails failure(s)"; exit 1; fi
 echo "all passed"
