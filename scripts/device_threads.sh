@@ -1,77 +1,112 @@
 #!/usr/bin/env bash
-# Thread scaling on a lent 16-core device machine (issue 31 item 4), prepared for a session that has one:
-# T = 1 2 4 8 16; the 104k and 416k armadillo TF and LAP edits; multifrontal and CHOLMOD (supernodal); one
-# process per run; init split (build, analyze, factorize), full-frame median, factorization GFlop/s, the
-# multifrontal factorization's serial top phase (its time and share of the flops: what limits it beyond 8 threads,
-# issue 31 item 3) and the parallel efficiency t(1) / (T t(T)). Three steps:
-#   DEVICE_BUNDLE=PATH/device-bundle.sh scripts/device_threads.sh prepare
+# Thread scaling on a lent 16-core device machine (issue 31 item 4): T = 1 2 4 8 16; the 104k and 416k armadillo
+# TF and LAP edits; multifrontal and CHOLMOD (supernodal); one process per run, each deform row kept whole (its
+# provenance, the init split, the frame median, the factorization's flops and serial top phase); the machine's
+# dgemm and memory read rates at each T before and after the runs (exp_machine_rates). Three steps:
+#   DEVICE_BUNDLE=PATH/device-bundle.sh [BASE_BINARY=OLD/deformbench] scripts/device_threads.sh prepare
 #                                                # here: bundle build/ with the device tool's bundler (not part of
 #                                                # the project) and the 104k mesh into .device/ (git-ignored)
-#   run tool: carry [".device"], timeout_s 590, command
-#       bash .device/device_threads.sh run       # there: writes $OUT/threads.csv and $OUT/machine.txt
-#   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: the record's CSV and table
-# The device run stops starting runs after DEADLINE seconds (default 540), most needed first (104k, then 416k
-# multifrontal, then 416k CHOLMOD, then TF under the ringnd ordering at 8 and 16 threads); a run not started is
-# absent from the CSV, and the report says which. The vertex ordering is the default (METIS for TF: one more
-# dissection level per doubling of the threads beyond two) unless the row's `ordering` says otherwise.
+#   run tool: carry [".device"], timeout_s 600, command
+#       bash .device/device_threads.sh run       # there: $OUT/threads.csv, rates.csv, failed.csv, machine.txt
+#   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: those files, table.md, threads.png
+# The device run starts a run only when its estimated length fits before DEADLINE seconds (default 520), most
+# needed first: round 1 (104k, 416k multifrontal, 416k CHOLMOD at 16, 8 and 2 threads, TF under the ringnd ordering
+# at 8 and 16), then more rounds of the 104k runs for their spread, then 416k CHOLMOD at 4 and 1. A run not started
+# is absent from threads.csv, and the report says which keys have fewer rounds. The vertex ordering is the default
+# (METIS for TF: one more dissection level per doubling of the threads beyond two) unless `ordering` says ringnd.
+# Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
+# rounds and splits the analysis phase at 8 and 16 threads; `report-solves FILES_AT DIR` tabulates it.
 set -euo pipefail
 mode=${1:-}
-case $mode in
-prepare)
-  "${DEVICE_BUNDLE:?DEVICE_BUNDLE names the device-bundle.sh of the device tool library}" build .device deformbench meshtool
-  gzip -c data/generated/armadillo_loop1.off > .device/armadillo_loop1.off.gz
-  cp "$0" .device/device_threads.sh
-  du -sh .device ;;
-run)
+setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
   D=${BUNDLE:-$PWD/.device}; O=${OUT:?OUT is the device tool\'s output folder}
+  for l in libblas.so.3 liblapack.so.3; do ldconfig -p | grep -q "$l " || cp "$D/fallback/$l" "$D/lib/"; done
   export LD_LIBRARY_PATH=$D/lib
-  deadline=$((SECONDS + ${DEADLINE:-540}))
+  deadline=$((SECONDS + ${DEADLINE:-520}))
   W=$(mktemp -d); cd "$W"
-  { lscpu | head -25; head -3 /proc/meminfo; cat /proc/loadavg; ldd "$D/bin/deformbench" | grep -E "not found|openblas"; } > "$O/machine.txt" 2>&1
+  { uname -a; nproc; cat /sys/fs/cgroup/cpu.max; lscpu | head -30; head -3 /proc/meminfo; cat /proc/loadavg
+    ldd "$D/bin/deformbench" | grep -E "not found|blas|lapack"; } > "$O/machine.txt" 2>&1 || true
   gunzip -c "$D/armadillo_loop1.off.gz" > l1.off
   "$D/bin/meshtool" subdivide l1.off l2.off 1 > /dev/null 2>&1 || echo "subdivide failed" >> "$O/machine.txt"
   for k in 1 2; do  # the edit of data/edits/armadillo_loop1_whole.edit on the 104k (1) and 416k (2) meshes
     printf 'mesh = l%s.off\nroi = all\nhandle = nearest:-20.2599,97.1076,-28.8554,100\ntransform = translate:0,10,0\n' $k > e$k.edit
   done
-  cols="build_s analyze_s factorize_s init_s frame_s factor_flops factorize_top_s factor_top_flops"
-  echo "tier,method,solver,threads,ordering,rc,${cols// /,}" > "$O/threads.csv"
-  one() {  # tier method solver threads [ordering]
-    [ $SECONDS -lt $deadline ] || return 0
-    local rc=0 ord=${5:-default}
-    DEFORMBENCH_THREADS=$4 OPENBLAS_NUM_THREADS=$4 OMP_NUM_THREADS=$4 timeout 150 "$D/bin/deformbench" deform e$1.edit \
-      --method "$2" --constraints soft --frames 5 --solver "$3" --ordering "$ord" --out o.ply --csv o.csv > log 2>&1 || rc=$?
-    if [ $rc -eq 0 ]; then
-      python3 -c 'import csv,sys; r=next(csv.DictReader(open("o.csv"))); print(",".join([*sys.argv[2:], "0"] + [r[k] for k in sys.argv[1].split()]))' "$cols" "$1" "$2" "$3" "$4" "$ord" >> "$O/threads.csv"
-    else
-      echo "$1,$2,$3,$4,$ord,$rc,,,,,,,," >> "$O/threads.csv"; tail -3 log >> "$O/machine.txt"
-    fi
-  }
-  for T in 1 2 4 8 16; do for S in multifrontal cholmod_supernodal; do for M in tf lap; do one 1 $M $S $T; done; done; done
-  for T in 16 8 4 2 1; do for M in tf lap; do one 2 $M multifrontal $T; done; done
-  for T in 16 8 2; do for M in tf lap; do one 2 $M cholmod_supernodal $T; done; done
+  echo "binary,tier,round,method,solver,threads,ordering,rc" > "$O/failed.csv"
+}
+rates() {  # phase T...: exp_machine_rates at each T into rates.csv, the header once
+  for T in "${@:2}"; do
+    DEFORMBENCH_THREADS=$T OPENBLAS_NUM_THREADS=$T OMP_NUM_THREADS=$T "$D/bin/exp_machine_rates" --csv r.csv >> "$O/machine.txt" 2>&1 || continue
+    [ -s "$O/rates.csv" ] || { printf 'phase,'; head -1 r.csv; } > "$O/rates.csv"
+    tail -n +2 r.csv | sed "s/^/$1,/" >> "$O/rates.csv"
+  done
+}
+one() {  # binary tier round method solver threads ordering frames estimated_seconds: one deform row into threads.csv
+  [ $((SECONDS + $9)) -le $deadline ] || return 0
+  local rc=0
+  DEFORMBENCH_THREADS=$6 OPENBLAS_NUM_THREADS=${BLAS_THREADS:-$6} OMP_NUM_THREADS=$6 timeout 150 "$D/bin/$1" deform e$2.edit \
+    --method "$4" --constraints soft --frames "$8" --solver "$5" --ordering "$7" --out o.ply --csv o.csv > log 2>&1 || rc=$?
+  if [ $rc -eq 0 ]; then
+    [ -s "$O/threads.csv" ] || { printf 'binary,tier,round,threads,ordering,'; head -1 o.csv; } > "$O/threads.csv"
+    tail -n +2 o.csv | sed "s/^/$1,$2,$3,$6,$7,/" >> "$O/threads.csv"
+  else
+    echo "$1,$2,$3,$4,$5,$6,$7,$rc" >> "$O/failed.csv"; { echo "$*: rc $rc"; tail -3 log; } >> "$O/machine.txt"
+  fi
+}
+tier1() {  # round solvers...: the 104k runs
+  for T in 1 2 4 8 16; do for S in "${@:2}"; do for M in tf lap; do one deformbench 1 "$1" $M "$S" $T default 5 15; done; done; done
+}
+case $mode in
+prepare)
+  "${DEVICE_BUNDLE:?DEVICE_BUNDLE names the device-bundle.sh of the device tool library}" build .device deformbench meshtool \
+    exp_machine_rates exp_analysis
+  # The reference BLAS and LAPACK sonames are Debian's OpenBLAS too: set aside, used there only where the machine
+  # has none, so that one OpenBLAS (the machine's) serves every library.
+  mkdir -p .device/fallback; mv .device/lib/libblas.so.3 .device/lib/liblapack.so.3 .device/fallback/ 2>/dev/null || true
+  [ -z "${BASE_BINARY:-}" ] || cp "$BASE_BINARY" .device/bin/deformbench_base
+  gzip -c data/generated/armadillo_loop1.off > .device/armadillo_loop1.off.gz
+  cp "$0" .device/device_threads.sh
+  du -sh .device ;;
+run)
+  setup
+  rates before 1 2 4 8 16
+  tier1 1 multifrontal cholmod_supernodal
+  for T in 16 8 4 2 1; do for M in tf lap; do one deformbench 2 1 $M multifrontal $T default 5 60; done; done
+  for T in 16 8 2; do for M in tf lap; do one deformbench 2 1 $M cholmod_supernodal $T default 5 60; done; done
   # The 1-ring dissection (ringnd: every level on threads, the same ordering for every thread count) beside METIS's
-  # (one more level per doubling of the threads), last: the analysis on 16 cores by both.
-  for k in 1 2; do for T in 16 8; do one $k tf multifrontal $T ringnd; done; done
-  cat "$O/threads.csv" ;;
+  # (one more level per doubling of the threads): the analysis on 16 cores by both.
+  for k in 1 2; do for T in 16 8; do one deformbench $k 1 tf multifrontal $T ringnd 5 $((k * 25)); done; done
+  tier1 2 multifrontal cholmod_supernodal
+  for T in 4 1; do for M in tf lap; do one deformbench 2 1 $M cholmod_supernodal $T default 5 90; done; done
+  tier1 3 multifrontal
+  rates after 1 16
+  cat "$O/failed.csv" ;;
+solves)
+  # A change checked against the build before it (BASE_BINARY at prepare: .device/bin/deformbench_base), in
+  # interleaved rounds: the 104k TF and LAP full frames (20 a run) at 4, 8 and 16 threads; then the analysis
+  # phase's split (vertex ordering, symbolic analysis) of the 104k and 416k TF edits at 8 and 16 threads.
+  setup
+  for r in 1 2 3; do for T in 16 8 4; do for M in lap tf; do for B in deformbench_base deformbench; do
+    one $B 1 $r $M multifrontal $T default 20 8; done; done; done; done
+  for T in 16 8; do
+    [ $((SECONDS + 30)) -le $deadline ] || break
+    DEFORMBENCH_THREADS=$T OPENBLAS_NUM_THREADS=$T "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit --system tf \
+      --orderings metis,ringnd --rounds 2 --csv "$O/analysis_$T.csv" >> "$O/machine.txt" 2>&1 || echo "exp_analysis T=$T failed" >> "$O/machine.txt"
+  done
+  cat "$O/failed.csv" ;;
 report)
   src=${2:?FILES_AT}; dest=${3:?results/records/DATE-threads}
-  mkdir -p "$dest"; cp "$src/threads.csv" "$src/machine.txt" "$dest/"
-  /usr/bin/python3 - "$dest/threads.csv" > "$dest/table.md" <<'PY'
-import csv, sys
-rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["rc"] == "0"]
-one = {(r["tier"], r["method"], r["solver"], r["ordering"]): float(r["init_s"]) for r in rows if r["threads"] == "1"}
-print("| vertices | method | solver | ordering | T | init s = build + analyze + factorize | GFlop/s | top phase s (share of flops) | frame ms | init efficiency t(1)/(T t(T)) |")
-print("|---|---|---|---|---|---|---|---|---|---|")
-for r in rows:
-    k = (r["tier"], r["method"], r["solver"], r["ordering"]); T = int(r["threads"]); init = float(r["init_s"])
-    eff = f"{one[k] / (T * init):.2f}" if k in one else "-"
-    gf = float(r["factor_flops"]) / float(r["factorize_s"]) / 1e9 if float(r["factorize_s"]) > 0 else 0
-    top = f"{float(r['factorize_top_s']):.2f} ({float(r['factor_top_flops']) / float(r['factor_flops']):.2f})" if float(r["factor_flops"]) > 0 else "-"
-    print(f"| {'104k' if r['tier'] == '1' else '416k'} | {r['method']} | {r['solver']} | {r['ordering']} | {T} | {init:.2f} = {float(r['build_s']):.2f} + "
-          f"{float(r['analyze_s']):.2f} + {float(r['factorize_s']):.2f} | {gf:.0f} | {top} | {1e3 * float(r['frame_s']):.1f} | {eff} |")
-failed = [r for r in csv.DictReader(open(sys.argv[1])) if r["rc"] != "0"]
-if failed: print("\nRuns that failed or timed out: " + "; ".join(f"{r['tier']} {r['method']} {r['solver']} {r['ordering']} T={r['threads']} rc {r['rc']}" for r in failed))
-PY
-  cat "$dest/table.md" ;;
-*) sed -n 2,13p "$0"; exit 1 ;;
+  mkdir -p "$dest"; for f in threads.csv rates.csv failed.csv machine.txt; do cp "$src/$f" "$dest/"; done
+  /usr/bin/python3 "$(dirname "$0")/device_threads_report.py" "$dest" ;;
+blas)
+  # Whether the BLAS's own threads (OpenBLAS's pool, sized at start) slow the solves of a plan for fewer threads:
+  # the 104k TF and LAP frames at 16 threads with 16, 8 and 1 BLAS threads and at 8 threads, interleaved rounds.
+  setup
+  for r in 1 2 3; do for M in lap tf; do for cfg in 16:16 16:8 16:1 8:8; do
+    BLAS_THREADS=${cfg#*:} one deformbench 1 $r $M multifrontal ${cfg%:*} default 20 6; done; done; done
+  cat "$O/failed.csv" ;;
+report-solves)
+  src=${2:?FILES_AT}; dest=${3:?DIR}
+  mkdir -p "$dest"; cp "$src"/*.csv "$src/machine.txt" "$dest/"
+  /usr/bin/python3 "$(dirname "$0")/device_threads_report.py" --solves "$dest" ;;
+*) sed -n 2,21p "$0"; exit 1 ;;
 esac

@@ -1,0 +1,181 @@
+"""The thread-scaling record's table and figure from the files scripts/device_threads.sh's run wrote (issue 31,
+item 4). Reads DEST/threads.csv (one deform row per run, prefixed with tier, round, threads and the ordering
+asked), rates.csv and failed.csv; writes DEST/table.md and DEST/threads.png. Medians over the rounds a key has,
+with their range; efficiency is t(1) / (T t(T)) of the medians, against the key's one-thread run (none: '-').
+With --solves: the `solves` or `blas` mode's files instead (deform rows of one binary or two, deformbench_base
+and deformbench, in interleaved rounds; analysis_T.csv of exp_analysis): per method, T and BLAS threads each
+round's frame, solve and factorization medians of each binary, the new / base solve ratio per round, and the
+analysis split. Measures nothing.
+
+    /usr/bin/python3 scripts/device_threads_report.py [--solves] results/records/DATE-threads
+"""
+import csv
+import statistics
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+TIERS = {"1": "104k", "2": "416k"}
+
+
+def load(dest, binary="deformbench"):
+    runs = defaultdict(list)
+    for r in csv.DictReader(open(dest / "threads.csv")):
+        if r.get("binary", "deformbench") != binary:
+            continue
+        runs[(r["tier"], r["method"], r["backend"], r["ordering"], int(r["threads"]))].append(r)
+    return runs
+
+
+def med(rows, col):
+    return statistics.median(float(r[col]) for r in rows)
+
+
+def spread(rows, col, scale=1.0, fmt="{:.2f}"):
+    vals = sorted(float(r[col]) * scale for r in rows)
+    text = fmt.format(statistics.median(vals))
+    return text if len(vals) == 1 else f"{text} ({fmt.format(vals[0])}-{fmt.format(vals[-1])})"
+
+
+def table(runs):
+    out = ["| vertices | method | solver | ordering | T | rounds | init s, median (range) | build + analyze + factorize s |"
+           " GFlop/s | top phase s (share of flops, GFlop/s) | subtree phase GFlop/s | frame ms, median (range) |"
+           " init efficiency | nnz(L) |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for key in sorted(runs, key=lambda k: (k[0], k[1], k[2], k[3], k[4])):
+        rows = runs[key]
+        tier, method, backend, ordering, T = key
+        one = runs.get((tier, method, backend, ordering, 1))
+        eff = f"{med(one, 'init_s') / (T * med(rows, 'init_s')):.2f}" if one else "-"
+        flops, fact = med(rows, "factor_flops"), med(rows, "factorize_s")
+        top, sub = "-", "-"
+        if backend.startswith("multifrontal") and flops > 0 and float(rows[0]["factor_top_flops"]) > 0:
+            top_s, top_f = med(rows, "factorize_top_s"), med(rows, "factor_top_flops")
+            top = f"{top_s:.2f} ({top_f / flops:.2f}" + (f", {top_f / top_s / 1e9:.0f})" if top_s > 0 else ")")
+            sub = f"{(flops - top_f) / (fact - top_s) / 1e9:.0f}"
+        out.append(f"| {TIERS[tier]} | {method} | {backend} | {ordering} | {T} | {len(rows)} | {spread(rows, 'init_s')} | "
+                   f"{med(rows, 'build_s'):.2f} + {med(rows, 'analyze_s'):.2f} + {fact:.2f} | {flops / fact / 1e9:.0f} | "
+                   f"{top} | {sub} | {spread(rows, 'frame_s', 1e3, '{:.1f}')} | {eff} | {rows[0]['nnz_factor']} |")
+    return out
+
+
+def rates_table(dest):
+    out = ["| phase | T | dgemm GFlop/s | memory read GB/s |", "|---|---|---|---|"]
+    for r in csv.DictReader(open(dest / "rates.csv")):
+        out.append(f"| {r['phase']} | {r['threads']} | {float(r['blas_dgemm_flops']) / 1e9:.0f} | "
+                   f"{float(r['memory_read_bytes_per_s']) / 1e9:.0f} |")
+    return out
+
+
+def provenance(runs):
+    r = next(iter(runs.values()))[0]
+    return (f"git {r['git_sha']}, {r['blas']} (core {r['blas_core']}), cpu {r['cpu']}, {r['hardware_threads']} hardware "
+            f"threads, {r['compiler']}")
+
+
+def figure(runs, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+    series = sorted({k[:4] for k in runs})
+    colours = plt.get_cmap("tab10").colors
+    markers = "osD^vP*Xh<>p"
+    style = {s: (colours[i % 10], markers[i % len(markers)]) for i, s in enumerate(series)}
+    panels = [("init s (build + analyze + factorize)", lambda rows: med(rows, "init_s"), True),
+              ("analysis s (ordering + symbolic)", lambda rows: med(rows, "analyze_s"), True),
+              ("full frame ms (median of 5)", lambda rows: 1e3 * med(rows, "frame_s"), True),
+              ("init efficiency t(1) / (T t(T))", None, False)]
+    fig, axes = plt.subplots(2, 2, figsize=(13, 11))
+    for ax, (title, value, logy) in zip(axes.flat, panels):
+        for s in series:
+            Ts = sorted(k[4] for k in runs if k[:4] == s)
+            if value is None:
+                if 1 not in Ts:
+                    continue
+                t1 = med(runs[(*s, 1)], "init_s")
+                ys = [t1 / (T * med(runs[(*s, T)], "init_s")) for T in Ts]
+            else:
+                ys = [value(runs[(*s, T)]) for T in Ts]
+            c, m = style[s]
+            ax.plot(Ts, ys, color=c, marker=m, label=f"{TIERS[s[0]]} {s[1]} {s[2]} {s[3]}")
+        ax.set_xscale("log", base=2)
+        ax.set_xticks([1, 2, 4, 8, 16], ["1", "2", "4", "8", "16"])
+        if logy:
+            ax.set_yscale("log")
+            plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
+            ax.yaxis.set_major_formatter(plain)
+            ax.yaxis.set_minor_formatter(matplotlib.ticker.FuncFormatter(
+                lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "2346" else ""))
+        ax.set_xlabel("threads T (DEFORMBENCH_THREADS = OPENBLAS_NUM_THREADS)")
+        ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.3)
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=9)
+    fig.suptitle("armadillo edit (104k: data/edits/armadillo_loop1_whole.edit; 416k: its mesh Loop-subdivided), "
+                 "--constraints soft, one process per run")
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig.savefig(path, dpi=110)
+
+
+def main(dest):
+    runs = load(dest)
+    failed = list(csv.DictReader(open(dest / "failed.csv")))
+    rounds = {k: len(v) for k, v in runs.items()}
+    lines = [f"Runs: {provenance(runs)}.", "", *table(runs), "", "Machine rates at each T (exp_machine_rates; before "
+             "and after the runs):", "", *rates_table(dest)]
+    if failed:
+        lines += ["", "Runs that failed or timed out: " + "; ".join(
+            f"{TIERS[r['tier']]} {r['method']} {r['solver']} {r['ordering']} T={r['threads']} rc {r['rc']}" for r in failed)]
+    lines += ["", f"Rounds per key: {min(rounds.values())} to {max(rounds.values())} (runs not started before the "
+              "deadline are absent)."]
+    (dest / "table.md").write_text("\n".join(lines) + "\n")
+    figure(runs, dest / "threads.png")
+    print("\n".join(lines))
+
+
+def by_blas(dest, binary):
+    runs = defaultdict(list)
+    for r in csv.DictReader(open(dest / "threads.csv")):
+        if r.get("binary", "deformbench") == binary:
+            runs[(r["method"], int(r["threads"]), int(r["blas_threads"]))].append(r)
+    return runs
+
+
+def per_round(rows, col, scale=1e3, fmt="{:.1f}"):
+    return ", ".join(fmt.format(float(r[col]) * scale) for r in sorted(rows, key=lambda r: r["round"]))
+
+
+def solves(dest):
+    base, new = by_blas(dest, "deformbench_base"), by_blas(dest, "deformbench")
+    lines = [f"Runs: {provenance(load(dest))}. Per round, in round order; base: deformbench_base.", "",
+             "| method | T | BLAS threads | rounds | frame ms | solve ms | base frame ms | base solve ms | new / base solve |"
+             " factorize s |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for key in sorted(new, key=lambda k: (k[0], -k[1], -k[2])):
+        b, n = base.get(key, []), new[key]
+        by_round = {r["round"]: float(r["solve_s"]) for r in b}
+        ratios = ", ".join(f"{float(r['solve_s']) / by_round[r['round']]:.2f}"
+                           for r in sorted(n, key=lambda r: r["round"]) if r["round"] in by_round) or "-"
+        lines.append(f"| {key[0]} | {key[1]} | {key[2]} | {len(n)} | {per_round(n, 'frame_s')} | {per_round(n, 'solve_s')} | "
+                     f"{per_round(b, 'frame_s') or '-'} | {per_round(b, 'solve_s') or '-'} | {ratios} | "
+                     f"{per_round(n, 'factorize_s', 1.0, '{:.2f}')} |")
+    files = sorted(dest.glob("analysis_*.csv"), key=lambda p: int(p.stem.split("_")[1]))
+    if files:
+        lines += ["", "| T | vertices | ordering | rounds | order s | symbolic s | analysis s | nnz(L) |",
+                  "|---|---|---|---|---|---|---|---|"]
+    for path in files:
+        groups = defaultdict(list)
+        for r in csv.DictReader(open(path)):
+            groups[(r["vertices"], r["ordering"])].append(r)
+        for (v, o), rows in sorted(groups.items(), key=lambda kv: (int(kv[0][0]), kv[0][1])):
+            lines.append(f"| {path.stem.split('_')[1]} | {v} | {o} | {len(rows)} | {med(rows, 'order_s'):.3f} | "
+                         f"{med(rows, 'mf_analyze_s'):.3f} | {med(rows, 'analysis_s'):.3f} | {rows[0]['nnz_L']} |")
+    (dest / "table.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    if sys.argv[1] == "--solves":
+        solves(Path(sys.argv[2]))
+    else:
+        main(Path(sys.argv[1]))
