@@ -136,8 +136,8 @@ void end_children(int sig) {
 // Cleans up and ends the process by `sig` (its default action); once, whichever thread gets here first.
 void act(int sig) {
   if (g_acting.exchange(true)) return;
+  end_children(sig);  // first: a child may write into the registered scratch until it ends
   remove_scratch();
-  end_children(sig);
   ::signal(sig, SIG_DFL);
   sigset_t set;
   sigemptyset(&set);

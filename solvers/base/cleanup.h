@@ -1,7 +1,7 @@
 #pragma once
 //! What an interrupted run leaves behind: nothing. SIGINT and SIGTERM run one async-signal-safe handler that
-//! removes the registered scratch (staged outputs, out-of-core files), ends the registered child processes and
-//! then ends the process by the same signal (default action), so its exit status is the shell's 128 + signal:
+//! ends the registered child processes, removes the registered scratch (staged outputs, out-of-core files, the
+//! children's outputs) and then ends the process by the same signal (default action), so its exit status is the shell's 128 + signal:
 //! 130 for SIGINT, 143 for SIGTERM (docs/cli.md, exit codes). The handlers are installed by the first
 //! registration; a process that never registers anything keeps the default action (the same exit status).
 //!

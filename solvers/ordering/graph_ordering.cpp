@@ -111,7 +111,7 @@ bool bisect(MetisGraph& h, idx_t ufactor, std::vector<idx_t>& part) {
 
 //! h's vertices (graph indices) in elimination order: `levels` levels of METIS vertex separators (the first at
 //! `ufactor`, the deeper at METIS's own balance), the parts below them ordered by METIS_NodeND, each separator
-//! after its two sides. With `threads` > 1 (and METIS drawing per thread, metis_random.h) the two sides of a split
+//! after its two sides. With `threads` > 1 (and METIS able to run on threads, metis_random.h) the two sides of a split
 //! are ordered at once, each with a share of the threads; the result does not depend on `threads`.
 std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
   std::vector<idx_t> part;
@@ -128,7 +128,7 @@ std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
     const int s = task ^ large;
     order[s] = dissect(std::move(side[s]), levels - 1, 0, share[task]);
   };
-  if (threads > 1 && metis_draws_per_thread()) {
+  if (threads > 1 && metis_on_threads()) {
     run_tasks(2, order_side);
   } else {
     order_side(0);

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include <dlfcn.h>
+#include <signal.h>
 
 namespace {
 
@@ -37,10 +38,37 @@ extern "C" int rand() noexcept {
 
 extern "C" void srand(unsigned seed) noexcept { srandom_r(seed, &generator.get()); }
 
+namespace {
+
+//! Whether `address` (a return address) lies in METIS's shared library.
+bool in_libmetis(const void* address) {
+  Dl_info info{};
+  return ::dladdr(address, &info) != 0 && info.dli_fname != nullptr && std::strstr(info.dli_fname, "libmetis") != nullptr;
+}
+
+}  // namespace
+
+// signal() of ISO C code (glibc's __sysv_signal: a one-shot handler, the signal not blocked while it runs).
+extern "C" sighandler_t __sysv_signal(int sig, sighandler_t handler) noexcept {
+  struct sigaction now {};
+  if (in_libmetis(__builtin_return_address(0))) {  // METIS's traps: leave the process's handlers in place
+    if (::sigaction(sig, nullptr, &now) != 0) return SIG_ERR;
+    return now.sa_handler;
+  }
+  struct sigaction sa {};
+  sa.sa_handler = handler;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND | SA_NODEFER;
+  if (::sigaction(sig, &sa, &now) != 0) return SIG_ERR;
+  return now.sa_handler;
+}
+
 namespace db {
 
-bool metis_draws_per_thread() {
-  static const bool ours = ::dlsym(RTLD_DEFAULT, "rand") == reinterpret_cast<void*>(&::rand);
+bool metis_on_threads() {
+  static const bool ours = ::dlsym(RTLD_DEFAULT, "rand") == reinterpret_cast<void*>(&::rand) &&
+                           ::dlsym(RTLD_DEFAULT, "srand") == reinterpret_cast<void*>(&::srand) &&
+                           ::dlsym(RTLD_DEFAULT, "__sysv_signal") == reinterpret_cast<void*>(&::__sysv_signal);
   return ours;
 }
 

@@ -209,7 +209,7 @@ class Dissection {
   }
 
   //! The elimination order of the node's vertices (graph vertices): its sides' orders, then its separator; a
-  //! leaf's by METIS. With `threads` > 1 (and METIS drawing per thread, metis_random.h) the two sides are ordered
+  //! leaf's by METIS. With `threads` > 1 (and METIS able to run on threads, metis_random.h) the two sides are ordered
   //! at once, each with half of them; every side computes what it would alone, so the result does not depend on
   //! the thread count.
   std::vector<int> order_subtree(const Node& node, int threads) {
@@ -219,7 +219,7 @@ class Dissection {
     std::vector<int> order[2];
     const int share[2] = {threads / 2, threads - threads / 2};
     const auto order_side = [&](int s) { order[s] = order_subtree(child[s], std::max(share[s], 1)); };
-    if (threads > 1 && metis_draws_per_thread()) {
+    if (threads > 1 && metis_on_threads()) {
       run_tasks(2, order_side);
     } else {
       order_side(0);
