@@ -311,11 +311,13 @@ PY
 
 # ---------------------------------------------------------------- exp_machine_rates
 expect "machine_rates bad size" 1 "--gemm-size" -- "$BIN/exp_machine_rates" --gemm-size 10
-expect "machine_rates row" 0 "GFlop/s" -- "$BIN/exp_machine_rates" --gemm-size 256 --csv "$T/rates.csv"
+expect "machine_rates bad first-touch size" 1 "--first-touch-mb" -- "$BIN/exp_machine_rates" --first-touch-mb 0
+expect "machine_rates row" 0 "GFlop/s" -- "$BIN/exp_machine_rates" --gemm-size 256 --first-touch-mb 16 --csv "$T/rates.csv"
 "$PY" - "$T/rates.csv" <<'PY' && ok "machine_rates: one row of positive rates with provenance" ||
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 assert len(rows) == 1 and float(rows[0]["blas_dgemm_flops"]) > 0 and float(rows[0]["memory_read_bytes_per_s"]) > 0, rows
+assert float(rows[0]["first_touch_bytes_per_s"]) > 0 and rows[0]["first_touch_mb"] == "16", rows
 assert rows[0]["git_sha"] and rows[0]["blas"], rows
 PY
   fail "machine_rates: the row ($T/rates.csv)"

@@ -5,6 +5,8 @@
 #include <numeric>
 #include <vector>
 
+#include <sys/mman.h>
+
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
 #include "core/timer.h"
@@ -101,6 +103,24 @@ double MachineRates::read_bandwidth(std::size_t bytes) {
   const double seconds = best_of(3, read);
   if (std::accumulate(sums.begin(), sums.end(), 0.0) <= 0) throw Error("read_bandwidth: the sums were lost");
   return double(count * sizeof(double)) / seconds;
+}
+
+double MachineRates::first_touch(std::size_t bytes) {
+  const std::size_t page = 4096, size = std::max(bytes, std::size_t(64) * page);
+  void* map = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (map == MAP_FAILED) throw Error("first_touch: cannot map the memory");
+  advise_huge_pages(map, size);
+  char* p = static_cast<char*>(map);
+  const std::size_t pages = size / page;
+  const int T = std::max(1, worker_threads());
+  Timer t;
+  run_on_threads(T, [&](int k) {
+    for (std::size_t i = pages * std::size_t(k) / std::size_t(T); i < pages * std::size_t(k + 1) / std::size_t(T); ++i)
+      p[i * page] = 1;
+  });
+  const double seconds = t.seconds();
+  munmap(map, size);
+  return double(size) / seconds;
 }
 
 }  // namespace db::harness

@@ -19,6 +19,13 @@ struct MachineRates {
   //! Bytes per second read from memory by worker_threads() threads summing an array of `bytes` (default 128 MB;
   //! best of three): the rate the triangular solves stream the factor at, at best.
   static double read_bandwidth(std::size_t bytes = std::size_t(128) << 20);
+  //! Bytes per second at which worker_threads() threads write memory this process has not touched before: a
+  //! fresh anonymous mapping of `bytes` (default 256 MB), advised for huge pages as the factor's storage is, one
+  //! write per 4 KB page, timed once (a second mapping would reuse the pages the first gave back). Why: every
+  //! factorization writes its whole factor into such memory, and on a virtual machine whose host backs guest
+  //! memory only on first use (free page reporting) that costs more than the arithmetic of a large factor; this
+  //! rate beside an init time tells whether the machine or the code moved.
+  static double first_touch(std::size_t bytes = std::size_t(256) << 20);
 };
 
 }  // namespace db::harness
