@@ -1,6 +1,7 @@
 #include "solvers/multifrontal/symbolic.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <memory>
 #include <numeric>
 
@@ -8,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/ordering/graph_ordering.h"
 
@@ -24,28 +26,49 @@ const char* default_ordering(int b) { return b > 1 ? "metis" : "amd"; }
 
 namespace {
 
+//! Threads for a loop over `work` units (entries of a pattern, rows of a factor): the worker threads, one per
+//! kGrain units at most. Why: below a few hundred thousand units a thread's start costs more than its share.
+int loop_threads(std::size_t work) {
+  constexpr std::size_t kGrain = std::size_t(1) << 19;
+  return int(std::min<std::size_t>(std::size_t(std::max(worker_threads(), 1)), work / kGrain + 1));
+}
+
 //! Upper triangle of the block graph with the diagonal, the pattern CHOLMOD analyzes, into Up / Ui; a scalar
-//! matrix (b = 1) is its own block graph and is viewed in place.
+//! matrix (b = 1) is its own block graph and is viewed in place. Ranges of block columns on threads, concatenated
+//! in order: the same arrays for any thread count.
 GraphPattern block_pattern(const SpMat& upper, int b, std::vector<int>& Up, std::vector<int>& Ui) {
   const int nb = int(upper.cols()) / b;
   if (b == 1) return GraphPattern{nb, upper.outerIndexPtr(), upper.innerIndexPtr()};
-  Up.assign(std::size_t(nb) + 1, 0);
-  Ui.reserve(std::size_t(upper.nonZeros()) / std::size_t(b * b) + std::size_t(nb));
-  std::vector<int> mark(std::size_t(nb), -1);
   const int* Ap = upper.outerIndexPtr();
   const int* Ai = upper.innerIndexPtr();
-  for (int J = 0; J < nb; ++J) {
-    const std::size_t start = Ui.size();
-    mark[std::size_t(J)] = J;  // the diagonal block, appended last
-    for (int j = J * b; j < (J + 1) * b; ++j)
-      for (int p = Ap[j]; p < Ap[j + 1]; ++p)
-        if (const int I = Ai[p] / b; I < J && mark[std::size_t(I)] != J) {
-          mark[std::size_t(I)] = J;
-          Ui.push_back(I);
-        }
-    std::sort(Ui.begin() + std::ptrdiff_t(start), Ui.end());
-    Ui.push_back(J);
-    Up[std::size_t(J) + 1] = int(Ui.size());
+  Up.assign(std::size_t(nb) + 1, 0);
+  const int T = loop_threads(std::size_t(upper.nonZeros()));
+  std::vector<std::vector<int>> part(static_cast<std::size_t>(T));
+  run_tasks(T, [&](int t) {
+    const int lo = int(std::int64_t(nb) * t / T), hi = int(std::int64_t(nb) * (t + 1) / T);
+    std::vector<int>& out = part[std::size_t(t)];
+    out.reserve(std::size_t(Ap[hi * b] - Ap[lo * b]) / std::size_t(b * b) + std::size_t(hi - lo));
+    std::vector<int> mark(std::size_t(nb), -1);
+    for (int J = lo; J < hi; ++J) {
+      const std::size_t start = out.size();
+      mark[std::size_t(J)] = J;  // the diagonal block, appended last
+      for (int j = J * b; j < (J + 1) * b; ++j)
+        for (int p = Ap[j]; p < Ap[j + 1]; ++p)
+          if (const int I = Ai[p] / b; I < J && mark[std::size_t(I)] != J) {
+            mark[std::size_t(I)] = J;
+            out.push_back(I);
+          }
+      std::sort(out.begin() + std::ptrdiff_t(start), out.end());
+      out.push_back(J);
+      Up[std::size_t(J) + 1] = int(out.size() - start);
+    }
+  });
+  std::partial_sum(Up.begin(), Up.end(), Up.begin());
+  Ui.resize(std::size_t(Up[std::size_t(nb)]));
+  std::size_t at = 0;
+  for (const std::vector<int>& out : part) {
+    std::copy(out.begin(), out.end(), Ui.begin() + std::ptrdiff_t(at));
+    at += out.size();
   }
   return GraphPattern{nb, Up.data(), Ui.data()};
 }
@@ -58,7 +81,7 @@ struct FactorFree {
 using FactorPtr = std::unique_ptr<cholmod_factor, FactorFree>;
 
 //! Permutation and supernodes of the block factor L expanded to b x b blocks: perm, col0, rptr, rows, xptr,
-//! nnz, parent.
+//! nnz, parent. The rows are expanded and sorted on threads, in ranges of supernodes of about equal rows.
 void expand_supernodes(const cholmod_factor& L, int b, Symbolic& S) {
   const int nb = int(L.n), ns = int(L.nsuper);
   const int* Perm = static_cast<const int*>(L.Perm);
@@ -76,24 +99,33 @@ void expand_supernodes(const cholmod_factor& L, int b, Symbolic& S) {
   S.col0.resize(std::size_t(ns) + 1);
   S.rptr.assign(std::size_t(ns) + 1, 0);
   S.xptr.assign(std::size_t(ns) + 1, 0);
-  S.rows.reserve(std::size_t(pi[ns]) * std::size_t(b));
   std::vector<int> super_of(static_cast<std::size_t>(nb));
   for (int s = 0; s < ns; ++s) {
     S.col0[std::size_t(s)] = b * super[s];
     for (int J = super[s]; J < super[s + 1]; ++J) super_of[std::size_t(J)] = s;
-    const std::size_t start = S.rows.size();
-    for (int p = pi[s]; p < pi[s + 1]; ++p)
-      for (int c = 0; c < b; ++c) S.rows.push_back(b * srow[p] + c);
-    // CHOLMOD lists a supernode's own columns first but leaves the rows below unsorted; the extend-add
-    // relies on ascending rows (it maps a child's lower triangle into the parent's lower triangle).
-    std::sort(S.rows.begin() + std::ptrdiff_t(start), S.rows.end());
-    S.rptr[std::size_t(s) + 1] = int(S.rows.size());
-    const std::size_t m = std::size_t(S.rptr[std::size_t(s) + 1] - S.rptr[std::size_t(s)]);
-    const std::size_t nc = std::size_t(b) * std::size_t(super[s + 1] - super[s]);
-    S.xptr[std::size_t(s) + 1] = S.xptr[std::size_t(s)] + FactorBlock::size(int(m), int(nc));
-    S.nnz += FactorBlock::size(int(m), int(nc));
+    const int m = b * (pi[s + 1] - pi[s]), nc = b * (super[s + 1] - super[s]);
+    S.rptr[std::size_t(s) + 1] = S.rptr[std::size_t(s)] + m;
+    S.xptr[std::size_t(s) + 1] = S.xptr[std::size_t(s)] + FactorBlock::size(m, nc);
   }
   S.col0[std::size_t(ns)] = S.n;
+  S.nnz = S.xptr[std::size_t(ns)];
+  S.rows.resize(std::size_t(S.rptr[std::size_t(ns)]));
+  const int T = loop_threads(S.rows.size());
+  run_tasks(T, [&](int t) {
+    // Supernodes whose rows start in this thread's share of all rows.
+    const auto from = [&](int k) {
+      const std::int64_t at = std::int64_t(S.rows.size()) * k / T;
+      return int(std::lower_bound(S.rptr.begin(), S.rptr.end() - 1, at) - S.rptr.begin());
+    };
+    for (int s = from(t), end = from(t + 1); s < end; ++s) {
+      int* out = S.rows.data() + S.rptr[std::size_t(s)];
+      for (int p = pi[s]; p < pi[s + 1]; ++p)
+        for (int c = 0; c < b; ++c) *out++ = b * srow[p] + c;
+      // CHOLMOD lists a supernode's own columns first but leaves the rows below unsorted; the extend-add
+      // relies on ascending rows (it maps a child's lower triangle into the parent's lower triangle).
+      std::sort(S.rows.data() + S.rptr[std::size_t(s)], out);
+    }
+  });
   S.parent.assign(std::size_t(ns), -1);
   for (int s = 0; s < ns; ++s) {
     const int nsc = super[s + 1] - super[s];

@@ -2,7 +2,8 @@
 //! Symbolic analysis of the multifrontal backend: CHOLMOD's supernodal analysis (ordering, elimination tree,
 //! postorder, relaxed supernodes) run on the compressed block (vertex) graph, ~b^2 times smaller than the
 //! matrix, and expanded to its b x b blocks: with dense blocks the factor of the expanded matrix is exactly the
-//! expanded factor of the block graph.
+//! expanded factor of the block graph. The compression to blocks and the expansion run on the worker threads, in
+//! ranges fixed by the thread count and concatenated in order: the same Symbolic for any thread count.
 #include <cstddef>
 #include <string>
 #include <vector>

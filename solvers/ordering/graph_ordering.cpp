@@ -116,7 +116,14 @@ bool bisect(MetisGraph& h, idx_t ufactor, std::vector<idx_t>& part) {
 std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
   std::vector<idx_t> part;
   if (levels == 0 || h.size() < kSplitVertices || !bisect(h, ufactor, part)) return metis_order(h);
-  MetisGraph side[2] = {induced(h, part, 0), induced(h, part, 1)};
+  MetisGraph side[2];
+  const auto take_side = [&](int s) { side[s] = induced(h, part, s); };
+  if (threads > 1) {
+    run_tasks(2, take_side);
+  } else {
+    take_side(0);
+    take_side(1);
+  }
   std::vector<int> separator;
   for (idx_t v = 0; v < h.size(); ++v)
     if (part[std::size_t(v)] == 2) separator.push_back(h.vertices[std::size_t(v)]);

@@ -1,5 +1,7 @@
 // The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool, the thread choice.
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -105,7 +107,54 @@ db::SpMat grid_upper(int g, int h) {
   return U;
 }
 
+//! grid_upper(g, g) with each entry a dense b x b block: the pattern of a block (vertex) system such as TF's.
+db::SpMat block_grid_upper(int g, int b) {
+  const db::SpMat U = grid_upper(g, g);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int j = 0; j < U.outerSize(); ++j)
+    for (db::SpMat::InnerIterator it(U, j); it; ++it)
+      for (int c = 0; c < b; ++c)
+        for (int r = 0; r < b; ++r)
+          if (it.row() < j || r <= c) t.emplace_back(b * int(it.row()) + r, b * j + c, it.value() + (r == c ? 1.0 : 0.1));
+  db::SpMat B(b * U.rows(), b * U.cols());
+  B.setFromTriplets(t.begin(), t.end());
+  return B;
+}
+
 }  // namespace
+
+// The symbolic analysis compresses the pattern to its blocks and expands CHOLMOD's supernodes on the worker
+// threads (in ranges of columns and of supernodes): the result must not depend on how many there are, and each
+// supernode's rows must ascend (the extend-add relies on it). A grid large enough for several threads' ranges.
+TEST(AnalyzeBlocks, SameOnAnyThreadCountWithAscendingRows) {
+  using namespace db::multifrontal;
+  const db::SpMat U = block_grid_upper(220, 3);
+  ASSERT_GT(U.nonZeros(), 1 << 20);  // above the grain at which the loops take a second thread
+  const auto analyze_on = [&](const char* threads) {
+    setenv("DEFORMBENCH_THREADS", threads, 1);
+    Symbolic S = analyze_blocks(U, 3, "amd");
+    unsetenv("DEFORMBENCH_THREADS");
+    return S;
+  };
+  const Symbolic one = analyze_on("1");
+  ASSERT_GT(one.rows.size(), std::size_t(1) << 19);  // two threads expand its supernodes
+  for (const char* threads : {"2", "3", "8"}) {
+    const Symbolic S = analyze_on(threads);
+    EXPECT_EQ(S.perm, one.perm) << threads;
+    EXPECT_EQ(S.col0, one.col0) << threads;
+    EXPECT_EQ(S.rptr, one.rptr) << threads;
+    EXPECT_EQ(S.rows, one.rows) << threads;
+    EXPECT_EQ(S.xptr, one.xptr) << threads;
+    EXPECT_EQ(S.parent, one.parent) << threads;
+    EXPECT_EQ(S.nnz, one.nnz) << threads;
+  }
+  ASSERT_EQ(one.n, int(U.cols()));
+  for (int s = 0; s < one.nsuper(); ++s) {
+    const int* R = one.rows.data() + one.rptr[std::size_t(s)];
+    EXPECT_TRUE(std::is_sorted(R, R + one.nrows(s))) << s;
+    for (int k = 0; k < one.ncols(s); ++k) ASSERT_EQ(R[k], one.col0[std::size_t(s)] + k) << s;  // own columns first
+  }
+}
 
 // The solves' plan (schedule.h): never a longer critical path than the plan for the most threads allowed, the
 // fewest threads within 3% of the shortest path among the candidates, and one thread for a chain of supernodes
@@ -129,7 +178,9 @@ TEST(ShortestPlan, NoLongerPathThanTheMostThreadsAndOneThreadForAChain) {
     EXPECT_LE(chosen, 1.03 * path(S, schedule(S, most, cost), cost)) << most;
     for (int T = 1; T < best.threads; T *= 2) EXPECT_GT(path(S, schedule(S, T, cost), cost), chosen / 1.03) << T;
     // This grid's plan for 16 threads opens so many subtrees that its serial top outweighs what they take over.
-    if (most == 16) EXPECT_LT(chosen, path(S, schedule(S, most, cost), cost));
+    if (most == 16) {
+      EXPECT_LT(chosen, path(S, schedule(S, most, cost), cost));
+    }
   }
   const Symbolic chain = analyze_blocks(grid_upper(1, 200), 1, "natural");  // a path graph in natural order
   std::vector<double> ones(std::size_t(chain.nsuper()), 1.0);
