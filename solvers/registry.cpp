@@ -7,6 +7,7 @@
 #include "solvers/base/error.h"
 #include "solvers/backends.h"
 #include "solvers/linear_solver.h"
+#include "solvers/ordering/suitesparse_memory.h"
 
 namespace db {
 namespace {
@@ -80,6 +81,7 @@ const Entry& find(const std::string& name) {
 
 std::unique_ptr<LinearSolver> make_solver(const std::string& name, const SolverOptions& options) {
   const Entry& e = find(name);
+  use_huge_pages_in_suitesparse();
   if (!options.factor_dir.empty() && !e.info.out_of_core) {
     std::vector<std::string> can;
     for (const Entry& o : table())

@@ -11,6 +11,7 @@
 #include "solvers/ordering/cholmod_views.h"
 #include "solvers/ordering/metis_random.h"
 #include "solvers/ordering/ordering_cache.h"
+#include "solvers/ordering/suitesparse_memory.h"
 
 namespace db {
 namespace {
@@ -185,6 +186,7 @@ namespace {
 //! CHOLMOD's postordered analysis of g under `given` (perm[new] = old) or, when it is empty, under `method`.
 cholmod_factor* analyze_with(const GraphPattern& g, const std::vector<int>& given, const std::string& method,
                              cholmod_common& cc) {
+  use_huge_pages_in_suitesparse();
   cc.nmethods = 1;
   cc.method[0].ordering = given.empty() ? cholmod_ordering_code(method) : CHOLMOD_GIVEN;
   cc.postorder = true;

@@ -11,6 +11,7 @@
 #include "solvers/base/resources.h"
 #include "solvers/ordering/cholmod_views.h"
 #include "solvers/ordering/metis_random.h"
+#include "solvers/ordering/suitesparse_memory.h"
 
 namespace db {
 namespace {
@@ -251,6 +252,7 @@ void check_permutation(const std::vector<int>& perm, int m) {
 
 std::vector<int> ring_dissection_order(const RingGraph& g, const RingDissection& settings) {
   if (g.m == 0) return {};
+  use_huge_pages_in_suitesparse();
   std::vector<int> perm = Dissection(g, settings).run(settings.threads > 0 ? settings.threads : worker_threads());
   check_permutation(perm, g.m);
   return perm;
