@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "deformbench_build_sha.h"  // DEFORMBENCH_BUILD_SHA, written at every build (cmake/build_sha.cmake)
 #include "solvers/base/resources.h"
 
 namespace db {
@@ -38,6 +39,8 @@ std::string source_dir() {
 
 std::string git_sha() {
   if (const char* s = std::getenv("DEFORMBENCH_GIT_SHA")) return s;  // set by ./run once per job
+  // The commit this binary was compiled from (cmake/build_sha.cmake), else the tree's at run time.
+  if (const std::string built = DEFORMBENCH_BUILD_SHA; built != "unknown") return built;
   const std::string dir = source_dir();
   std::string sha = run_command("git -C '" + dir + "' rev-parse --short=12 HEAD 2>/dev/null");
   if (sha.empty()) return "unknown";

@@ -7,7 +7,8 @@
 namespace db {
 
 struct Provenance {
-  std::string git_sha;      //!< short sha of the source tree, "+dirty" when it has uncommitted changes
+  std::string git_sha;      //!< short sha of the sources this binary was compiled from, "+dirty" when they had
+                            //!< uncommitted changes (DEFORMBENCH_GIT_SHA overrides it)
   std::string blas;         //!< BLAS library as loaded (e.g. "openblas 0.3.21")
   std::string blas_core;    //!< OpenBLAS kernel set in use (openblas_get_corename), "n/a" otherwise
   std::string blas_coretype_env;  //!< OPENBLAS_CORETYPE as set by the user, "" when unset (auto-detected)
