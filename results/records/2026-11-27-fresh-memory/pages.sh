@@ -5,8 +5,8 @@
 # "cold" state of run.sh). Also the multifrontal / CHOLMOD init ratio per round and build (issue 31's 2-core target:
 # <= 0.6). Writes pages.csv (deform rows with provenance + binary, round) and pages.md here.
 # usage: results/records/2026-11-27-fresh-memory/pages.sh ROUNDS BASE_BINARY BASE_SHA NEW_BINARY NEW_SHA
-#        (from the repository root; each binary's rows carry its SHA: a binary reads the tree's HEAD otherwise,
-#        which is not the commit it was built from)
+#        (from the repository root; each binary's rows carry its SHA: binaries built before 12b867b report the
+#        tree's HEAD when they run, which is not the commit they were built from)
 #        results/records/2026-11-27-fresh-memory/pages.sh report   (pages.md again from pages.csv)
 set -euo pipefail
 report() {
