@@ -15,7 +15,9 @@
 # is absent from threads.csv, and the report says which keys have fewer rounds. The vertex ordering is the default
 # (METIS for TF: one more dissection level per doubling of the threads beyond two) unless `ordering` says ringnd.
 # Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
-# rounds and splits the analysis phase at 8 and 16 threads; `report-solves FILES_AT DIR` tabulates it.
+# rounds and splits the analysis phase at 8 and 16 threads; mode `factor` (DEADLINE=420, timeout_s 480) checks a
+# change of the factorization the same way (the init and its top phase, 104k and 416k); `report-solves FILES_AT DIR`
+# tabulates either.
 set -euo pipefail
 mode=${1:-}
 setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
@@ -93,6 +95,16 @@ solves)
       --orderings metis,ringnd --rounds 2 --csv "$O/analysis_$T.csv" >> "$O/machine.txt" 2>&1 || echo "exp_analysis T=$T failed" >> "$O/machine.txt"
   done
   cat "$O/failed.csv" ;;
+factor)
+  # A change of the factorization checked against BASE_BINARY in interleaved rounds: the 104k TF and LAP inits at
+  # 16, 8 and 4 threads (three rounds), then the 416k TF init at 16 and 8 (two); the machine's rates first.
+  setup
+  rates before 1 16
+  for r in 1 2 3; do for T in 16 8 4; do for M in tf lap; do for B in deformbench_base deformbench; do
+    one $B 1 $r $M multifrontal $T default 3 8; done; done; done; done
+  for r in 1 2; do for T in 16 8; do for B in deformbench_base deformbench; do
+    one $B 2 $r tf multifrontal $T default 3 30; done; done; done
+  cat "$O/failed.csv" ;;
 report)
   src=${2:?FILES_AT}; dest=${3:?results/records/DATE-threads}
   mkdir -p "$dest"; for f in threads.csv rates.csv failed.csv machine.txt; do cp "$src/$f" "$dest/"; done
@@ -108,5 +120,5 @@ report-solves)
   src=${2:?FILES_AT}; dest=${3:?DIR}
   mkdir -p "$dest"; cp "$src"/*.csv "$src/machine.txt" "$dest/"
   /usr/bin/python3 "$(dirname "$0")/device_threads_report.py" --solves "$dest" ;;
-*) sed -n 2,21p "$0"; exit 1 ;;
+*) sed -n 2,20p "$0"; exit 1 ;;
 esac

@@ -2,10 +2,10 @@
 item 4). Reads DEST/threads.csv (one deform row per run, prefixed with tier, round, threads and the ordering
 asked), rates.csv and failed.csv; writes DEST/table.md and DEST/threads.png. Medians over the rounds a key has,
 with their range; efficiency is t(1) / (T t(T)) of the medians, against the key's one-thread run (none: '-').
-With --solves: the `solves` or `blas` mode's files instead (deform rows of one binary or two, deformbench_base
-and deformbench, in interleaved rounds; analysis_T.csv of exp_analysis): per method, T and BLAS threads each
-round's frame, solve and factorization medians of each binary, the new / base solve ratio per round, and the
-analysis split. Measures nothing.
+With --solves: the `solves`, `blas` or `factor` mode's files instead (deform rows of one binary or two,
+deformbench_base and deformbench, in interleaved rounds; analysis_T.csv of exp_analysis): per mesh, method, T and
+BLAS threads each round's frame, solve, factorization and top-phase times of each binary, the new / base solve
+ratio per round, and the analysis split. Measures nothing.
 
     /usr/bin/python3 scripts/device_threads_report.py [--solves] results/records/DATE-threads
 """
@@ -138,7 +138,7 @@ def by_blas(dest, binary):
     runs = defaultdict(list)
     for r in csv.DictReader(open(dest / "threads.csv")):
         if r.get("binary", "deformbench") == binary:
-            runs[(r["method"], int(r["threads"]), int(r["blas_threads"]))].append(r)
+            runs[(r["tier"], r["method"], int(r["threads"]), int(r["blas_threads"]))].append(r)
     return runs
 
 
@@ -149,16 +149,19 @@ def per_round(rows, col, scale=1e3, fmt="{:.1f}"):
 def solves(dest):
     base, new = by_blas(dest, "deformbench_base"), by_blas(dest, "deformbench")
     lines = [f"Runs: {provenance(load(dest))}. Per round, in round order; base: deformbench_base.", "",
-             "| method | T | BLAS threads | rounds | frame ms | solve ms | base frame ms | base solve ms | new / base solve |"
-             " factorize s |", "|---|---|---|---|---|---|---|---|---|---|"]
-    for key in sorted(new, key=lambda k: (k[0], -k[1], -k[2])):
+             "| vertices | method | T | BLAS threads | rounds | frame ms | solve ms | base frame ms | base solve ms |"
+             " new / base solve | factorize s | base factorize s | top phase s | base top phase s |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for key in sorted(new, key=lambda k: (k[0], k[1], -k[2], -k[3])):
         b, n = base.get(key, []), new[key]
         by_round = {r["round"]: float(r["solve_s"]) for r in b}
         ratios = ", ".join(f"{float(r['solve_s']) / by_round[r['round']]:.2f}"
                            for r in sorted(n, key=lambda r: r["round"]) if r["round"] in by_round) or "-"
-        lines.append(f"| {key[0]} | {key[1]} | {key[2]} | {len(n)} | {per_round(n, 'frame_s')} | {per_round(n, 'solve_s')} | "
-                     f"{per_round(b, 'frame_s') or '-'} | {per_round(b, 'solve_s') or '-'} | {ratios} | "
-                     f"{per_round(n, 'factorize_s', 1.0, '{:.2f}')} |")
+        seconds = [per_round(rows, col, 1.0, "{:.2f}") or "-" for col in ("factorize_s", "factorize_top_s")
+                   for rows in (n, b)]
+        lines.append(f"| {TIERS[key[0]]} | {key[1]} | {key[2]} | {key[3]} | {len(n)} | {per_round(n, 'frame_s')} | "
+                     f"{per_round(n, 'solve_s')} | {per_round(b, 'frame_s') or '-'} | {per_round(b, 'solve_s') or '-'} | "
+                     f"{ratios} | {' | '.join(seconds)} |")
     files = sorted(dest.glob("analysis_*.csv"), key=lambda p: int(p.stem.split("_")[1]))
     if files:
         lines += ["", "| T | vertices | ordering | rounds | order s | symbolic s | analysis s | nnz(L) |",

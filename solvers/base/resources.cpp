@@ -1,5 +1,6 @@
 #include "solvers/base/resources.h"
 
+#include <sched.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -45,6 +46,13 @@ int worker_threads() {
     const int t = std::atoi(e);
     if (t >= 1) return t;
   }
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+int available_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (::sched_getaffinity(0, sizeof(set), &set) == 0) return std::max(1, CPU_COUNT(&set));
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 

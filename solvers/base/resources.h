@@ -16,6 +16,9 @@ std::size_t physical_memory_bytes();
 //! else the hardware threads.
 int worker_threads();
 
+//! CPUs this process may run on (its affinity mask; at least 1): the most threads that can run at once.
+int available_cores();
+
 //! Runs fn(0) .. fn(threads - 1) each on a thread of its own (fn(0) on the caller's) and joins them; the first
 //! exception any of them throws is rethrown after all have finished. For measuring what threads do at the same
 //! time (machine rates); computations use run_tasks.

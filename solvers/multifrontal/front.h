@@ -3,10 +3,16 @@
 //! matrix and from its children's update matrices (extend-add), its columns are factored left-looking over
 //! column panels with LAPACK/BLAS-3 (dpotrf, dtrsm, dsyrk/dgemm: large calls on dense blocks), and its update
 //! matrix (Schur complement) is formed for its parent.
+//!
+//! The top phase's fronts are shared by a Team (solvers/base/team.h): their products and extend-adds are cut into
+//! tiles of rows or columns, each one single-threaded BLAS call per panel, which the team's threads claim. The
+//! tiles depend only on the front, never on the team's size, and each writes entries no other tile writes, so the
+//! factor's bytes do not depend on which thread ran what.
 #include <atomic>
 #include <cstdint>
 #include <vector>
 
+#include "solvers/base/team.h"
 #include "solvers/base/types.h"
 #include "solvers/multifrontal/matrix_chunk.h"
 #include "solvers/multifrontal/storage.h"
@@ -14,9 +20,10 @@
 
 namespace db::multifrontal {
 
-//! Per-thread scratch: row -> front position map, relative indices.
+//! Per-thread scratch: row -> front position map, relative indices, a front's tiles.
 struct Workspace {
   std::vector<int> map, rel;
+  std::vector<int> tiles;
   std::vector<double> diag;  //!< a panel's diagonal block, unpacked for dpotrf
   explicit Workspace(int n) : map(std::size_t(n), -1), diag(std::size_t(FactorBlock::kWidth) * FactorBlock::kWidth) {}
 };
@@ -35,12 +42,13 @@ class FrontFactorization {
   FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots, std::size_t pool_bytes = 0);
 
   //! Assembles and factors the front of supernode s and forms its update matrix; false (and failed_column()
-  //! set) when a pivot is not positive. `M`: a run of supernodes' matrix entries that holds s's.
-  bool factor_supernode(const MatrixChunk& M, int s, Workspace& ws);
+  //! set) when a pivot is not positive. `M`: a run of supernodes' matrix entries that holds s's. With a `team`
+  //! (the top phase) its threads share the work in tiles; the BLAS must then run single-threaded.
+  bool factor_supernode(const MatrixChunk& M, int s, Workspace& ws, Team* team = nullptr);
   //! Extend-add of `part` of child c's update matrix into supernode p's factor block and update matrix (with
   //! kUpdate, p's update matrix is allocated zeroed here if it has none yet); frees the child's matrix once
   //! nothing of it is left to move. The caller makes sure no other thread works on p meanwhile.
-  void assemble_child(int c, int p, Workspace& ws, Part part = kBoth);
+  void assemble_child(int c, int p, Workspace& ws, Part part = kBoth, Team* team = nullptr);
   //! The update matrices' pool takes no more blocks and hands its free pages back (the top phase: its few large
   //! matrices are mapped each, and the pool's pages would stay resident beside the finished factor).
   void close_pool() { pool_.close(); }
@@ -50,8 +58,8 @@ class FrontFactorization {
  private:
   FactorBlock block(int s) const { return {values_ + S_.xptr[std::size_t(s)], S_.nrows(s), S_.ncols(s)}; }
   void add_matrix_entries(const MatrixChunk& M, int s, const FactorBlock& L, Workspace& ws) const;
-  bool factor_panels(int s, const FactorBlock& L, Workspace& ws);
-  void form_update(int s, const FactorBlock& L, bool fresh_heap);
+  bool factor_panels(int s, const FactorBlock& L, Workspace& ws, Team* team);
+  void form_update(int s, const FactorBlock& L, bool fresh_heap, Workspace& ws, Team* team);
 
   const Symbolic& S_;
   double* values_;

@@ -10,8 +10,8 @@
 //!    update matrix a lower triangle (storage.h); full square blocks cost markedly more factor memory and twice
 //!    the update memory;
 //!  - independent subtrees of the assembly tree run on separate threads with a single-threaded BLAS, the
-//!    few top fronts after them with the multithreaded BLAS; the solves are split the same way (schedule.h,
-//!    triangular_solve.h), their panel kernels hand-written (kernels.h);
+//!    few top fronts after them one at a time, each cut into tiles that a team of threads shares (front.h); the
+//!    solves are split the same way (schedule.h, triangular_solve.h), their panel kernels hand-written (kernels.h);
 //!  - out of core, the factor lives in a scratch file (storage.h: Mapping::on_file).
 //! "multifrontal_mixed" is the same factorization with the factor then rounded to single precision
 //! (float_factor.h) and the double one dropped; its solves are refined (refinement.h: double-double residuals,
@@ -255,10 +255,15 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
   Workspace ws(S_.n);
   MatrixChunk chunk;
   ColumnRelease release(A, may_release);
+  // The top fronts' tiles on a team of as many threads as their work is worth, each tile a one-thread BLAS call;
+  // no more than the cores this process may run on, since each step waits for its claimed tiles and a thread
+  // sharing a core is descheduled mid-tile (the tiles, and so the factor, do not depend on the team's size).
+  const BlasOnOneThread one_thread;
+  Team team(std::min(threads_worth(stats_.top_flops, Work::Dense, threads_), available_cores()));
   for (int s : factor_plan_.top) {
     release.start(S_.col0[std::size_t(s)]);
     chunk.load(A, counts, S_, s, s);
-    if (!fronts.factor_supernode(chunk, s, ws)) return false;
+    if (!fronts.factor_supernode(chunk, s, ws, &team)) return false;
     release_block(s);
     release.dead_before(S_.col0[std::size_t(s) + 1], true);
   }

@@ -246,17 +246,15 @@ int threads_worth(double flops, Work kind, int most) {
 
 bool worth_threads(double flops, Work kind) { return threads_worth(flops, kind, 2) > 1; }
 
+BlasOnOneThread::BlasOnOneThread() : saved_(blas_threads().get()) { blas_threads().set(1); }
+BlasOnOneThread::~BlasOnOneThread() { blas_threads().set(saved_); }
+
 void run_subtrees(std::size_t groups, bool parallel, const std::function<void(std::size_t)>& fn) {
   if (groups <= 1) {
     if (groups == 1) fn(0);
     return;
   }
-  const int saved = blas_threads().get();
-  blas_threads().set(1);
-  struct Restore {
-    int n;
-    ~Restore() { blas_threads().set(n); }
-  } restore{saved};
+  const BlasOnOneThread one_thread;
   if (parallel)
     run_tasks(int(groups), [&](int t) { fn(std::size_t(t)); });
   else

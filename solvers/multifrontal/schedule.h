@@ -1,7 +1,7 @@
 #pragma once
 //! Scheduling of the multifrontal backend: independent subtrees of the assembly tree run on separate threads
-//! with a single-threaded BLAS, the few top supernodes after them with the BLAS's own threads; the solves are
-//! split the same way.
+//! with a single-threaded BLAS, the few top supernodes after them one at a time, each shared by a team of threads
+//! in tiles (front.h); the solves are split the same way.
 //!
 //! Determinism: the plan depends only on the tree and the thread count, and every floating-point sum is taken in
 //! an order the plan fixes (the subtree roots' hand-over to their parents in child order, the solves' per-thread
@@ -43,10 +43,10 @@ struct SolvePlan {
 SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& cost);
 
 //! What a plan leaves to each phase, in the costs it was made with (flops for the factorization's plan): the
-//! largest and the mean group of the subtree phase, and the top phase, which runs its supernodes one after another
-//! with the BLAS's threads, so that only the BLAS's parallel efficiency on those fronts speeds it up. Why: the top
-//! phase's share grows with the thread count (more subtrees opened to balance more groups), and whether it or
-//! the subtrees limit a factorization on many cores can be counted on any machine.
+//! largest and the mean group of the subtree phase, and the top phase, which runs its supernodes one after
+//! another (each shared by the team's threads in tiles), so that only parallelism inside those fronts speeds it
+//! up. Why: the top phase's share grows with the thread count (more subtrees opened to balance more groups), and
+//! whether it or the subtrees limit a factorization on many cores can be counted on any machine.
 struct PlanCounts {
   double group_max = 0, group_mean = 0;  //!< cost of the subtree phase's groups
   double top = 0;                        //!< cost of the top supernodes
@@ -110,6 +110,18 @@ class BlasThreads {
   int (*get_)() = nullptr;
 };
 const BlasThreads& blas_threads();
+
+//! The BLAS single-threaded for one scope, its thread count restored afterwards (also on an exception).
+class BlasOnOneThread {
+ public:
+  BlasOnOneThread();
+  ~BlasOnOneThread();
+  BlasOnOneThread(const BlasOnOneThread&) = delete;
+  BlasOnOneThread& operator=(const BlasOnOneThread&) = delete;
+
+ private:
+  int saved_;
+};
 
 //! fn(t) for every group t < `groups` of a plan, the BLAS single-threaded meanwhile (its thread count restored
 //! afterwards, also on an exception): as tasks on up to `groups` threads (run_tasks) when `parallel`, else one after

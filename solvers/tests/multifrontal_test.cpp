@@ -1,11 +1,16 @@
-// The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool, the thread choice.
+// The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool, the thread choice,
+// the top phase's tiles.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "solvers/base/team.h"
+#include "solvers/multifrontal/front.h"
+#include "solvers/multifrontal/matrix_chunk.h"
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
@@ -185,4 +190,48 @@ TEST(ShortestPlan, NoLongerPathThanTheMostThreadsAndOneThreadForAChain) {
   const Symbolic chain = analyze_blocks(grid_upper(1, 200), 1, "natural");  // a path graph in natural order
   std::vector<double> ones(std::size_t(chain.nsuper()), 1.0);
   EXPECT_EQ(shortest_plan(chain, 16, ones).threads, 1);
+}
+
+// The top phase's tiles (front.h): every supernode factored with a team gives the same factor, bit for bit, on any
+// team size, since the tiles depend only on the front. Natural order, two dense 600-column blocks coupled to a
+// dense 300-column block but not to each other: one of them stays a supernode of its own, of three panels and a
+// 300-row update matrix, so every kind of tile comes several times per front and a product's panels must be taken
+// in order (with two, a fresh update matrix's two products commute).
+TEST(FrontFactorization, TilesGiveTheSameFactorOnAnyTeam) {
+  using namespace db::multifrontal;
+  const int block = 600, tail = 300, n = 2 * block + tail;
+  std::vector<Eigen::Triplet<double>> t;  // the upper triangle
+  for (int j = 0; j < n; ++j) {
+    t.emplace_back(j, j, 4.0 * n);
+    const int last = j < 2 * block ? (j / block + 1) * block : n;  // a block's own columns, dense
+    for (int i = 0; i < j; ++i)
+      if (i >= last - (j < 2 * block ? block : tail) || j >= 2 * block)  // own block, or the tail's column
+        t.emplace_back(i, j, std::sin(1.0 + i + 7.0 * j));
+  }
+  db::SpMat upper(n, n);
+  upper.setFromTriplets(t.begin(), t.end());
+  const Symbolic S = analyze_blocks(upper, 1, "natural");
+  ASSERT_TRUE(S.perm.empty());
+  int wide_with_update = 0;  // supernodes of three panels or more that form an update matrix
+  for (int s = 0; s < S.nsuper(); ++s)
+    wide_with_update += S.ncols(s) > 2 * FactorBlock::kWidth && S.nrows(s) > S.ncols(s);
+  ASSERT_GT(wide_with_update, 0);
+  const std::vector<int> counts = MatrixChunk::lower_counts(upper);
+  const BlasOnOneThread one_thread;  // as in the top phase
+  const auto factor_with = [&](int threads) {
+    db::Team team(threads);
+    std::vector<double> values(S.xptr.back(), 0.0), pivots(std::size_t(S.n), 0.0);
+    FrontFactorization fronts(S, values.data(), pivots);
+    Workspace ws(S.n);
+    MatrixChunk chunk;
+    for (int s = 0; s < S.nsuper(); ++s) {
+      chunk.load(upper, counts, S, s, s);
+      EXPECT_TRUE(fronts.factor_supernode(chunk, s, ws, &team)) << s;
+    }
+    values.insert(values.end(), pivots.begin(), pivots.end());
+    return values;
+  };
+  const std::vector<double> one = factor_with(1);
+  for (double v : one) ASSERT_TRUE(std::isfinite(v));
+  for (int threads : {2, 3, 4}) EXPECT_TRUE(factor_with(threads) == one) << threads << " threads";
 }
