@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <system_error>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -24,7 +25,13 @@ constexpr int kMostTiles = 0xffff;  // the tile fields of the packed state
 }  // namespace
 
 Team::Team(int threads) {
-  for (int h = 1; h < threads; ++h) helpers_.emplace_back([this] { helper(); });
+  for (int h = 1; h < threads; ++h) {
+    try {
+      helpers_.emplace_back([this] { helper(); });
+    } catch (const std::system_error&) {
+      break;  // no more threads to be had: fewer helpers, the same results
+    }
+  }
 }
 
 Team::~Team() {

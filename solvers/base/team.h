@@ -22,7 +22,7 @@ namespace db {
 
 class Team {
  public:
-  //! `threads` - 1 helpers start now (none for one thread).
+  //! `threads` - 1 helpers start now (none for one thread; fewer where the system refuses more threads).
   explicit Team(int threads);
   ~Team();
   Team(const Team&) = delete;
