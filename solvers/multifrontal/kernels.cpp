@@ -53,14 +53,15 @@ inline __attribute__((always_inline)) void rect_dots(const E* Rr, std::size_t sh
     }
 }
 
-//! The rectangle's part of backward_panel for R right-hand sides: NB columns at a time (NB x R accumulators and
-//! NB + R loads per step fit the sixteen vector registers), then the remaining columns one by one.
+//! The rectangle's part of backward_panel for R right-hand sides and the panel's columns j0 .. j1 - 1: NB
+//! columns at a time (NB x R accumulators and NB + R loads per step fit the sixteen vector registers), then the
+//! remaining columns one by one. Each column's sum is its own, whatever columns share its step.
 template <int NB, int R, class E>
-inline __attribute__((always_inline)) void rect_solve(const E* Rr, int w, int h, double* x, int ldx) {
+inline __attribute__((always_inline)) void rect_solve(const E* Rr, int w, int h, int j0, int j1, double* x, int ldx) {
   const std::size_t sh = std::size_t(h);
-  int j = 0;
-  for (; j + NB <= w; j += NB) rect_dots<NB, R>(Rr, sh, j, w, h, x, ldx);
-  for (; j < w; ++j) rect_dots<1, R>(Rr, sh, j, w, h, x, ldx);
+  int j = j0;
+  for (; j + NB <= j1; j += NB) rect_dots<NB, R>(Rr, sh, j, w, h, x, ldx);
+  for (; j < j1; ++j) rect_dots<1, R>(Rr, sh, j, w, h, x, ldx);
 }
 
 //! x_j -= sum_{i < h} Rr(i, j) x_{w + i} for the NB columns from j0, x held row by row as in backward_rows4.
@@ -81,8 +82,35 @@ inline __attribute__((always_inline)) void rows4_rect(const E* Rr, std::size_t s
   for (int k = 0; k < NB; ++k) *reinterpret_cast<Vec4d*>(x + 4 * std::size_t(j0 + k)) -= acc[k];
 }
 
-//! The triangle first, then the rectangle four columns at a time (one pass over x's rows per four columns of
-//! L, each column read from memory once for all right-hand sides).
+//! The rectangle's part of forward_panel for its rows i0 .. i1 - 1, four columns at a time (one pass over those
+//! rows of x per four columns of L, each column read from memory once for all right-hand sides). Each row's sum
+//! is its own, whatever rows share the call.
+template <class E>
+inline __attribute__((always_inline)) void forward_rect_of(const E* Rr, int w, int h, int i0, int i1, int r,
+                                                           double* x, int ldx) {
+  const std::size_t sh = std::size_t(h);
+  int j = 0;
+  for (; j + 3 < w; j += 4) {
+    const E *q0 = Rr + std::size_t(j) * sh, *q1 = q0 + sh, *q2 = q1 + sh, *q3 = q2 + sh;
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v0 = xc[j], v1 = xc[j + 1], v2 = xc[j + 2], v3 = xc[j + 3];
+      double* xr = xc + w;
+      for (int i = i0; i < i1; ++i) xr[i] -= (q0[i] * v0 + q1[i] * v1) + (q2[i] * v2 + q3[i] * v3);
+    }
+  }
+  for (; j < w; ++j) {
+    const E* q = Rr + std::size_t(j) * sh;
+    for (int c = 0; c < r; ++c) {
+      double* xc = x + std::size_t(c) * std::size_t(ldx);
+      const double v = xc[j];
+      double* xr = xc + w;
+      for (int i = i0; i < i1; ++i) xr[i] -= q[i] * v;
+    }
+  }
+}
+
+//! The triangle first, then the rectangle.
 template <class E>
 inline __attribute__((always_inline)) void forward_panel_of(const E* T, const E* Rr, int w, int h, int r, double* x,
                                                             int ldx) {
@@ -94,42 +122,30 @@ inline __attribute__((always_inline)) void forward_panel_of(const E* T, const E*
       for (int i = 1; i < w - j; ++i) xc[j + i] -= t[i] * v;
     }
   }
-  const std::size_t sh = std::size_t(h);
-  int j = 0;
-  for (; j + 3 < w; j += 4) {
-    const E *q0 = Rr + std::size_t(j) * sh, *q1 = q0 + sh, *q2 = q1 + sh, *q3 = q2 + sh;
-    for (int c = 0; c < r; ++c) {
-      double* xc = x + std::size_t(c) * std::size_t(ldx);
-      const double v0 = xc[j], v1 = xc[j + 1], v2 = xc[j + 2], v3 = xc[j + 3];
-      double* xr = xc + w;
-      for (int i = 0; i < h; ++i) xr[i] -= (q0[i] * v0 + q1[i] * v1) + (q2[i] * v2 + q3[i] * v3);
-    }
-  }
-  for (; j < w; ++j) {
-    const E* q = Rr + std::size_t(j) * sh;
-    for (int c = 0; c < r; ++c) {
-      double* xc = x + std::size_t(c) * std::size_t(ldx);
-      const double v = xc[j];
-      double* xr = xc + w;
-      for (int i = 0; i < h; ++i) xr[i] -= q[i] * v;
-    }
-  }
+  forward_rect_of(Rr, w, h, 0, h, r, x, ldx);
 }
 
-//! The rectangle's dot products first (independent of each other, the rows below are final), then the
-//! triangle bottom up.
+//! The rectangle's dot products for the panel's columns j0 .. j1 - 1 (independent of each other: the rows below
+//! are final).
 template <class E>
-inline __attribute__((always_inline)) void backward_panel_of(const E* T, const E* Rr, int w, int h, int r, double* x,
-                                                             int ldx) {
+inline __attribute__((always_inline)) void backward_rect_of(const E* Rr, int w, int h, int j0, int j1, int r,
+                                                            double* x, int ldx) {
   if (h > 0)
     for (int c = 0; c < r;) {  // one (TF's); more than four (backward_rows4 takes two to four) three at a time
       double* xc = x + std::size_t(c) * std::size_t(ldx);
       switch (std::min(r - c, 3)) {
-        case 3: rect_solve<2, 3>(Rr, w, h, xc, ldx); c += 3; break;
-        case 2: rect_solve<2, 2>(Rr, w, h, xc, ldx); c += 2; break;
-        default: rect_solve<4, 1>(Rr, w, h, xc, ldx); c += 1; break;
+        case 3: rect_solve<2, 3>(Rr, w, h, j0, j1, xc, ldx); c += 3; break;
+        case 2: rect_solve<2, 2>(Rr, w, h, j0, j1, xc, ldx); c += 2; break;
+        default: rect_solve<4, 1>(Rr, w, h, j0, j1, xc, ldx); c += 1; break;
       }
     }
+}
+
+//! The rectangle's dot products first, then the triangle bottom up.
+template <class E>
+inline __attribute__((always_inline)) void backward_panel_of(const E* T, const E* Rr, int w, int h, int r, double* x,
+                                                             int ldx) {
+  backward_rect_of(Rr, w, h, 0, w, r, x, ldx);
   for (int j = w - 1; j >= 0; --j) {
     const E* t = T + packed_column(j, w);
     for (int c = 0; c < r; ++c) {
@@ -146,14 +162,20 @@ inline __attribute__((always_inline)) void backward_panel_of(const E* T, const E
 //! were mostly reductions and tails, and its frames took several times one pass over the factor at the memory
 //! read rate.
 template <class E>
-inline __attribute__((always_inline)) void backward_rows4_of(const E* T, const E* Rr, int w, int h, double* x) {
+inline __attribute__((always_inline)) void backward_rows4_rect_of(const E* Rr, int w, int h, int j0, int j1,
+                                                                  double* x) {
   const std::size_t sh = std::size_t(h);
-  int j = 0;
-  for (; j + 8 <= w; j += 8) rows4_rect<8>(Rr, sh, j, w, h, x);
-  for (; j + 4 <= w; j += 4) rows4_rect<4>(Rr, sh, j, w, h, x);
-  for (; j < w; ++j) rows4_rect<1>(Rr, sh, j, w, h, x);
+  int j = j0;
+  for (; j + 8 <= j1; j += 8) rows4_rect<8>(Rr, sh, j, w, h, x);
+  for (; j + 4 <= j1; j += 4) rows4_rect<4>(Rr, sh, j, w, h, x);
+  for (; j < j1; ++j) rows4_rect<1>(Rr, sh, j, w, h, x);
+}
+
+template <class E>
+inline __attribute__((always_inline)) void backward_rows4_of(const E* T, const E* Rr, int w, int h, double* x) {
+  if (h > 0) backward_rows4_rect_of(Rr, w, h, 0, w, x);
   auto row = [x](int i) -> Vec4d& { return *reinterpret_cast<Vec4d*>(x + 4 * std::size_t(i)); };
-  for (j = w - 1; j >= 0; --j) {  // the triangle bottom up, two partial sums (the adds' latency)
+  for (int j = w - 1; j >= 0; --j) {  // the triangle bottom up, two partial sums (the adds' latency)
     const E* t = T + packed_column(j, w);
     Vec4d s0{0, 0, 0, 0}, s1{0, 0, 0, 0};
     int i = 1;
@@ -188,6 +210,24 @@ DB_KERNEL void backward_rows4(const double* T, const double* Rr, int w, int h, d
 }
 DB_KERNEL void backward_rows4(const float* T, const float* Rr, int w, int h, double* x) {
   backward_rows4_of(T, Rr, w, h, x);
+}
+DB_KERNEL void forward_rect(const double* Rr, int w, int h, int i0, int i1, int r, double* x, int ldx) {
+  forward_rect_of(Rr, w, h, i0, i1, r, x, ldx);
+}
+DB_KERNEL void forward_rect(const float* Rr, int w, int h, int i0, int i1, int r, double* x, int ldx) {
+  forward_rect_of(Rr, w, h, i0, i1, r, x, ldx);
+}
+DB_KERNEL void backward_rect(const double* Rr, int w, int h, int j0, int j1, int r, double* x, int ldx) {
+  backward_rect_of(Rr, w, h, j0, j1, r, x, ldx);
+}
+DB_KERNEL void backward_rect(const float* Rr, int w, int h, int j0, int j1, int r, double* x, int ldx) {
+  backward_rect_of(Rr, w, h, j0, j1, r, x, ldx);
+}
+DB_KERNEL void backward_rows4_rect(const double* Rr, int w, int h, int j0, int j1, double* x) {
+  backward_rows4_rect_of(Rr, w, h, j0, j1, x);
+}
+DB_KERNEL void backward_rows4_rect(const float* Rr, int w, int h, int j0, int j1, double* x) {
+  backward_rows4_rect_of(Rr, w, h, j0, j1, x);
 }
 #undef DB_KERNEL
 

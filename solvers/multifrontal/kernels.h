@@ -29,4 +29,15 @@ void backward_panel(const float* T, const float* Rr, int w, int h, int r, double
 void backward_rows4(const double* T, const double* Rr, int w, int h, double* x);
 void backward_rows4(const float* T, const float* Rr, int w, int h, double* x);
 
+//! The rectangles' parts of the panel kernels, on a range of it (a tile of the top supernodes' solves, which a
+//! team of threads shares): forward_panel's for rows i0 .. i1 - 1 of the h below the panel, after its triangle
+//! (forward_panel with h = 0); backward_panel's and backward_rows4's for the panel's columns j0 .. j1 - 1, before
+//! its triangle (those kernels with h = 0). Each row's or column's result is the one the whole kernel gives it.
+void forward_rect(const double* Rr, int w, int h, int i0, int i1, int r, double* x, int ldx);
+void forward_rect(const float* Rr, int w, int h, int i0, int i1, int r, double* x, int ldx);
+void backward_rect(const double* Rr, int w, int h, int j0, int j1, int r, double* x, int ldx);
+void backward_rect(const float* Rr, int w, int h, int j0, int j1, int r, double* x, int ldx);
+void backward_rows4_rect(const double* Rr, int w, int h, int j0, int j1, double* x);
+void backward_rows4_rect(const float* Rr, int w, int h, int j0, int j1, double* x);
+
 }  // namespace db::multifrontal

@@ -301,7 +301,18 @@ const Plan& MultifrontalSolver::solve_plan(Index r) {
   const int most = threads_worth(solve_flops(S_, r), Work::Solve, threads_);
   auto it = solve_plans_.find(most);
   // A solve reads each factor entry once per direction: its threads are balanced by entries, not flops.
-  if (it == solve_plans_.end()) it = solve_plans_.emplace(most, shortest_plan(S_, most, entries_).plan).first;
+  if (it == solve_plans_.end()) {
+    Plan plan = shortest_plan(S_, most, entries_).plan;
+    // The top supernodes are shared by a team as large as their part of the solve is worth, on every thread
+    // allowed (the subtree groups are done by then), no more than the cores (each step waits for its tiles);
+    // not by two: with two threads the top is a small part of the solve, and a step that waits for a helper
+    // another process has descheduled cost more than the half of it a second thread saves (on 2 cores beside a
+    // busy loop, records/2026-11-27-top-team).
+    const double top = 2.0 * plan_counts(S_, plan, entries_).top * double(r);
+    const int team = std::min(threads_worth(top, Work::Solve, threads_), available_cores());
+    plan.top_team = team >= 3 ? team : 1;
+    it = solve_plans_.emplace(most, std::move(plan)).first;
+  }
   return it->second;
 }
 
@@ -355,9 +366,17 @@ void MultifrontalSolver::solve_changed(const DenseMat& B, DenseMat& X) {
   for (int i : changing_rows_)
     for (Index c = 0; c < B.cols(); ++c) y_(iperm(i), c) += B(i, c) - base_(i, c);
   SolveScratch tmp;
-  for (int s : reach_) forward_supernode(factor(), s, y_, tmp);
+  const Plan& plan = solve_plan(y_.cols());
+  {
+    Team team(plan.top_team);  // for the top supernodes the changes reach, as in forward_all
+    Team* top = team.size() > 1 ? &team : nullptr;
+    for (int s : reach_) {
+      const bool is_top = plan.owner[std::size_t(S_.col0[std::size_t(s)])] < 0;
+      forward_supernode(factor(), s, y_, tmp, nullptr, is_top ? top : nullptr);
+    }
+  }
   for (int j : reach_columns_) y_.row(j) += y0_.row(j);
-  backward_all(factor(), solve_plan(y_.cols()), y_);
+  backward_all(factor(), plan, y_);
   store_solution(X);
 }
 

@@ -23,6 +23,7 @@ struct Plan {
   std::vector<int> top;
   std::vector<int> top_columns;  //!< columns of the top supernodes (rows several threads update in a solve)
   std::vector<signed char> owner;  //!< per column: thread that owns it, -1 for top columns
+  int top_team = 1;  //!< solves: the threads of a team that shares the top supernodes (1: they run serially)
 };
 
 //! Splits the assembly tree into `threads` groups of independent subtrees of about equal cost (`cost[s]` of

@@ -40,12 +40,48 @@ Panel<float> panel(const FloatFactorView&, const FactorBlockOf<const float>& L, 
   return {L.tri(p), L.rect(p)};
 }
 
+//! The top supernodes' tiles in the solves: rows of a panel's rectangle (forward), columns of a panel (backward).
+//! Each tile reads a few hundred KB of a front of a few thousand rows: a team's step of several tiles per thread.
+constexpr int kSolveTileRows = 256;
+constexpr int kSolveTileColumns = 32;
+
+//! fn(k, first, end) for each tile of `n` rows or columns, on the team's threads.
+template <class Fn>
+void run_tiles(Team& team, int n, int width, const Fn& fn) {
+  team.run((n + width - 1) / width, [&](int k) { fn(k * width, std::min(n, (k + 1) * width)); });
+}
+
+//! A panel's forward substitution: whole, or its triangle here and its rectangle's rows on the team's threads.
+template <class E>
+void forward_panel_on(Team* team, const E* tri, const E* rect, int w, int h, int r, double* x, int ldx) {
+  if (!team || h <= kSolveTileRows) return forward_panel(tri, rect, w, h, r, x, ldx);
+  forward_panel(tri, rect, w, 0, r, x, ldx);
+  run_tiles(*team, h, kSolveTileRows, [&](int i0, int i1) { forward_rect(rect, w, h, i0, i1, r, x, ldx); });
+}
+
+//! A panel's backward substitution: whole, or its rectangle's columns on the team's threads and its triangle here.
+template <class E>
+void backward_panel_on(Team* team, const E* tri, const E* rect, int w, int h, int r, double* x, int ldx) {
+  if (!team || h == 0 || w <= kSolveTileColumns) return backward_panel(tri, rect, w, h, r, x, ldx);
+  run_tiles(*team, w, kSolveTileColumns, [&](int j0, int j1) { backward_rect(rect, w, h, j0, j1, r, x, ldx); });
+  backward_panel(tri, rect, w, 0, r, x, ldx);
+}
+
+//! backward_panel_on for backward_rows4's layout.
+template <class E>
+void backward_rows4_on(Team* team, const E* tri, const E* rect, int w, int h, double* x) {
+  if (!team || h == 0 || w <= kSolveTileColumns) return backward_rows4(tri, rect, w, h, x);
+  run_tiles(*team, w, kSolveTileColumns, [&](int j0, int j1) { backward_rows4_rect(rect, w, h, j0, j1, x); });
+  backward_rows4(tri, rect, w, 0, x);
+}
+
 }  // namespace
 
 double solve_flops(const Symbolic& S, Index r) { return 2.0 * double(S.nnz) * double(r); }
 
 template <class View>
-void forward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch, const ForeignRows* foreign) {
+void forward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch, const ForeignRows* foreign,
+                       Team* team) {
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
   std::vector<double>& tmp = scratch.rhs;
   tmp.assign(sm * sr, 0.0);
@@ -54,7 +90,7 @@ void forward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scra
   const auto L = F.block(s);
   for (int p = 0; p < L.panels(); ++p) {
     const auto P = panel(F, L, p, scratch.panel);
-    forward_panel(P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+    forward_panel_on(team, P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
   }
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
@@ -70,7 +106,7 @@ namespace {
 
 //! backward_supernode for two to four right-hand sides: rows of x as vectors (backward_rows4).
 template <class View>
-void backward_rows(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
+void backward_rows(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch, Team* team) {
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
   const auto L = F.block(s);
   std::vector<double>& tmp = scratch.rhs;
@@ -82,7 +118,7 @@ void backward_rows(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch)
   }
   for (int p = L.panels() - 1; p >= 0; --p) {
     const auto P = panel(F, L, p, scratch.panel);
-    backward_rows4(P.tri, P.rect, L.width(p), L.height(p), x + 4 * std::size_t(L.c0(p)));
+    backward_rows4_on(team, P.tri, P.rect, L.width(p), L.height(p), x + 4 * std::size_t(L.c0(p)));
   }
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = x[4 * std::size_t(k) + std::size_t(c)];
@@ -91,8 +127,8 @@ void backward_rows(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch)
 }  // namespace
 
 template <class View>
-void backward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch) {
-  if (y_.cols() >= 2 && y_.cols() <= 4) return backward_rows(F, s, y_, scratch);  // the general kernel otherwise
+void backward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scratch, Team* team) {
+  if (y_.cols() >= 2 && y_.cols() <= 4) return backward_rows(F, s, y_, scratch, team);  // the general kernel otherwise
   const auto [f, nc, m, r, R, sm, sr, y] = place(F, s, y_);
   const auto L = F.block(s);
   std::vector<double>& tmp = scratch.rhs;
@@ -103,7 +139,7 @@ void backward_supernode(const View& F, int s, RowMajorMat& y_, SolveScratch& scr
   }
   for (int p = L.panels() - 1; p >= 0; --p) {
     const auto P = panel(F, L, p, scratch.panel);
-    backward_panel(P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
+    backward_panel_on(team, P.tri, P.rect, L.width(p), L.height(p), r, tmp.data() + L.c0(p), m);
   }
   for (int k = 0; k < nc; ++k)
     for (int c = 0; c < r; ++c) y[std::size_t(f + k) * sr + std::size_t(c)] = tmp[std::size_t(c) * sm + std::size_t(k)];
@@ -127,13 +163,18 @@ void forward_all(const View& F, const Plan& plan, RowMajorMat& y, std::vector<Ro
   for (std::size_t t = 0; t < T; ++t)
     for (int j : plan.top_columns) y.row(j) += acc[t].row(j);
   SolveScratch tmp;
-  for (int s : plan.top) forward_supernode(F, s, y, tmp);
+  Team team(plan.top.empty() ? 1 : plan.top_team);
+  for (int s : plan.top) forward_supernode(F, s, y, tmp, nullptr, team.size() > 1 ? &team : nullptr);
 }
 
 template <class View>
 void backward_all(const View& F, const Plan& plan, RowMajorMat& y) {
   SolveScratch tmp;
-  for (auto it = plan.top.rbegin(); it != plan.top.rend(); ++it) backward_supernode(F, *it, y, tmp);
+  {
+    Team team(plan.top.empty() ? 1 : plan.top_team);
+    for (auto it = plan.top.rbegin(); it != plan.top.rend(); ++it)
+      backward_supernode(F, *it, y, tmp, team.size() > 1 ? &team : nullptr);
+  }
   run_subtrees(plan.subtrees.size(), worth_threads(solve_flops(F.S, y.cols()), Work::Solve), [&](std::size_t t) {
     SolveScratch tmp_t;
     for (auto it = plan.subtrees[t].rbegin(); it != plan.subtrees[t].rend(); ++it)
@@ -141,10 +182,10 @@ void backward_all(const View& F, const Plan& plan, RowMajorMat& y) {
   });
 }
 
-template void forward_supernode(const FactorView&, int, RowMajorMat&, SolveScratch&, const ForeignRows*);
-template void forward_supernode(const FloatFactorView&, int, RowMajorMat&, SolveScratch&, const ForeignRows*);
-template void backward_supernode(const FactorView&, int, RowMajorMat&, SolveScratch&);
-template void backward_supernode(const FloatFactorView&, int, RowMajorMat&, SolveScratch&);
+template void forward_supernode(const FactorView&, int, RowMajorMat&, SolveScratch&, const ForeignRows*, Team*);
+template void forward_supernode(const FloatFactorView&, int, RowMajorMat&, SolveScratch&, const ForeignRows*, Team*);
+template void backward_supernode(const FactorView&, int, RowMajorMat&, SolveScratch&, Team*);
+template void backward_supernode(const FloatFactorView&, int, RowMajorMat&, SolveScratch&, Team*);
 template void forward_all(const FactorView&, const Plan&, RowMajorMat&, std::vector<RowMajorMat>&);
 template void forward_all(const FloatFactorView&, const Plan&, RowMajorMat&, std::vector<RowMajorMat>&);
 template void backward_all(const FactorView&, const Plan&, RowMajorMat&);

@@ -1,11 +1,13 @@
 #pragma once
 //! The multifrontal backend's triangular solves with its factor, L y = b and L^T x = y, supernode by supernode:
 //! each gathers its rows of the right-hand sides, runs the panel kernels (kernels.h) and scatters the result;
-//! the subtrees of a Plan run on their threads, the top supernodes serially.
+//! the subtrees of a Plan run on their threads, then the top supernodes one after another, each panel's rectangle
+//! shared by a team of threads in tiles of rows (forward) or columns (backward), its triangle on one.
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "solvers/base/team.h"
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
@@ -54,18 +56,20 @@ double solve_flops(const Symbolic& S, Index r);
 // The solves below take either view (FactorView or FloatFactorView; instantiated for both): the same
 // supernodes, threads and kernels, reading double or float entries and computing in double.
 
-//! y_s := L_ss^{-1} y_s, then y_rows -= L_rs y_s (into foreign->acc for rows another thread owns).
+//! y_s := L_ss^{-1} y_s, then y_rows -= L_rs y_s (into foreign->acc for rows another thread owns). With a
+//! `team`, its threads share the rectangles (each row's result the same as without).
 template <class View>
-void forward_supernode(const View& F, int s, RowMajorMat& y, SolveScratch& tmp, const ForeignRows* foreign = nullptr);
-//! y_s -= L_rs^T y_rows, then y_s := L_ss^{-T} y_s.
+void forward_supernode(const View& F, int s, RowMajorMat& y, SolveScratch& tmp, const ForeignRows* foreign = nullptr,
+                       Team* team = nullptr);
+//! y_s -= L_rs^T y_rows, then y_s := L_ss^{-T} y_s; with a `team` as forward_supernode.
 template <class View>
-void backward_supernode(const View& F, int s, RowMajorMat& y, SolveScratch& tmp);
+void backward_supernode(const View& F, int s, RowMajorMat& y, SolveScratch& tmp, Team* team = nullptr);
 
 //! y := L^{-1} y: the subtrees in parallel (contributions to top columns collected per thread in acc, one
-//! matrix per thread, resized here), then the top.
+//! matrix per thread, resized here), then the top on a team of plan.top_team threads.
 template <class View>
 void forward_all(const View& F, const Plan& plan, RowMajorMat& y, std::vector<RowMajorMat>& acc);
-//! y := L^{-T} y: the top first, then the subtrees in parallel.
+//! y := L^{-T} y: the top first (on a team of plan.top_team threads), then the subtrees in parallel.
 template <class View>
 void backward_all(const View& F, const Plan& plan, RowMajorMat& y);
 

@@ -2,6 +2,7 @@
 // kernels reading float entries. Checked on a synthetic factor (well conditioned, so the comparison resolves
 // rounding) laid out on a real supernodal structure split among threads: against the exact solve with the rounded
 // entries (dense, in long double), and against the double solve on the same rounded entries, which it reproduces.
+#include <algorithm>
 #include <cstdio>
 #include <random>
 #include <vector>
@@ -53,11 +54,12 @@ struct Case {
   Eigen::MatrixXd dense;  //!< the same L, dense
 };
 
-Case make_case(int g) {
+//! `dense`: also the dense L (for small grids only).
+Case make_case(int g, bool dense = true) {
   Case c{analyze_blocks(grid_system(g), 3, "metis"), {}, {}};
   const Symbolic& S = c.S;
   c.values = Mapping(S.xptr.back(), "the test factor");
-  c.dense = Eigen::MatrixXd::Zero(S.n, S.n);
+  if (dense) c.dense = Eigen::MatrixXd::Zero(S.n, S.n);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
   const FactorView F{S, c.values};
@@ -69,7 +71,7 @@ Case make_case(int g) {
         // Diagonally dominant columns: L is well conditioned, the solves' rounding stays near double's.
         const double v = float(i == k ? 2.0 + 0.5 * u(rng) : 0.3 * u(rng) / std::sqrt(double(L.m)));
         entry(L, i, k) = v;
-        c.dense(R[i], R[k]) = v;
+        if (dense) c.dense(R[i], R[k]) = v;
       }
   }
   return c;
@@ -117,6 +119,41 @@ TEST(FloatFactorSolve, ThreadedSolveMatchesTheDenseSolveAndTheDoubleKernels) {
       std::printf("%d threads, %d columns: %.3g from dense, %.3g from the double kernels\n", threads, cols,
                   (DenseMat(y32) - want).norm() / want.norm(), apart);
     }
+  }
+}
+
+// The top supernodes shared by a team (Plan::top_team, triangular_solve.h): the same bytes as the serial top, in
+// both directions, for the double and the float factor, with the general kernels (1, 5 columns) and the row
+// kernel (3). A grid whose top fronts (of an 8-thread plan) have more rows than a forward tile and more columns
+// than a backward one.
+TEST(TopTeamSolve, SameBytesAsTheSerialTop) {
+  const Case c = make_case(120, false);
+  const Symbolic& S = c.S;
+  const FloatFactor F32(FactorView{S, c.values});
+  std::vector<double> cost(std::size_t(S.nsuper()));
+  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  Plan plan = schedule(S, 8, cost);
+  int tall = 0, wide = 0;  // top supernodes with a panel rectangle over one forward tile, over one backward tile
+  for (int s : plan.top) {
+    tall += S.nrows(s) - std::min(S.ncols(s), FactorBlock::kWidth) > 256;
+    wide += S.ncols(s) > 32 && S.nrows(s) > S.ncols(s);
+  }
+  ASSERT_GT(tall, 0);
+  ASSERT_GT(wide, 0);
+  for (int cols : {1, 3, 5}) {
+    const DenseMat B = rhs(S.n, cols);
+    RowMajorMat y[2][2];  // [team of 1 or 3][double or float factor]
+    std::vector<RowMajorMat> acc;
+    for (int k = 0; k < 2; ++k) {
+      plan.top_team = k == 0 ? 1 : 3;
+      y[k][0] = y[k][1] = B;
+      forward_all(FactorView{S, c.values}, plan, y[k][0], acc);
+      backward_all(FactorView{S, c.values}, plan, y[k][0]);
+      F32.solve(S, plan, y[k][1], acc);
+    }
+    EXPECT_TRUE(y[1][0] == y[0][0]) << cols << " columns, double factor";
+    EXPECT_TRUE(y[1][1] == y[0][1]) << cols << " columns, float factor";
+    EXPECT_TRUE(y[0][0].allFinite());
   }
 }
 
