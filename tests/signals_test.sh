@@ -135,18 +135,22 @@ fi
 
 # ---------------------------------------------------------------- while the mesh is written
 # The temporary exists only while the mesh is written: the process is stopped (SIGSTOP) as soon as it is seen and
-# signalled only when it is still there, so the signal lands mid-write; a run that finished first is tried again.
+# signalled only when it is the one temporary there, so the signal lands mid-write; a run that got past it first is
+# tried again. (A run stopped later, with the CSV's temporary beside or instead, may be committing its outputs: a
+# signal then waits for the commit to finish, atomic_file.h, and the new outputs are the right result.)
 # mid_write SIG NAME OUTPUT CMD...: runs CMD (writing OUTPUT under $T/out) until it is caught writing, then sends SIG.
 mid_write() {
   local sig=$1 name=$2 out=$3 caught=0 attempt pid rc
   shift 3
+  local stem="$T/out/${out%.*}" whole="$T/out/$out"  # OUTPUT's temporary: staged (NAME.tmp.PID.EXT) or not (OUTPUT.tmp.PID)
+  mine() { compgen -G "$stem.tmp.*"; compgen -G "$whole.tmp.*"; }
   for attempt in 1 2 3 4 5; do
     earlier_outputs "$out" a.csv
     "$@" >"$T/log" 2>&1 &
     pid=$!
     until_true 300 eval "[ -n \"\$(compgen -G '$T/out/*.tmp.*')\" ] || ! kill -0 $pid 2>/dev/null"
     kill -STOP $pid 2>/dev/null
-    if [ -n "$(compgen -G "$T/out/*.tmp.*")" ]; then
+    if [ -n "$(mine)" ] && [ "$(compgen -G "$T/out/*.tmp.*")" = "$(mine)" ]; then
       kill -$sig $pid
       kill -CONT $pid
       wait_exit $pid
