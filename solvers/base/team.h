@@ -10,6 +10,7 @@
 //! As with run_tasks, the caller never waits for a helper that has not started or is not scheduled: it claims
 //! tiles itself and waits only for tiles a helper has claimed. Helpers spin briefly between steps, then sleep;
 //! they are joined when the team is destroyed.
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -52,6 +53,17 @@ class Team {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::vector<std::thread> helpers_;
+};
+
+//! `n` rows or columns cut into tiles of `width` for a team, left whole without one (no tile when n is 0): a
+//! step's tiles are fixed by the work and the team's presence, never by its size, so its results are too.
+struct Tiles {
+  int n, step;
+  Tiles(int n, int width, const Team* team) : n(n), step(team ? width : std::max(n, 1)) {}
+  int count() const { return (n + step - 1) / step; }
+  int first(int k) const { return k * step; }
+  int size(int k) const { return std::min(step, n - k * step); }
+  int end(int k) const { return first(k) + size(k); }
 };
 
 }  // namespace db

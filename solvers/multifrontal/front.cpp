@@ -36,15 +36,6 @@ void run_tiles(Team* team, int tiles, const Fn& fn) {
     for (int t = 0; t < tiles; ++t) fn(t);
 }
 
-//! `n` rows or columns cut into tiles of `width` with a team, left whole without (no tile when n is 0).
-struct Tiles {
-  int n, step;
-  Tiles(int n, int width, const Team* team) : n(n), step(team ? width : std::max(n, 1)) {}
-  int count() const { return (n + step - 1) / step; }
-  int first(int k) const { return k * step; }
-  int size(int k) const { return std::min(step, n - k * step); }
-};
-
 }  // namespace
 
 FrontFactorization::FrontFactorization(const Symbolic& S, double* values, std::vector<double>& pivots,
@@ -72,7 +63,7 @@ void FrontFactorization::assemble_child(int c, int p, Workspace& ws, Part part, 
   // Each column of the child's matrix lands in a column of its own, so column tiles never write the same entry.
   const Tiles columns(nrc, kTileColumns, team);
   run_tiles(team, columns.count(), [&](int t) {
-    const int j0 = columns.first(t), j1 = j0 + columns.size(t);
+    const int j0 = columns.first(t), j1 = columns.end(t);
     if (part & kPivot)
       for (int jj = j0; jj < std::min(j1, jsplit); ++jj) {
         const double* src = Uc.col(jj) - jj;  // src[ii] = entry (ii, jj)

@@ -45,25 +45,21 @@ Panel<float> panel(const FloatFactorView&, const FactorBlockOf<const float>& L, 
 constexpr int kSolveTileRows = 256;
 constexpr int kSolveTileColumns = 32;
 
-//! fn(k, first, end) for each tile of `n` rows or columns, on the team's threads.
-template <class Fn>
-void run_tiles(Team& team, int n, int width, const Fn& fn) {
-  team.run((n + width - 1) / width, [&](int k) { fn(k * width, std::min(n, (k + 1) * width)); });
-}
-
 //! A panel's forward substitution: whole, or its triangle here and its rectangle's rows on the team's threads.
 template <class E>
 void forward_panel_on(Team* team, const E* tri, const E* rect, int w, int h, int r, double* x, int ldx) {
   if (!team || h <= kSolveTileRows) return forward_panel(tri, rect, w, h, r, x, ldx);
   forward_panel(tri, rect, w, 0, r, x, ldx);
-  run_tiles(*team, h, kSolveTileRows, [&](int i0, int i1) { forward_rect(rect, w, h, i0, i1, r, x, ldx); });
+  const Tiles rows(h, kSolveTileRows, team);
+  team->run(rows.count(), [&](int k) { forward_rect(rect, w, h, rows.first(k), rows.end(k), r, x, ldx); });
 }
 
 //! A panel's backward substitution: whole, or its rectangle's columns on the team's threads and its triangle here.
 template <class E>
 void backward_panel_on(Team* team, const E* tri, const E* rect, int w, int h, int r, double* x, int ldx) {
   if (!team || h == 0 || w <= kSolveTileColumns) return backward_panel(tri, rect, w, h, r, x, ldx);
-  run_tiles(*team, w, kSolveTileColumns, [&](int j0, int j1) { backward_rect(rect, w, h, j0, j1, r, x, ldx); });
+  const Tiles columns(w, kSolveTileColumns, team);
+  team->run(columns.count(), [&](int k) { backward_rect(rect, w, h, columns.first(k), columns.end(k), r, x, ldx); });
   backward_panel(tri, rect, w, 0, r, x, ldx);
 }
 
@@ -71,7 +67,8 @@ void backward_panel_on(Team* team, const E* tri, const E* rect, int w, int h, in
 template <class E>
 void backward_rows4_on(Team* team, const E* tri, const E* rect, int w, int h, double* x) {
   if (!team || h == 0 || w <= kSolveTileColumns) return backward_rows4(tri, rect, w, h, x);
-  run_tiles(*team, w, kSolveTileColumns, [&](int j0, int j1) { backward_rows4_rect(rect, w, h, j0, j1, x); });
+  const Tiles columns(w, kSolveTileColumns, team);
+  team->run(columns.count(), [&](int k) { backward_rows4_rect(rect, w, h, columns.first(k), columns.end(k), x); });
   backward_rows4(tri, rect, w, 0, x);
 }
 
