@@ -17,7 +17,7 @@
 # Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
 # rounds and splits the analysis phase at 8 and 16 threads; mode `factor` (DEADLINE=420, timeout_s 480) checks a
 # change of the factorization the same way (the init and its top phase, 104k and 416k); `report-solves FILES_AT DIR`
-# tabulates either.
+# tabulates either; mode `team` (DEADLINE=430, timeout_s 500) both at once with the 16-core targets.
 set -euo pipefail
 mode=${1:-}
 setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
@@ -104,6 +104,20 @@ factor)
     one $B 1 $r $M multifrontal $T default 3 8; done; done; done; done
   for r in 1 2; do for T in 16 8; do for B in deformbench_base deformbench; do
     one $B 2 $r tf multifrontal $T default 3 30; done; done; done
+  cat "$O/failed.csv" ;;
+team)
+  # The top phase on a team (factorization and solves) checked against BASE_BINARY in interleaved rounds, with the
+  # issue's 16-core targets: the 104k TF and LAP runs (init and 20 frames) at 16, 8 and 4 threads, the 416k TF
+  # init at 16 and 8, the analysis split at 16 threads; the machine's rates first.
+  setup
+  rates before 1 16
+  for r in 1 2 3; do
+    for T in 16 8 4; do for M in tf lap; do for B in deformbench_base deformbench; do
+      one $B 1 $r $M multifrontal $T default 20 8; done; done; done
+    for T in 16 8; do for B in deformbench_base deformbench; do one $B 2 $r tf multifrontal $T default 3 30; done; done
+    [ "$r" != 1 ] || [ $((SECONDS + 40)) -gt $deadline ] || DEFORMBENCH_THREADS=16 OPENBLAS_NUM_THREADS=16 "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit \
+      --system tf --orderings metis,ringnd --rounds 2 --csv "$O/analysis_16.csv" >> "$O/machine.txt" 2>&1 || true
+  done
   cat "$O/failed.csv" ;;
 report)
   src=${2:?FILES_AT}; dest=${3:?results/records/DATE-threads}
