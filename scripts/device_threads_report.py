@@ -5,7 +5,7 @@ with their range; efficiency is t(1) / (T t(T)) of the medians, against the key'
 With --solves: the `solves`, `blas` or `factor` mode's files instead (deform rows of one binary or two,
 deformbench_base and deformbench, in interleaved rounds; analysis_T.csv of exp_analysis): per mesh, method, T and
 BLAS threads each round's frame, solve, factorization and top-phase times of each binary, the new / base solve
-ratio per round, and the analysis split. Measures nothing.
+ratio per round, each round's init and analysis phase with the new / base init ratio, and the analysis split. Measures nothing.
 
     /usr/bin/python3 scripts/device_threads_report.py [--solves] results/records/DATE-threads
 """
@@ -146,6 +146,22 @@ def per_round(rows, col, scale=1e3, fmt="{:.1f}"):
     return ", ".join(fmt.format(float(r[col]) * scale) for r in sorted(rows, key=lambda r: r["round"]))
 
 
+def init_rows(base, new):
+    """Each round's init and its analysis phase of both binaries, with the new / base init ratio per round."""
+    lines = ["", "| vertices | method | T | BLAS threads | init s | base init s | new / base init | analyze s |"
+             " base analyze s |", "|---|---|---|---|---|---|---|---|---|"]
+    for key in sorted(new, key=lambda k: (k[0], k[1], -k[2], -k[3])):
+        b, n = base.get(key, []), new[key]
+        by_round = {r["round"]: float(r["init_s"]) for r in b}
+        ratios = ", ".join(f"{float(r['init_s']) / by_round[r['round']]:.2f}"
+                           for r in sorted(n, key=lambda r: r["round"]) if r["round"] in by_round) or "-"
+        cells = [per_round(rows, col, 1.0, "{:.2f}") or "-" for col, rows in
+                 (("init_s", n), ("init_s", b))] + [ratios] + [per_round(rows, "analyze_s", 1.0, "{:.2f}") or "-"
+                                                               for rows in (n, b)]
+        lines.append(f"| {TIERS[key[0]]} | {key[1]} | {key[2]} | {key[3]} | {' | '.join(cells)} |")
+    return lines
+
+
 def solves(dest):
     base, new = by_blas(dest, "deformbench_base"), by_blas(dest, "deformbench")
     lines = [f"Runs: {provenance(load(dest))}. Per round, in round order; base: deformbench_base.", "",
@@ -162,6 +178,7 @@ def solves(dest):
         lines.append(f"| {TIERS[key[0]]} | {key[1]} | {key[2]} | {key[3]} | {len(n)} | {per_round(n, 'frame_s')} | "
                      f"{per_round(n, 'solve_s')} | {per_round(b, 'frame_s') or '-'} | {per_round(b, 'solve_s') or '-'} | "
                      f"{ratios} | {' | '.join(seconds)} |")
+    lines += init_rows(base, new)
     files = sorted(dest.glob("analysis_*.csv"), key=lambda p: int(p.stem.split("_")[1]))
     if files:
         lines += ["", "| T | vertices | ordering | rounds | order s | symbolic s | analysis s | nnz(L) |",
