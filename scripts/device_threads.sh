@@ -115,8 +115,9 @@ team)
     for T in 16 8 4; do for M in tf lap; do for B in deformbench_base deformbench; do
       one $B 1 $r $M multifrontal $T default 20 8; done; done; done
     for T in 16 8; do for B in deformbench_base deformbench; do one $B 2 $r tf multifrontal $T default 3 30; done; done
-    [ "$r" != 1 ] || [ $((SECONDS + 40)) -gt $deadline ] || DEFORMBENCH_THREADS=16 OPENBLAS_NUM_THREADS=16 "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit \
-      --system tf --orderings metis,ringnd --rounds 2 --csv "$O/analysis_16.csv" >> "$O/machine.txt" 2>&1 || true
+    [ "$r" != 1 ] || [ $((SECONDS + 40)) -gt $deadline ] || DEFORMBENCH_THREADS=16 OPENBLAS_NUM_THREADS=16 \
+      "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit --system tf --orderings metis,ringnd --rounds 2 \
+      --csv "$O/analysis_16.csv" >> "$O/machine.txt" 2>&1 || true
   done
   cat "$O/failed.csv" ;;
 report)

@@ -2,10 +2,11 @@
 item 4). Reads DEST/threads.csv (one deform row per run, prefixed with tier, round, threads and the ordering
 asked), rates.csv and failed.csv; writes DEST/table.md and DEST/threads.png. Medians over the rounds a key has,
 with their range; efficiency is t(1) / (T t(T)) of the medians, against the key's one-thread run (none: '-').
-With --solves: the `solves`, `blas` or `factor` mode's files instead (deform rows of one binary or two,
+With --solves: the `solves`, `blas`, `factor` or `team` mode's files instead (deform rows of one binary or two,
 deformbench_base and deformbench, in interleaved rounds; analysis_T.csv of exp_analysis): per mesh, method, T and
 BLAS threads each round's frame, solve, factorization and top-phase times of each binary, the new / base solve
-ratio per round, each round's init and analysis phase with the new / base init ratio, and the analysis split. Measures nothing.
+ratio per round; each round's init and analysis phase with the new / base init ratio; the analysis split.
+Measures nothing.
 
     /usr/bin/python3 scripts/device_threads_report.py [--solves] results/records/DATE-threads
 """
@@ -155,9 +156,8 @@ def init_rows(base, new):
         by_round = {r["round"]: float(r["init_s"]) for r in b}
         ratios = ", ".join(f"{float(r['init_s']) / by_round[r['round']]:.2f}"
                            for r in sorted(n, key=lambda r: r["round"]) if r["round"] in by_round) or "-"
-        cells = [per_round(rows, col, 1.0, "{:.2f}") or "-" for col, rows in
-                 (("init_s", n), ("init_s", b))] + [ratios] + [per_round(rows, "analyze_s", 1.0, "{:.2f}") or "-"
-                                                               for rows in (n, b)]
+        seconds = lambda rows, col: per_round(rows, col, 1.0, "{:.2f}") or "-"
+        cells = [seconds(n, "init_s"), seconds(b, "init_s"), ratios, seconds(n, "analyze_s"), seconds(b, "analyze_s")]
         lines.append(f"| {TIERS[key[0]]} | {key[1]} | {key[2]} | {key[3]} | {' | '.join(cells)} |")
     return lines
 
