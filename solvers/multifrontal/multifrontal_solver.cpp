@@ -107,6 +107,7 @@ class MultifrontalSolver final : public LinearSolver {
   const Plan& solve_plan(Index r);
 
   Plan factor_plan_;
+  std::vector<int> claim_order_;  // factor_plan_'s subtree roots in the order the threads claim them
   std::map<int, Plan> solve_plans_;  //!< by the most threads the work is worth
   std::vector<double> entries_;      //!< per supernode: factor entries, the solves' cost
   int threads_ = 1;
@@ -144,6 +145,7 @@ void MultifrontalSolver::analyze(const SpMat& upper_in) {
     entries_[std::size_t(s)] = double(S_.xptr[std::size_t(s) + 1] - S_.xptr[std::size_t(s)]);
   }
   factor_plan_ = schedule(S_, threads_, flops);
+  claim_order_ = claim_order(S_, factor_plan_, flops);
   solve_plans_.clear();
   guard_.remember(upper);
   stats_ = FactorStats{};
@@ -228,11 +230,13 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
   std::atomic<bool> ok{true};
   Handover handover(S_, factor_plan_);
   const std::vector<int> counts = MatrixChunk::lower_counts(A);
-  run_subtrees(factor_plan_.subtrees.size(), worth_threads(S_.flops, Work::Dense), [&](std::size_t t) {
+  std::atomic<std::size_t> next{0};  // in claim_order_: the next subtree a thread takes
+  run_subtrees(factor_plan_.subtrees.size(), worth_threads(S_.flops, Work::Dense), [&](std::size_t) {
     Workspace ws(S_.n);
     MatrixChunk chunk;
     ColumnRelease release(A, may_release);
-    for (int root : factor_plan_.subtrees[t]) {
+    for (std::size_t k; (k = next.fetch_add(1)) < claim_order_.size();) {
+      const int root = claim_order_[k];
       release.start(S_.col0[std::size_t(S_.first[std::size_t(root)])]);
       for (int s = S_.first[std::size_t(root)], loaded = -1; s <= root; ++s) {
         if (s > loaded) {

@@ -133,45 +133,44 @@ namespace {
 
 double update_bytes(const Symbolic& S, int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); }
 
-//! Roots that may wait at their parent for an earlier sibling (Handover): one in another group, or later in its
-//! own group's order (groups take their roots ascending).
+//! Roots that may wait at their parent for an earlier sibling (Handover): every root child after the first,
+//! since the threads claim subtrees in any order.
 std::vector<char> may_wait(const Symbolic& S, const Plan& plan) {
-  std::vector<int> group(std::size_t(S.nsuper()), -1);
-  for (std::size_t t = 0; t < plan.subtrees.size(); ++t)
-    for (int r : plan.subtrees[t]) group[std::size_t(r)] = int(t);
-  std::vector<char> wait(std::size_t(S.nsuper()), 0);
+  std::vector<char> root(std::size_t(S.nsuper()), 0), wait(std::size_t(S.nsuper()), 0);
+  for (const auto& roots : plan.subtrees)
+    for (int r : roots) root[std::size_t(r)] = 1;
   for (int p : plan.top) {
-    std::vector<int> earlier;  // root children before this one in p's child list
-    bool behind = false;       // one of them may wait itself
-    for (int q = S.cptr[std::size_t(p)]; q < S.cptr[std::size_t(p) + 1]; ++q) {
-      const int c = S.child[std::size_t(q)];
-      if (group[std::size_t(c)] < 0) continue;
-      for (int e : earlier) behind = behind || group[std::size_t(e)] != group[std::size_t(c)] || e > c;
-      wait[std::size_t(c)] = behind;
-      earlier.push_back(c);
-    }
+    bool earlier = false;  // a root child before this one in p's child list
+    for (int q = S.cptr[std::size_t(p)]; q < S.cptr[std::size_t(p) + 1]; ++q)
+      if (const int c = S.child[std::size_t(q)]; root[std::size_t(c)]) {
+        wait[std::size_t(c)] = earlier;
+        earlier = true;
+      }
   }
   return wait;
 }
 
-//! The subtree phase's part of update_peak: each thread's peak, summed.
+//! The subtree phase's part of update_peak: the largest peaks of as many subtrees as there are groups (each
+//! thread works on one at a time), plus the roots that may wait.
 double subtree_peaks(const Symbolic& S, const Plan& plan) {
   const std::vector<char> wait = may_wait(S, plan);
-  double subtrees = 0;
-  for (const auto& roots : plan.subtrees) {
-    double live = 0, peak = 0;
+  std::vector<double> peaks;
+  double waiting = 0;
+  for (const auto& roots : plan.subtrees)
     for (int root : roots) {
+      double live = 0, peak = 0;
       for (int s = S.first[std::size_t(root)]; s <= root; ++s) {
         live += update_bytes(S, s);
         peak = std::max(peak, live);
         for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q)
           live -= update_bytes(S, S.child[std::size_t(q)]);
       }
-      if (!wait[std::size_t(root)]) live -= update_bytes(S, root);  // handed to its top parent
+      peaks.push_back(peak);
+      if (wait[std::size_t(root)]) waiting += update_bytes(S, root);
     }
-    subtrees += peak;
-  }
-  return subtrees;
+  const std::size_t k = std::min(peaks.size(), plan.subtrees.size());
+  std::partial_sort(peaks.begin(), peaks.begin() + std::ptrdiff_t(k), peaks.end(), std::greater<>());
+  return std::accumulate(peaks.begin(), peaks.begin() + std::ptrdiff_t(k), waiting);
 }
 
 }  // namespace
@@ -196,6 +195,22 @@ double update_peak(const Symbolic& S, const Plan& plan) {
       if (const int c = S.child[std::size_t(q)]; is_top[std::size_t(c)]) live -= update_bytes(S, c);  // roots' died at handover
   }
   return std::max(subtrees + early, top);
+}
+
+std::vector<int> claim_order(const Symbolic& S, const Plan& plan, const std::vector<double>& cost) {
+  std::vector<std::pair<double, int>> roots;  // (cost of the subtree, root)
+  for (const auto& group : plan.subtrees)
+    for (int r : group) {
+      double w = 0;
+      for (int s = S.first[std::size_t(r)]; s <= r; ++s) w += cost[std::size_t(s)];
+      roots.emplace_back(w, r);
+    }
+  std::sort(roots.begin(), roots.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  std::vector<int> order;
+  for (const auto& [w, r] : roots) order.push_back(r);
+  return order;
 }
 
 BlasThreads::BlasThreads() {

@@ -1,7 +1,7 @@
 #pragma once
 //! Scheduling of the multifrontal backend: independent subtrees of the assembly tree run on separate threads
-//! with a single-threaded BLAS, the few top supernodes after them one at a time, each shared by a team of threads
-//! in tiles (front.h); the solves are split the same way.
+//! with a single-threaded BLAS (the factorization's threads claim them one at a time, the solves' take a group
+//! each), the few top supernodes after them one at a time, each shared by a team of threads in tiles (front.h).
 //!
 //! Determinism: the plan depends only on the tree and the thread count, and every floating-point sum is taken in
 //! an order the plan fixes (the subtree roots' hand-over to their parents in child order, the solves' per-thread
@@ -57,11 +57,20 @@ struct PlanCounts {
 };
 PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<double>& cost);
 
-//! Bytes of update matrices alive at once in a factorization by `plan`, an upper bound: each thread's subtrees in
-//! order (a supernode's matrix is born while its children's still live; theirs die after it), the threads'
-//! peaks summed as if they coincided, plus the matrices of the top supernodes that receive a subtree root's
-//! (born during the subtree phase); or the top phase's own peak, when larger. A root that may have to wait for an
-//! earlier sibling's hand-over (Handover) counts as alive until its thread's subtrees are done.
+//! The factorization's subtree phase: the roots of all the plan's subtrees, costliest first (ties: ascending),
+//! the order in which its threads claim them one at a time. Why not each thread its group: on 16 cores the
+//! groups' times spread more than their flops (a group of many small subtrees costs more a flop), so the phase
+//! waited for the slowest group while the first was done at about 60% of it
+//! (results/records/2026-11-27-subtree-phase); claimed, a thread done early takes the next subtree. The bytes do
+//! not change: a subtree's work and its root's hand-over (child order, Handover) do not depend on the thread.
+std::vector<int> claim_order(const Symbolic& S, const Plan& plan, const std::vector<double>& cost);
+
+//! Bytes of update matrices alive at once in a factorization by `plan`, its subtrees claimed in any order by as
+//! many threads as the plan has groups, an upper bound: the largest peaks of that many subtrees (in each, a
+//! supernode's matrix is born while its children's still live; theirs die after it) summed as if they coincided,
+//! plus every root that may wait for an earlier sibling's hand-over (Handover), plus the matrices of the top
+//! supernodes that receive a subtree root's (born during the subtree phase); or the top phase's own peak, when
+//! larger.
 double update_peak(const Symbolic& S, const Plan& plan);
 
 //! The subtree phase's hand-over of each subtree root's update matrix to its (top) parent, early rather than when

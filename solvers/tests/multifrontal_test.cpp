@@ -192,6 +192,89 @@ TEST(ShortestPlan, NoLongerPathThanTheMostThreadsAndOneThreadForAChain) {
   EXPECT_EQ(shortest_plan(chain, 16, ones).threads, 1);
 }
 
+// The factorization's claim order (schedule.h): every subtree root of the plan once, costliest first.
+TEST(ClaimOrder, EveryRootOnceCostliestFirst) {
+  using namespace db::multifrontal;
+  const Symbolic S = analyze_blocks(grid_upper(40, 40), 1, "metis");
+  std::vector<double> cost(std::size_t(S.nsuper()));
+  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  for (int T : {1, 2, 5, 16}) {
+    const Plan plan = schedule(S, T, cost);
+    std::vector<int> roots, order = claim_order(S, plan, cost);
+    for (const auto& group : plan.subtrees) roots.insert(roots.end(), group.begin(), group.end());
+    std::vector<int> sorted = order;
+    std::sort(roots.begin(), roots.end());
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(sorted, roots) << T;
+    const auto subtree = [&](int r) {
+      double w = 0;
+      for (int s = S.first[std::size_t(r)]; s <= r; ++s) w += cost[std::size_t(s)];
+      return w;
+    };
+    for (std::size_t k = 1; k < order.size(); ++k) EXPECT_GE(subtree(order[k - 1]), subtree(order[k])) << T;
+  }
+}
+
+// update_peak (schedule.h) bounds the update matrices alive in the subtree phase however the threads' claims
+// interleave: the phase simulated step by step (one supernode of a randomly chosen thread per step, or of the thread
+// on the latest root; a thread done with a subtree hands its root over as Handover does and claims the next in
+// claim order), the bytes alive never exceed the bound.
+TEST(UpdatePeak, BoundsTheSubtreePhaseForAnyInterleaving) {
+  using namespace db::multifrontal;
+  const Symbolic S = analyze_blocks(grid_upper(40, 40), 1, "metis");
+  std::vector<double> cost(std::size_t(S.nsuper()));
+  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  const auto bytes = [&](int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); };
+  for (int T : {2, 3, 8}) {
+    const Plan plan = schedule(S, T, cost);
+    const std::vector<int> order = claim_order(S, plan, cost);
+    const double bound = update_peak(S, plan);
+    std::vector<char> root(std::size_t(S.nsuper()), 0);
+    for (int r : order) root[std::size_t(r)] = 1;
+    for (unsigned seed = 1; seed <= 20; ++seed) {
+      std::srand(seed);
+      std::vector<char> done(std::size_t(S.nsuper()), 0), begun(std::size_t(S.nsuper()), 0);
+      std::vector<int> next_child(std::size_t(S.nsuper()), 0), at(std::size_t(T), -1), in(std::size_t(T), -1);
+      std::size_t claimed = 0;
+      double live = 0, peak = 0;
+      const auto hand_over = [&](int r) {
+        const int p = S.parent[std::size_t(r)];
+        if (p < 0) return;
+        done[std::size_t(r)] = 1;
+        for (int& k = next_child[std::size_t(p)]; S.cptr[std::size_t(p)] + k < S.cptr[std::size_t(p) + 1]; ++k) {
+          const int c = S.child[std::size_t(S.cptr[std::size_t(p)] + k)];
+          if (!root[std::size_t(c)]) continue;
+          if (!done[std::size_t(c)]) break;
+          if (!begun[std::size_t(p)]) begun[std::size_t(p)] = 1, live += bytes(p);
+          live -= bytes(c);
+        }
+      };
+      for (;;) {
+        std::vector<int> busy;
+        for (int t = 0; t < T; ++t) {
+          if (in[std::size_t(t)] < 0 && claimed < order.size()) {
+            in[std::size_t(t)] = order[claimed++];
+            at[std::size_t(t)] = S.first[std::size_t(in[std::size_t(t)])];
+          }
+          if (in[std::size_t(t)] >= 0) busy.push_back(t);
+        }
+        if (busy.empty()) break;
+        // Seeds past 10 favour the thread on the latest root, so that later siblings finish first and wait.
+        const int t = seed <= 10 ? busy[std::size_t(std::rand()) % busy.size()]
+                                 : *std::max_element(busy.begin(), busy.end(), [&](int a, int b) {
+                                     return in[std::size_t(a)] < in[std::size_t(b)];
+                                   });
+        const int s = at[std::size_t(t)]++;
+        live += bytes(s);
+        peak = std::max(peak, live);
+        for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q) live -= bytes(S.child[std::size_t(q)]);
+        if (s == in[std::size_t(t)]) hand_over(s), in[std::size_t(t)] = -1;
+      }
+      EXPECT_LE(peak, bound) << "threads " << T << " seed " << seed;
+    }
+  }
+}
+
 // The top phase's tiles (front.h): every supernode factored with a team gives the same factor, bit for bit, on any
 // team size, since the tiles depend only on the front. Natural order, two dense 600-column blocks coupled to a
 // dense 300-column block but not to each other: one of them stays a supernode of its own, of three panels and a

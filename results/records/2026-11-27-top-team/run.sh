@@ -6,14 +6,14 @@
 # machine, then beside a busy loop that holds one core (another process's work, as on a shared machine); then
 # BIG_ROUNDS rounds of the 416k TF edit, quiet. Every run follows a process that wrote and freed 2 GB, so that both
 # binaries start in the same memory state. Writes deform.csv (every deform row with its provenance, plus binary,
-# state and round columns) and table.md here.
+# state and round columns) and table.md here, or in OUT when set (a later record's comparison of two builds).
 # usage: results/records/2026-11-27-top-team/run.sh ROUNDS BASE_BINARY NEW_BINARY   (from the repository root,
 #        after building exp_machine_rates in build/; the 416k mesh is data/generated/armadillo_loop2.off, made by
 #        `meshtool subdivide` from the 104k one). BIG_ROUNDS (default 2; 0 skips the 416k runs).
 set -euo pipefail
 rounds=${1:?ROUNDS} base=${2:?BASE_BINARY} new=${3:?NEW_BINARY}
 big_rounds=${BIG_ROUNDS:-2}
-here=$(cd "$(dirname "$0")" && pwd)
+here=${OUT:-$(cd "$(dirname "$0")" && pwd)}
 export DEFORMBENCH_THREADS=2 OPENBLAS_NUM_THREADS=2
 t=$(mktemp -d); busy=
 trap '[ -z "$busy" ] || kill "$busy" 2>/dev/null; rm -rf "$t"' EXIT
@@ -63,19 +63,20 @@ def med(xs, f="%.3f"): return (f + " (" + f + "-" + f + ")") % (statistics.media
 groups = defaultdict(list)
 for r in rows: groups[(r["vertices"], r["method"], r["state"], r["binary"])].append(r)
 print("| vertices | method | state | binary | git | rounds | init s | factorize s | top phase s | top phase GFlop/s |"
-      " top phase new / base, per round |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
+      " top phase new / base, per round | factorize new / base, per round |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|")
 for key in sorted(groups, key=lambda k: (int(k[0]), k[1], k[2] != "quiet", k[3])):
     g = groups[key]
     top = [float(r["factorize_top_s"]) for r in g]
     rate = [float(r["factor_top_flops"]) / float(r["factorize_top_s"]) / 1e9 for r in g]
-    ratio = ""
+    ratio = ["", ""]
     if key[3] == "new":
-        base = {r["round"]: float(r["factorize_top_s"]) for r in groups.get(key[:3] + ("base",), [])}
-        ratio = ", ".join("%.2f" % (float(r["factorize_top_s"]) / base[r["round"]]) for r in g if r["round"] in base)
+        for k, col in enumerate(("factorize_top_s", "factorize_s")):
+            base = {r["round"]: float(r[col]) for r in groups.get(key[:3] + ("base",), [])}
+            ratio[k] = ", ".join("%.2f" % (float(r[col]) / base[r["round"]]) for r in g if r["round"] in base)
     print(f"| {key[0]} | {key[1]} | {key[2]} | {key[3]} | {g[0]['git_sha'][:7]} | {len(g)} | "
           f"{med([float(r['init_s']) for r in g])} | {med([float(r['factorize_s']) for r in g])} | {med(top)} | "
-          f"{med(rate, '%.0f')} | {ratio} |")
+          f"{med(rate, '%.0f')} | {ratio[0]} | {ratio[1]} |")
 r0 = rows[0]
 print(f"\n{r0['blas']} core {r0['blas_core']}, {r0['blas_threads']} BLAS threads, "
       f"{r0['cpu']}, {r0['compiler']}; {len(rows)} rows.")
