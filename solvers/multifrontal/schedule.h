@@ -60,9 +60,9 @@ PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<do
 //! The factorization's subtree phase: the roots of all the plan's subtrees, costliest first (ties: ascending),
 //! the order in which its threads claim them one at a time. Why not each thread its group: on 16 cores the
 //! groups' times spread more than their flops (a group of many small subtrees costs more a flop), so the phase
-//! waited for the slowest group while the first was done at about 60% of it
-//! (results/records/2026-11-27-subtree-phase); claimed, a thread done early takes the next subtree. The bytes do
-//! not change: a subtree's work and its root's hand-over (child order, Handover) do not depend on the thread.
+//! waited for the slowest group long after the first was done (results/records/2026-11-27-subtree-phase);
+//! claimed, a thread done early takes the next subtree. The bytes do not change: a subtree's work and its root's
+//! hand-over (child order, Handover) do not depend on the thread.
 std::vector<int> claim_order(const Symbolic& S, const Plan& plan, const std::vector<double>& cost);
 
 //! Bytes of update matrices alive at once in a factorization by `plan`, its subtrees claimed in any order by as
