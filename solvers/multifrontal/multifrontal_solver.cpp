@@ -232,6 +232,7 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
   const std::vector<int> counts = MatrixChunk::lower_counts(A);
   std::atomic<std::size_t> next{0};  // in claim_order_: the next subtree a thread takes
   run_subtrees(factor_plan_.subtrees.size(), worth_threads(S_.flops, Work::Dense), [&](std::size_t) {
+    if (next.load() >= claim_order_.size()) return;  // another thread took every subtree
     Workspace ws(S_.n);
     MatrixChunk chunk;
     ColumnRelease release(A, may_release);
