@@ -251,8 +251,11 @@ TEST(Lri, UncoordinatedControlKeepsTheRestFrames) {
   EXPECT_LT(frame_dev, 1e-9);
   // The positions are still constrained: the handle lands where the transform puts it.
   const Points moved = transformed(m.V, T);
-  for (int v = 0; v < m.num_vertices(); ++v)
-    if (e.roles[v] == Role::Handle) EXPECT_LT((out.row(v) - moved.row(v)).norm(), 1e-12);
+  for (int v = 0; v < m.num_vertices(); ++v) {
+    if (e.roles[v] == Role::Handle) {
+      EXPECT_LT((out.row(v) - moved.row(v)).norm(), 1e-12);
+    }
+  }
   // ... and the result is not the coordinated one (the bend's frames would turn by up to 90 degrees).
   const Points coordinated = make_deformer(m, e, lri("first", "gram_schmidt"))->deform(T);
   EXPECT_GT(rel_max(out, coordinated), 1e-2);
