@@ -13,6 +13,13 @@
 namespace db::multifrontal {
 namespace {
 
+//! The cost of the subtree rooted at r: its supernodes are first[r] .. r (postorder).
+double subtree_cost(const Symbolic& S, int r, const std::vector<double>& cost) {
+  double w = 0;
+  for (int s = S.first[std::size_t(r)]; s <= r; ++s) w += cost[std::size_t(s)];
+  return w;
+}
+
 //! Greedy assignment of the `open` subtrees (heaviest first, each to the least loaded bin); whether the heaviest
 //! bin is within 10% of the mean.
 bool assign(const std::vector<int>& open, const std::vector<double>& work, std::vector<std::vector<int>>& bins) {
@@ -87,8 +94,7 @@ PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<do
   double groups = 0;
   for (const auto& roots : plan.subtrees) {
     double w = 0;
-    for (int r : roots)
-      for (int s = S.first[std::size_t(r)]; s <= r; ++s) w += cost[std::size_t(s)];
+    for (int r : roots) w += subtree_cost(S, r, cost);
     c.group_max = std::max(c.group_max, w);
     groups += w;
   }
@@ -200,11 +206,7 @@ double update_peak(const Symbolic& S, const Plan& plan) {
 std::vector<int> claim_order(const Symbolic& S, const Plan& plan, const std::vector<double>& cost) {
   std::vector<std::pair<double, int>> roots;  // (cost of the subtree, root)
   for (const auto& group : plan.subtrees)
-    for (int r : group) {
-      double w = 0;
-      for (int s = S.first[std::size_t(r)]; s <= r; ++s) w += cost[std::size_t(s)];
-      roots.emplace_back(w, r);
-    }
+    for (int r : group) roots.emplace_back(subtree_cost(S, r, cost), r);
   std::sort(roots.begin(), roots.end(), [](const auto& a, const auto& b) {
     return a.first != b.first ? a.first > b.first : a.second < b.second;
   });

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -112,6 +113,13 @@ db::SpMat grid_upper(int g, int h) {
   return U;
 }
 
+//! Each supernode's factor entries: the solves' cost, a plan's cost in these tests.
+std::vector<double> entry_costs(const db::multifrontal::Symbolic& S) {
+  std::vector<double> cost(std::size_t(S.nsuper()));
+  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  return cost;
+}
+
 //! grid_upper(g, g) with each entry a dense b x b block: the pattern of a block (vertex) system such as TF's.
 db::SpMat block_grid_upper(int g, int b) {
   const db::SpMat U = grid_upper(g, g);
@@ -172,8 +180,7 @@ TEST(ShortestPlan, NoLongerPathThanTheMostThreadsAndOneThreadForAChain) {
   };
   const int g = 40;  // a 2-D grid Laplacian: a tree with parallelism at every level
   const Symbolic S = analyze_blocks(grid_upper(g, g), 1, "metis");
-  std::vector<double> cost(std::size_t(S.nsuper()));
-  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  const std::vector<double> cost = entry_costs(S);
   for (int most : {1, 2, 3, 8, 16}) {
     const SolvePlan best = shortest_plan(S, most, cost);
     EXPECT_GE(best.threads, 1);
@@ -196,8 +203,7 @@ TEST(ShortestPlan, NoLongerPathThanTheMostThreadsAndOneThreadForAChain) {
 TEST(ClaimOrder, EveryRootOnceCostliestFirst) {
   using namespace db::multifrontal;
   const Symbolic S = analyze_blocks(grid_upper(40, 40), 1, "metis");
-  std::vector<double> cost(std::size_t(S.nsuper()));
-  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  const std::vector<double> cost = entry_costs(S);
   for (int T : {1, 2, 5, 16}) {
     const Plan plan = schedule(S, T, cost);
     std::vector<int> roots, order = claim_order(S, plan, cost);
@@ -222,8 +228,7 @@ TEST(ClaimOrder, EveryRootOnceCostliestFirst) {
 TEST(UpdatePeak, BoundsTheSubtreePhaseForAnyInterleaving) {
   using namespace db::multifrontal;
   const Symbolic S = analyze_blocks(grid_upper(40, 40), 1, "metis");
-  std::vector<double> cost(std::size_t(S.nsuper()));
-  for (int s = 0; s < S.nsuper(); ++s) cost[std::size_t(s)] = double(S.xptr[std::size_t(s) + 1] - S.xptr[std::size_t(s)]);
+  const std::vector<double> cost = entry_costs(S);
   const auto bytes = [&](int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); };
   for (int T : {2, 3, 8}) {
     const Plan plan = schedule(S, T, cost);
@@ -232,7 +237,7 @@ TEST(UpdatePeak, BoundsTheSubtreePhaseForAnyInterleaving) {
     std::vector<char> root(std::size_t(S.nsuper()), 0);
     for (int r : order) root[std::size_t(r)] = 1;
     for (unsigned seed = 1; seed <= 20; ++seed) {
-      std::srand(seed);
+      std::mt19937 random(seed);
       std::vector<char> done(std::size_t(S.nsuper()), 0), begun(std::size_t(S.nsuper()), 0);
       std::vector<int> next_child(std::size_t(S.nsuper()), 0), at(std::size_t(T), -1), in(std::size_t(T), -1);
       std::size_t claimed = 0;
@@ -260,7 +265,7 @@ TEST(UpdatePeak, BoundsTheSubtreePhaseForAnyInterleaving) {
         }
         if (busy.empty()) break;
         // Seeds past 10 favour the thread on the latest root, so that later siblings finish first and wait.
-        const int t = seed <= 10 ? busy[std::size_t(std::rand()) % busy.size()]
+        const int t = seed <= 10 ? busy[random() % busy.size()]
                                  : *std::max_element(busy.begin(), busy.end(), [&](int a, int b) {
                                      return in[std::size_t(a)] < in[std::size_t(b)];
                                    });
