@@ -38,6 +38,11 @@ struct SolverOptions {
   //! the right-hand sides' (each rank passes n rows, zero where it has nothing); every rank gets the solution.
   //! Only `mumps` on exactly N ranks takes it (make_solver refuses the others).
   int rank_shares = 1;
+  //! Bytes this process may hold when the factorization peaks; 0: unchecked. A backend that knows its factor's
+  //! size once analyze() has run (SolverInfo::checks_memory) measures what the process holds when factorize()
+  //! starts and throws BudgetError before allocating if that plus its factor and workspace would pass the
+  //! budget. The others ignore it: their callers predict the peak instead (methods/run_prediction.h).
+  std::size_t memory_budget = 0;
 };
 
 //! 10 n eps: the smallest d_k / A_kk the pivot test accepts. On singular bi-Laplacians (no constraints) the last
@@ -127,6 +132,8 @@ struct SolverInfo {
   //! With ordering "natural" it eliminates in exactly the given order. MUMPS takes a given order as the start of
   //! its analysis and eliminates in an equivalent one (the same fill; pivots met in another order).
   bool keeps_natural_order = true;
+  //! factorize() honours SolverOptions::memory_budget with its exact sizes.
+  bool checks_memory = false;
 };
 //! \throw Error for an unknown name.
 SolverInfo solver_info(const std::string& name);

@@ -25,14 +25,14 @@ const std::vector<Entry>& table() {
   static const std::vector<Entry> entries = {
       {{"cholmod_supernodal", "sparse-cholesky", true, kCholmodOrderings},
        [](const SolverOptions& o) { return backends::make_cholmod(true, o); }},
-      {{"multifrontal", "sparse-cholesky", true, kCholmodOrderings, true},
+      {{"multifrontal", "sparse-cholesky", true, kCholmodOrderings, true, true, true},
        [](const SolverOptions& o) { return backends::make_multifrontal(o); }},
       // Single-precision factor, CG refinement in double to SolverOptions::tolerance (it throws when it does not
       // get there).
-      {{"multifrontal_mixed", "sparse-cholesky", true, kCholmodOrderings, true},
+      {{"multifrontal_mixed", "sparse-cholesky", true, kCholmodOrderings, true, true, true},
        [](const SolverOptions& o) { return backends::make_multifrontal(o, backends::Precision::Mixed); }},
       // The double factor with the same refinement: the exact solution of the system, to the tolerance.
-      {{"multifrontal_refined", "sparse-cholesky", true, kCholmodOrderings, true},
+      {{"multifrontal_refined", "sparse-cholesky", true, kCholmodOrderings, true, true, true},
        [](const SolverOptions& o) { return backends::make_multifrontal(o, backends::Precision::Refined); }},
 #ifdef DEFORMBENCH_HAVE_MUMPS  // absent from a build configured without MUMPS (CMakeLists.txt)
       {{"mumps", "sparse-cholesky", true, backends::mumps_orderings(), true, false},

@@ -28,6 +28,7 @@
 #include "methods/deformer.h"
 #include "methods/drag.h"
 #include "methods/run_prediction.h"
+#include "solvers/linear_solver.h"
 #include "solvers/mumps_mpi.h"
 
 namespace db::commands {
@@ -224,9 +225,6 @@ void check_input_budget(const DeformArgs& a, const DeformOptions& o, const std::
 // The run's predicted peak memory (methods/run_prediction.h; the vertex graph AMD-ordered, cheap) against the
 // budget, before anything is built: --memory-budget-mb, else the memory available when the run starts.
 void check_predicted_memory(const CLI::App& d, const EditCase& ec, const DeformOptions& o) {
-  // The prediction holds the factor in memory; out of core (--factor-dir) it is not resident, and the check would
-  // refuse the very runs the option is for (the build's own budget check still applies).
-  if (o.memory_budget == 0 || !o.solver_options.factor_dir.empty()) return;
   MachineCalibration calibration;
   try {  // a stale or damaged calibration costs the check its measured ratios, not the run
     calibration = MachineCalibration::load(calibration_path());
@@ -244,6 +242,34 @@ void check_predicted_memory(const CLI::App& d, const EditCase& ec, const DeformO
           ? fmt::format("--memory-budget-mb {}", o.memory_budget / 1000000)
           : fmt::format("the memory available ({:.1f} MB, the default budget; --memory-budget-mb overrides it)",
                         o.memory_budget / 1e6)));
+}
+
+// The memory budget (--memory-budget-mb, else the memory available when the run starts) for the factorization's
+// peak. A backend that knows its factor's exact size after its analysis (SolverInfo::checks_memory: the default
+// one) checks it there, before allocating the factor: the prediction would order the vertex graph once more
+// (AMD, on one core), which on many cores costs a large part of the init itself
+// (results/records/2026-11-27-init-floor). For the others the peak is predicted before anything is built. Out of
+// core (--factor-dir) the factor is not resident: neither check, which would refuse the very runs the option is
+// for (the build's own budget check still applies).
+void guard_memory(const CLI::App& d, const EditCase& ec, DeformOptions& o) {
+  if (o.memory_budget == 0 || !o.solver_options.factor_dir.empty()) return;
+  if (solver_info(resolve_options(o).solver).checks_memory)
+    o.solver_options.memory_budget = o.memory_budget;
+  else
+    check_predicted_memory(d, ec, o);
+}
+
+// Runs f. The build's and the backend's own budget checks (guard_memory) name the budget but not its source:
+// without --memory-budget-mb it is the memory available when the run started.
+template <class F>
+auto naming_budget_source(const CLI::App& d, F&& f) {
+  try {
+    return f();
+  } catch (const BudgetError& e) {
+    if (d.count("--memory-budget-mb") > 0) throw;
+    throw BudgetError(fmt::format("{} (the budget: the memory available when the run started; --memory-budget-mb "
+                                  "overrides it)", e.what()));
+  }
 }
 
 // The edit with --transform applied; --handle-limit and --transform refused where the edit leaves them unused.
@@ -277,16 +303,17 @@ int run_deform(const CLI::App& d, const DeformArgs& a) {
   const Mat4 transform = a.transform.empty() ? Mat4::Identity() : parse_transform(a.transform);  // def:FILE: exit 2
 
   const EditCase ec = load_edit(d, a, transform);
-  if (ranks == 1) check_predicted_memory(d, ec, o);
+  if (ranks == 1) guard_memory(d, ec, o);
   const long long frames = ec.edit.target_frames() > 0 && d.count("--frames") == 0 ? ec.edit.target_frames() : a.frames;
-  const auto deformer = make_deformer(ec.mesh, ec.edit, o);
+  const auto deformer = naming_budget_source(d, [&] { return make_deformer(ec.mesh, ec.edit, o); });
   Progress progress("deform: frame", frames, (a.progress || stderr_is_terminal()) && (ranks <= 1 || mpi::rank() == 0));
   const Drag g = drag(*deformer, ec.edit, frames, [&progress](long long f) { progress(f); });
   RunExtras extras;
   extras.rss = rank_peak_rss(ranks);
   if (ranks > 1) extras.matrix = mpi::gather_to_root(double(deformer->matrix_bytes()));
   // Every rank: on ranks the twin's solver (mumps) is collective too.
-  if (a.vs_double) extras.vs_double = difference_from_double(ec, o, frames, g.V);
+  if (a.vs_double)
+    extras.vs_double = naming_budget_source(d, [&] { return difference_from_double(ec, o, frames, g.V); });
   if (ranks > 1 && mpi::rank() != 0) return 0;  // rank 0 prints and writes
 
   StagedOutputs outputs;  // the mesh and the CSV row land together or not at all

@@ -93,6 +93,9 @@ class MultifrontalSolver final : public LinearSolver {
   //! Out of core: supernode s's FactorBlock leaves the resident set (done with it for now).
   void release_block(int s) const { factor().release(s); }
   std::size_t factor_bytes() const;
+  //! SolverOptions::memory_budget against the resident bytes now plus the factor's and the update matrices' peak
+  //! (update_peak), before any of them is allocated. \throw BudgetError.
+  void check_memory_budget() const;
   //! Refined backends: keeps A (permuted) for the refinement; mixed: rounds the factor to float, drops the double.
   void keep_for_refinement(const SpMat& given, SpMat& perm_copy);
 
@@ -179,6 +182,8 @@ void MultifrontalSolver::factorize_impl(const SpMat& upper_in, SpMat* consumed) 
   base_.resize(0, 0);  // a new factor invalidates the rest-pose forward substitution
   float_ = FloatFactor();
   kept_ = SpMat();
+  values_.reset();
+  check_memory_budget();
   values_ = options_.factor_dir.empty() ? Mapping(S_.xptr.back(), "the factor")
                                         : Mapping::on_file(S_.xptr.back(), "the factor", options_.factor_dir);
   pivots_.assign(std::size_t(S_.n), 0.0);
@@ -200,6 +205,20 @@ void MultifrontalSolver::factorize_impl(const SpMat& upper_in, SpMat* consumed) 
   if (refined_) keep_for_refinement(given, perm_copy);
   factored_ = true;
   stats_.factor_bytes = factor_bytes();
+}
+
+void MultifrontalSolver::check_memory_budget() const {
+  if (options_.memory_budget == 0 || !options_.factor_dir.empty()) return;  // out of core: not resident
+  const double held = double(current_rss_bytes());
+  const double factor = double(S_.xptr.back()) * sizeof(double);
+  const double updates = double(stats_.workspace_bytes);
+  // The mixed backend rounds the factor to float once the update matrices are gone, then drops the double one.
+  const double added = std::max(factor + updates, mixed_ ? 1.5 * factor : 0.0);
+  if (held + added <= double(options_.memory_budget)) return;
+  throw BudgetError(fmt::format("{}: the factor ({:.1f} MB) and its update matrices (up to {:.1f} MB) beside the "
+                                "{:.1f} MB this process holds would pass the memory budget of {:.1f} MB; not factored",
+                                name(), factor / 1e6, updates / 1e6, held / 1e6,
+                                double(options_.memory_budget) / 1e6));
 }
 
 void MultifrontalSolver::keep_for_refinement(const SpMat& given, SpMat& perm_copy) {

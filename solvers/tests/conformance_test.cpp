@@ -701,6 +701,51 @@ TEST(Multifrontal, OutOfCoreFactorMatchesInMemoryAndIsNotResident) {
   }
 }
 
+// SolverOptions::memory_budget: a backend that checks it (SolverInfo::checks_memory) refuses a factorization whose
+// factor and update matrices would not fit beside what the process holds, with BudgetError and before factoring
+// (a solve then finds nothing factored), and factors within a budget that holds them; out of core the factor is
+// not resident and is not checked. The other backends ignore the budget (their callers predict the peak).
+TEST(MemoryBudget, CheckingBackendsRefuseBeforeFactoringAndFactorWithinIt) {
+  std::mt19937 rng(19);
+  const SpMat full = kron3(normal_equations(mesh_laplacian(60, 50, true, rng), 8, rng));
+  const SpMat upper = upper_of(full);
+  const DenseMat B = random_rhs(full.rows(), 2, rng);
+  const auto options = [&](std::size_t budget_above_resident, bool on_disk) {
+    db::SolverOptions o;
+    o.block_size = 3;
+    o.memory_budget = db::current_rss_bytes() + budget_above_resident;
+    if (on_disk) o.factor_dir = std::filesystem::temp_directory_path().string();
+    return o;
+  };
+  const std::size_t tight = std::size_t(1) << 20, ample = std::size_t(1) << 30;
+  int checking = 0;
+  for (const std::string& name : db::solver_names()) {
+    const db::SolverInfo info = db::solver_info(name);
+    if (!info.checks_memory) continue;
+    ++checking;
+    auto refused = db::make_solver(name, options(tight, false));
+    refused->analyze(upper);
+    ASSERT_GT(refused->stats().factor_bytes, tight) << name;  // the tight budget cannot hold the factor
+    DenseMat X;
+    EXPECT_THROW(refused->factorize(upper), db::BudgetError) << name;
+    EXPECT_THROW(refused->solve(B, X), db::Error) << name << ": nothing is factored";
+    std::vector<db::SolverOptions> fits = {options(ample, false)};
+    if (info.out_of_core) fits.push_back(options(tight, true));
+    for (const db::SolverOptions& o : fits) {
+      auto s = db::make_solver(name, o);
+      s->analyze(upper);
+      s->factorize(upper);
+      s->solve(B, X);
+      EXPECT_WITHIN(rel(DenseMat(full * X), B), 1e-9) << name << (o.factor_dir.empty() ? "" : ", out of core");
+    }
+  }
+  auto other = db::make_solver("cholmod_supernodal", options(tight, false));  // ignores it
+  other->analyze(upper);
+  other->factorize(upper);
+  EXPECT_TRUE(db::solver_info("multifrontal").checks_memory);
+  EXPECT_EQ(checking, 3);  // multifrontal, its mixed and its refined variants
+}
+
 // A regular matrix whose smallest pivot is under the singular-input bound 10 n eps: a 2 x 2 block
 // [1, 1 - e; 1 - e, 1] (pivot 2e - e^2 = 2e-13 of its diagonal) in a 1000-unknown identity (bound 2.2e-12).
 // The pivot test rejects it by default; turned off, the factorization goes through, reports the pivot, and

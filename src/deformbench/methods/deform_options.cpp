@@ -252,8 +252,10 @@ std::vector<DeformOptionDef> make_defs() {
                : std::string(" is for the iterative backends only (cg_jacobi, cg_ichol)");
   };
   DeformOptionDef budget = row("memory_budget_mb", kSystem,
-                               "refuse runs whose predicted peak memory is above MB megabytes (exit 4); default: "
-                               "the memory available when the run starts (MemAvailable)");
+                               "refuse runs whose peak memory would pass MB megabytes (exit 4): the multifrontal "
+                               "backends check their factor's exact size before factoring, the others a "
+                               "prediction before the build; default: the memory available when the run starts "
+                               "(MemAvailable)");
   budget.value_name = "MB";
   budget.range = "[1, 1000000000]";
   budget.check = cli::Integer(1, 1000000000);
