@@ -8,13 +8,13 @@
 #   warm: the same, each right after a process that wrote and freed WARM_MB of memory (exp_machine_rates
 #         --first-touch-mb WARM_MB).
 # Writes rates.csv (exp_machine_rates rows + state, round), deform.csv (deform rows with provenance + state, round)
-# and table.md here.
+# and table.md here, or in the folder OUT names (a later record's run of this script).
 # usage: results/records/2026-11-27-fresh-memory/run.sh ROUNDS   (from the repository root, after building
-#        deformbench and exp_machine_rates in build/). SETTLE (default 8 s), WARM_MB (default 2048).
+#        deformbench and exp_machine_rates in build/). SETTLE (default 8 s), WARM_MB (default 2048), OUT.
 set -euo pipefail
 rounds=${1:-3}
 settle=${SETTLE:-8} warm_mb=${WARM_MB:-2048}
-here=$(cd "$(dirname "$0")" && pwd)
+here=${OUT:-$(cd "$(dirname "$0")" && pwd)}
 export DEFORMBENCH_THREADS=2 OPENBLAS_NUM_THREADS=2
 t=$(mktemp -d); trap 'rm -rf "$t"' EXIT
 py=/usr/bin/python3
@@ -74,6 +74,14 @@ for b in ("multifrontal", "cholmod_supernodal"):
         print(f"| {b} | {s} | {med([float(r['init_s']) for r in rs])} | {med([float(r['build_s']) for r in rs])} | "
               f"{med([float(r['analyze_s']) for r in rs])} | {med([float(r['factorize_s']) for r in rs])} | "
               f"{float(rs[0]['factor_bytes'])/1e6:.0f} | {ratio} |")
+print()
+print("| state | init multifrontal / CHOLMOD, per round | median |")
+print("|---|---|---|")
+for s in ("cold", "warm"):
+    init = {(r["round"], r["backend"]): float(r["init_s"]) for r in rows if r["state"] == s}
+    ratios = [init[(k, "multifrontal")] / init[(k, "cholmod_supernodal")]
+              for k in sorted({k for k, _ in init}, key=int) if (k, "cholmod_supernodal") in init]
+    print(f"| {s} | {', '.join('%.3f' % x for x in ratios)} | {statistics.median(ratios):.3f} |")
 r0 = rows[0]
 print()
 print(f"git {r0['git_sha']}, {r0['blas']} core {r0['blas_core']}, {r0['blas_threads']} BLAS threads, "
