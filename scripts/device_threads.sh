@@ -17,7 +17,9 @@
 # Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
 # rounds and splits the analysis phase at 8 and 16 threads; mode `factor` (DEADLINE=420, timeout_s 480) checks a
 # change of the factorization the same way (the init and its top phase, 104k and 416k); `report-solves FILES_AT DIR`
-# tabulates either; mode `team` (DEADLINE=430, timeout_s 500) both at once with the 16-core targets.
+# tabulates either; mode `team` (DEADLINE=430, timeout_s 500) both at once with the 16-core targets. Every row
+# carries the whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY
+# a build before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores.
 set -euo pipefail
 mode=${1:-}
 setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
@@ -42,14 +44,16 @@ rates() {  # phase T...: exp_machine_rates at each T into rates.csv, the header 
     tail -n +2 r.csv | sed "s/^/$1,/" >> "$O/rates.csv"
   done
 }
-one() {  # binary tier round method solver threads ordering frames estimated_seconds: one deform row into threads.csv
+one() {  # binary tier round method solver threads ordering frames estimated_seconds: one deform row into threads.csv,
+         # with the whole command's wall time (command_s: the init, the frames and what the command does around them)
   [ $((SECONDS + $9)) -le $deadline ] || return 0
-  local rc=0
+  local rc=0 start; start=$(date +%s.%N)
   DEFORMBENCH_THREADS=$6 OPENBLAS_NUM_THREADS=${BLAS_THREADS:-$6} OMP_NUM_THREADS=$6 timeout 150 "$D/bin/$1" deform e$2.edit \
     --method "$4" --constraints soft --frames "$8" --solver "$5" --ordering "$7" --out o.ply --csv o.csv > log 2>&1 || rc=$?
+  local wall; wall=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.3f", b - a }')  # the whole command
   if [ $rc -eq 0 ]; then
-    [ -s "$O/threads.csv" ] || { printf 'binary,tier,round,threads,ordering,'; head -1 o.csv; } > "$O/threads.csv"
-    tail -n +2 o.csv | sed "s/^/$1,$2,$3,$6,$7,/" >> "$O/threads.csv"
+    [ -s "$O/threads.csv" ] || { printf 'binary,tier,round,threads,ordering,command_s,'; head -1 o.csv; } > "$O/threads.csv"
+    tail -n +2 o.csv | sed "s/^/$1,$2,$3,$6,$7,$wall,/" >> "$O/threads.csv"
   else
     echo "$1,$2,$3,$4,$5,$6,$7,$rc" >> "$O/failed.csv"; { echo "$*: rc $rc"; tail -3 log; } >> "$O/machine.txt"
   fi

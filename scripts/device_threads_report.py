@@ -148,16 +148,20 @@ def per_round(rows, col, scale=1e3, fmt="{:.1f}"):
 
 
 def init_rows(base, new):
-    """Each round's init and its analysis phase of both binaries, with the new / base init ratio per round."""
+    """Each round's init, its analysis phase and the whole command of both binaries, with the new / base init ratio
+    per round."""
     lines = ["", "| vertices | method | T | BLAS threads | init s | base init s | new / base init | analyze s |"
-             " base analyze s |", "|---|---|---|---|---|---|---|---|---|"]
+             " base analyze s | command s | base command s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for key in sorted(new, key=lambda k: (k[0], k[1], -k[2], -k[3])):
         b, n = base.get(key, []), new[key]
         by_round = {r["round"]: float(r["init_s"]) for r in b}
         ratios = ", ".join(f"{float(r['init_s']) / by_round[r['round']]:.2f}"
                            for r in sorted(n, key=lambda r: r["round"]) if r["round"] in by_round) or "-"
         seconds = lambda rows, col: per_round(rows, col, 1.0, "{:.2f}") or "-"
-        cells = [seconds(n, "init_s"), seconds(b, "init_s"), ratios, seconds(n, "analyze_s"), seconds(b, "analyze_s")]
+        # command_s: the whole deform command (device runs before it was recorded have none)
+        command = lambda rows: seconds([r for r in rows if r.get("command_s")], "command_s")
+        cells = [seconds(n, "init_s"), seconds(b, "init_s"), ratios, seconds(n, "analyze_s"), seconds(b, "analyze_s"),
+                 command(n), command(b)]
         lines.append(f"| {TIERS[key[0]]} | {key[1]} | {key[2]} | {key[3]} | {' | '.join(cells)} |")
     return lines
 
