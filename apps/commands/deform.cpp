@@ -222,8 +222,8 @@ void check_input_budget(const DeformArgs& a, const DeformOptions& o, const std::
                                   bytes / 1e6, budget / 1000000));
 }
 
-// The run's predicted peak memory (methods/run_prediction.h; the vertex graph AMD-ordered, cheap) against the
-// budget, before anything is built: --memory-budget-mb, else the memory available when the run starts.
+// The run's predicted peak memory (methods/run_prediction.h; the vertex graph ordered by AMD, cheaper than the
+// run's METIS but serial) against the budget, before anything is built (guard_memory says for which backends).
 void check_predicted_memory(const CLI::App& d, const EditCase& ec, const DeformOptions& o) {
   MachineCalibration calibration;
   try {  // a stale or damaged calibration costs the check its measured ratios, not the run
