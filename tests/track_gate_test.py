@@ -523,6 +523,18 @@ class Pooled(unittest.TestCase):
                          pooled([g.History.from_rows(r) for r in (runs[0], runs[1], runs[3])]).values[
                              (CELL, "init_cpu_s")].keys())
 
+    def test_runs_started_in_one_second_count_apart(self):
+        """exp_track names a history file by its second (a second run in the same second gets '-2'): the trend view
+        and the site count the files joined, not the distinct dates."""
+        from dbtools.plots.history import read_runs, run_count
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "history", "runs"))
+            rows = [row("init_cpu_s", "cpu", "", 1.0, k) for k in (1, 2)]  # one date, commit and machine
+            for name in ("20260101T000000Z_c_m1.csv", "20260101T000000Z_c_m1-2.csv"):
+                write_csv(os.path.join(d, "history", "runs"), name, rows)
+            self.assertEqual([run_count(r) for r in read_runs(d)], [2])
+
+
 def write_csv(d, name, rows):
     return CommandLine.write(None, d, name, rows)
 

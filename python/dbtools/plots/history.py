@@ -45,7 +45,7 @@ def read_runs(results):
     for sub in ("runs", "reference"):
         for p in sorted(Path(results, "history", sub).glob("*.csv")):
             with open(p, newline="") as f:
-                rows = list(csv.DictReader(f))
+                rows = [dict(r, history_file=p.name) for r in csv.DictReader(f)]  # run_count's run identity
             if rows and "machine_id" in rows[0] and not rows[0].get("overrides"):
                 runs.setdefault(p.name, rows)
     return joined(sorted(runs.values(), key=lambda rows: rows[0]["date"]))
@@ -71,8 +71,9 @@ def joined(runs):
 
 
 def run_count(rows):
-    """The history files joined into `rows` (each run has its own date)."""
-    return len({r["date"] for r in rows})
+    """The history files joined into `rows`: their dates, and their file names where read_runs gave them (two runs
+    of one invocation may start within the same second, the dates' resolution)."""
+    return len({(r["date"], r.get("history_file", "")) for r in rows})
 
 
 def medians(rows):
