@@ -20,9 +20,9 @@
 
 namespace db::multifrontal {
 
-//! Per-thread scratch: row -> front position map, relative indices, a front's tiles.
+//! Per-thread scratch: row -> front position map, relative indices and the ends of their runs, a front's tiles.
 struct Workspace {
-  std::vector<int> map, rel;
+  std::vector<int> map, rel, run_end;
   std::vector<int> tiles;
   std::vector<double> diag;  //!< a panel's diagonal block, unpacked for dpotrf
   explicit Workspace(int n) : map(std::size_t(n), -1), diag(std::size_t(FactorBlock::kWidth) * FactorBlock::kWidth) {}
