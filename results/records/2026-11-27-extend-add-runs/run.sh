@@ -14,34 +14,26 @@ base=$1 new=$2 rounds=${3:-4}
 here=$(cd "$(dirname "$0")" && pwd)
 t=$(mktemp -d); trap 'rm -rf "$t"' EXIT
 rm -f "$here/runs.csv" "$here/rates.csv"
-one() {  # label binary threads round: one run appended to runs.csv
-  export DEFORMBENCH_THREADS=$3 OPENBLAS_NUM_THREADS=$3
+one() {  # label (base or new) threads round: one run of that build appended to runs.csv
+  local bin=$base; [ "$1" = new ] && bin=$new
+  export DEFORMBENCH_THREADS=$2 OPENBLAS_NUM_THREADS=$2
   build/exp_machine_rates --first-touch-mb 2048 --csv "$t/rates.csv" >/dev/null
   if [ -f "$here/rates.csv" ]; then tail -n +2 "$t/rates.csv" >> "$here/rates.csv"; else cp "$t/rates.csv" "$here/rates.csv"; fi
-  perf record -q -F 4000 -o "$t/perf.data" "$2" deform data/edits/armadillo_loop1_whole.edit --method tf \
+  perf record -q -F 4000 -o "$t/perf.data" "$bin" deform data/edits/armadillo_loop1_whole.edit --method tf \
     --constraints soft --frames 1 --out "$t/$1.ply" --csv "$t/o.csv" >/dev/null 2>"$t/perf.err"
   local samples
   samples=$(perf report -i "$t/perf.data" --no-children --sort sym -n --stdio 2>/dev/null |
     awk '/FrontFactorization::assemble_child/ { s += $2 } END { print s + 0 }')
-  /usr/bin/python3 - "$t/o.csv" "$here/runs.csv" "$1" "$4" "$samples" <<'PY'
-import csv, os, sys
-src, out, binary, rnd, samples = sys.argv[1:6]
-row = list(csv.DictReader(open(src)))[0]
-new = not os.path.exists(out)
-with open(out, "a", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=["binary", "round", "extend_add_samples"] + list(row.keys()))
-    if new: w.writeheader()
-    w.writerow({**row, "binary": binary, "round": rnd, "extend_add_samples": samples})
-PY
+  /usr/bin/python3 scripts/append_rows.py "$t/o.csv" "$here/runs.csv" binary="$1" round="$3" \
+    extend_add_samples="$samples"
 }
+pairs=(base new new base)  # odd rounds base first, even rounds new first
 for ((r = 1; r <= rounds; r++)); do
   for threads in 1 2; do
-    if ((r % 2)); then order="base new"; else order="new base"; fi
-    for b in $order; do
-      if [ "$b" = base ]; then one base "$base" "$threads" "$r"; else one new "$new" "$threads" "$r"; fi
-    done
-    cmp -s "$t/base.ply" "$t/new.ply" && echo "round $r, $threads threads: the meshes are identical" \
-      || echo "round $r, $threads threads: the meshes DIFFER"
+    k=$(((r + 1) % 2 * 2))
+    one "${pairs[k]}" "$threads" "$r" && one "${pairs[k + 1]}" "$threads" "$r"
+    same=DIFFER; cmp -s "$t/base.ply" "$t/new.ply" && same=identical
+    echo "round $r, $threads threads: the meshes are $same"
   done
 done | tee "$here/cmp.txt"
 /usr/bin/python3 - "$here" > "$here/table.md" <<'PY'
