@@ -3,7 +3,8 @@
 # TF and LAP edits; multifrontal and CHOLMOD (supernodal); one process per run, each deform row kept whole (its
 # provenance, the init split, the frame median, the factorization's flops and serial top phase); the machine's
 # dgemm and memory read rates at each T before and after the runs (exp_machine_rates). Three steps:
-#   DEVICE_BUNDLE=PATH/device-bundle.sh [BASE_BINARY=OLD/deformbench] scripts/device_threads.sh prepare
+#   DEVICE_BUNDLE=PATH/device-bundle.sh [BASE_BINARY=OLD/deformbench] [DIAG_BINARY=DIAG/deformbench] \
+#     scripts/device_threads.sh prepare
 #                                                # here: bundle build/ with the device tool's bundler (not part of
 #                                                # the project) and the 104k mesh into .device/ (git-ignored)
 #   run tool: carry [".device"], timeout_s 600, command
@@ -19,7 +20,10 @@
 # change of the factorization the same way (the init and its top phase, 104k and 416k); `report-solves FILES_AT DIR`
 # tabulates either; mode `team` (DEADLINE=430, timeout_s 500) both at once with the 16-core targets. Every row
 # carries the whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY
-# a build before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores.
+# a build before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
+# DIAG_BINARY at prepare (a build with results/records/2026-11-27-analysis-timeline/timeline.patch), `team` also
+# runs it once on the 104k and 416k TF edits at 16 threads, time allowing, into timeline.txt: the analysis step by
+# step, which `report-solves` tabulates (timeline.md).
 set -euo pipefail
 mode=${1:-}
 setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
@@ -58,6 +62,15 @@ one() {  # binary tier round method solver threads ordering frames estimated_sec
     echo "$1,$2,$3,$4,$5,$6,$7,$rc" >> "$O/failed.csv"; { echo "$*: rc $rc"; tail -3 log; } >> "$O/machine.txt"
   fi
 }
+timeline() {  # T: the diagnostic build's analysis timeline of the 104k and 416k TF edits at T threads, time allowing
+  [ -x "$D/bin/deformbench_diag" ] || return 0
+  for k in 1 2; do
+    [ $((SECONDS + 20 * k)) -le $deadline ] || return 0
+    echo "# e$k, $1 threads" >> "$O/timeline.txt"
+    DEFORMBENCH_THREADS=$1 OPENBLAS_NUM_THREADS=$1 OMP_NUM_THREADS=$1 timeout 120 "$D/bin/deformbench_diag" deform e$k.edit \
+      --method tf --constraints soft --frames 1 --out o.ply 2>&1 >/dev/null | grep '^TIMELINE' >> "$O/timeline.txt" || true
+  done
+}
 tier1() {  # round solvers...: the 104k runs
   for T in 1 2 4 8 16; do for S in "${@:2}"; do for M in tf lap; do one deformbench 1 "$1" $M "$S" $T default 5 15; done; done; done
 }
@@ -69,6 +82,7 @@ prepare)
   # has none, so that one OpenBLAS (the machine's) serves every library.
   mkdir -p .device/fallback; mv .device/lib/libblas.so.3 .device/lib/liblapack.so.3 .device/fallback/ 2>/dev/null || true
   [ -z "${BASE_BINARY:-}" ] || cp "$BASE_BINARY" .device/bin/deformbench_base
+  [ -z "${DIAG_BINARY:-}" ] || cp "$DIAG_BINARY" .device/bin/deformbench_diag
   gzip -c data/generated/armadillo_loop1.off > .device/armadillo_loop1.off.gz
   cp "$0" .device/device_threads.sh
   du -sh .device ;;
@@ -122,6 +136,7 @@ team)
     [ "$r" != 1 ] || [ $((SECONDS + 40)) -gt $deadline ] || DEFORMBENCH_THREADS=16 OPENBLAS_NUM_THREADS=16 \
       "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit --system tf --orderings metis,ringnd --rounds 2 \
       --csv "$O/analysis_16.csv" >> "$O/machine.txt" 2>&1 || true
+    [ "$r" != 1 ] || timeline 16
   done
   cat "$O/failed.csv" ;;
 report)
@@ -138,6 +153,11 @@ blas)
 report-solves)
   src=${2:?FILES_AT}; dest=${3:?DIR}
   mkdir -p "$dest"; cp "$src"/*.csv "$src/machine.txt" "$dest/"
+  if [ -s "$src/timeline.txt" ]; then
+    cp "$src/timeline.txt" "$dest/"
+    /usr/bin/python3 "$(dirname "$0")/../results/records/2026-11-27-analysis-timeline/timeline.py" "$dest/timeline.txt" \
+      > "$dest/timeline.md"
+  fi
   /usr/bin/python3 "$(dirname "$0")/device_threads_report.py" --solves "$dest" ;;
-*) sed -n 2,20p "$0"; exit 1 ;;
+*) sed -n 2,26p "$0"; exit 1 ;;
 esac

@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Tabulates the analysis timelines that a build with timeline.patch prints (TIMELINE lines), one run per block
+that starts with a "# LABEL" line. Per run: each step with its start (from the run's first step), its wall time
+and its thread; then the analysis split: the 2-ring pattern for the ordering, the ordering (the splits of each
+dissection level, the parts' METIS_NodeND orderings), the postordering analysis, the multifrontal symbolic
+analysis, and the longest chain of the ordering's steps (a split, then the split of its larger side, ..., then
+the slowest part).
+usage: timeline.py FILE > table.md"""
+import collections
+import sys
+
+
+def runs(path):
+    label, steps = None, []
+    for line in open(path):
+        if line.startswith("# "):
+            if steps:
+                yield label, steps
+            label, steps = line[2:].strip(), []
+        elif line.startswith("TIMELINE "):
+            what, level, n, start, end, tid = line.split()[1:7]
+            steps.append((what, int(level), int(n), float(start), float(end), tid))
+    if steps:
+        yield label, steps
+
+
+def table(label, steps):
+    t0 = min(s[3] for s in steps)
+    threads = {tid: k for k, tid in enumerate(dict.fromkeys(s[5] for s in steps))}
+    print(f"### {label}\n")
+    print("| step | level | vertices | start s | wall s | thread |")
+    print("|---|---|---|---|---|---|")
+    for what, level, n, start, end, tid in sorted(steps, key=lambda s: s[3]):
+        lvl = "" if level <= 0 else str(level)
+        print(f"| {what} | {lvl} | {n or ''} | {start - t0:.3f} | {end - start:.3f} | {threads[tid]} |")
+    wall = collections.defaultdict(float)
+    for what, level, n, start, end, tid in steps:
+        wall[what] += end - start
+    split, induced = collections.defaultdict(float), collections.defaultdict(float)
+    for what, level, n, start, end, tid in steps:
+        if what in ("split", "induced"):
+            longest = split if what == "split" else induced
+            longest[level] = max(longest[level], end - start)
+    splits = {k: split[k] + induced[k] for k in split}  # a level's slowest split, then its slowest side extraction
+    parts = [s[4] - s[3] for s in steps if s[0] == "nodend"]
+    chain = sum(splits.values()) + (max(parts) if parts else 0.0)
+    analysis = sum(wall[w] for w in ("ordering_pattern", "ordering", "postorder_analysis", "symbolic"))
+    print()
+    print(f"analysis {analysis:.3f} s = pattern {wall['ordering_pattern']:.3f} + ordering {wall['ordering']:.3f} "
+          f"+ postorder analysis {wall['postorder_analysis']:.3f} + symbolic {wall['symbolic']:.3f} "
+          f"(of it CHOLMOD's supernodal analysis {wall['cholmod_analysis']:.3f}); "
+          f"the ordering's longest chain {chain:.3f} s: splits by level "
+          + ", ".join(f"{splits[k]:.3f}" for k in sorted(splits, reverse=True))
+          + (f", then the slowest of {len(parts)} parts {max(parts):.3f}" if parts else "") + "\n")
+
+
+def main(path):
+    for label, steps in runs(path):
+        table(label, steps)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
