@@ -155,8 +155,7 @@ report-solves)
   mkdir -p "$dest"; cp "$src"/*.csv "$src/machine.txt" "$dest/"
   if [ -s "$src/timeline.txt" ]; then
     cp "$src/timeline.txt" "$dest/"
-    /usr/bin/python3 "$(dirname "$0")/../results/records/2026-11-27-analysis-timeline/timeline.py" "$dest/timeline.txt" \
-      > "$dest/timeline.md"
+    /usr/bin/python3 "$(dirname "$0")/analysis_timeline.py" "$dest/timeline.txt" > "$dest/timeline.md"
   fi
   /usr/bin/python3 "$(dirname "$0")/device_threads_report.py" --solves "$dest" ;;
 *) sed -n 2,26p "$0"; exit 1 ;;

@@ -3,7 +3,7 @@
 # line per step (the 2-ring pattern, each METIS split and side extraction by dissection level, each part's
 # METIS_NodeND, the postordering analysis, the multifrontal symbolic analysis); ROUNDS runs of the 104k and the
 # 416k TF deformations at 1 and 2 threads. Writes timeline.txt (every line, a "# edit threads round" line before
-# each run) and table.md (timeline.py) here.
+# each run) and table.md (scripts/analysis_timeline.py) here.
 # usage: results/records/2026-11-27-analysis-timeline/run.sh DIAG_BINARY [ROUNDS]   (from the repository root;
 #        data/generated/armadillo_loop2.off as in ../2026-11-27-init-floor)
 set -euo pipefail
@@ -19,5 +19,5 @@ for ((r = 1; r <= rounds; r++)); do
     done
   done
 done > "$here/timeline.txt"
-/usr/bin/python3 "$here/timeline.py" "$here/timeline.txt" > "$here/table.md"
+/usr/bin/python3 scripts/analysis_timeline.py "$here/timeline.txt" > "$here/table.md"
 grep '^analysis' "$here/table.md"

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Tabulates the analysis timelines that a build with timeline.patch prints (TIMELINE lines), one run per block
-that starts with a "# LABEL" line. Per run: each step with its start (from the run's first step), its wall time
+"""Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build:
+results/records/2026-11-27-analysis-timeline/timeline.patch), one run per block that starts with a "# LABEL" line. Per run: each step with its start (from the run's first step), its wall time
 and its thread; then the analysis split: the 2-ring pattern for the ordering, the ordering (the splits of each
 dissection level, the parts' METIS_NodeND orderings), the postordering analysis, the multifrontal symbolic
 analysis, and the longest chain of the ordering's steps (a split, then the split of its larger side, ..., then
 the slowest part).
-usage: timeline.py FILE > table.md"""
+usage: scripts/analysis_timeline.py FILE > table.md"""
 import collections
 import sys
 
