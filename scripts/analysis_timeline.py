@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build:
-results/records/2026-11-27-analysis-timeline/timeline.patch), one run per block that starts with a "# LABEL" line. Per run: each step with its start (from the run's first step), its wall time
-and its thread; then the analysis split: the 2-ring pattern for the ordering, the ordering (the splits of each
-dissection level, the parts' METIS_NodeND orderings), the postordering analysis, the multifrontal symbolic
-analysis, and the longest chain of the ordering's steps (a split, then the split of its larger side, ..., then
-the slowest part).
+results/records/2026-11-27-analysis-timeline/timeline.patch), one run per block that starts with a "# LABEL" line.
+Per run: each step with its start (from the run's first step), its wall time and its thread; then the analysis
+split: the 2-ring pattern for the ordering, the ordering, the postordering analysis, the multifrontal symbolic
+analysis; and a bound on the ordering's longest chain of steps: each dissection level's slowest split and slowest
+side extraction, then the slowest part's METIS_NodeND (the slowest steps of two levels may lie on different
+branches, so the chain can be shorter; meaningful with more than one thread).
 usage: scripts/analysis_timeline.py FILE > table.md"""
 import collections
 import sys
@@ -34,10 +35,9 @@ def table(label, steps):
         lvl = "" if level <= 0 else str(level)
         print(f"| {what} | {lvl} | {n or ''} | {start - t0:.3f} | {end - start:.3f} | {threads[tid]} |")
     wall = collections.defaultdict(float)
-    for what, level, n, start, end, tid in steps:
-        wall[what] += end - start
     split, induced = collections.defaultdict(float), collections.defaultdict(float)
     for what, level, n, start, end, tid in steps:
+        wall[what] += end - start
         if what in ("split", "induced"):
             longest = split if what == "split" else induced
             longest[level] = max(longest[level], end - start)
