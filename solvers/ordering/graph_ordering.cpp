@@ -18,17 +18,24 @@ namespace {
 
 static_assert(sizeof(idx_t) == sizeof(int), "METIS built with 32-bit indices (Debian's), as CHOLMOD's int interface");
 
-//! A graph as METIS reads it (full adjacency lists: each edge both ways, no self loops, ascending) and the index
-//! of each of its vertices in the graph it was taken from.
-struct MetisGraph {
+//! Full adjacency lists as METIS reads them: each edge both ways, no self loops, ascending.
+struct Adjacency {
   std::vector<idx_t> xadj{0}, adjncy;
-  std::vector<int> vertices;
-  idx_t size() const { return idx_t(vertices.size()); }
 };
 
-//! The METIS graph of g (its upper triangle read; the diagonal dropped): what cholmod_metis hands METIS.
-MetisGraph full_graph(const GraphPattern& g) {
-  MetisGraph h;
+//! A graph as METIS reads it and the index of each of its vertices in the graph it was taken from; optionally a
+//! guide: a sparser graph on the same vertices whose separators, widened, separate this one (the 1-ring graph
+//! of a 2-ring pattern; empty when there is none).
+struct MetisGraph : Adjacency {
+  Adjacency guide;
+  std::vector<int> vertices;
+  idx_t size() const { return idx_t(vertices.size()); }
+  bool guided() const { return guide.xadj.size() > 1; }
+};
+
+//! The adjacency lists of g (its upper triangle read; the diagonal dropped): what cholmod_metis hands METIS.
+Adjacency full_adjacency(const GraphPattern& g) {
+  Adjacency h;
   std::vector<idx_t> degree(std::size_t(g.n), 0);
   for (int j = 0; j < g.n; ++j)
     for (int q = g.colptr[j]; q < g.colptr[j + 1]; ++q)
@@ -44,12 +51,34 @@ MetisGraph full_graph(const GraphPattern& g) {
         h.adjncy[std::size_t(next[std::size_t(j)]++)] = r;
         h.adjncy[std::size_t(next[std::size_t(r)]++)] = j;
       }
+  return h;
+}
+
+//! The METIS graph of g, guided by `guide` when it is given (a graph on the same vertices).
+MetisGraph full_graph(const GraphPattern& g, const GraphPattern* guide = nullptr) {
+  MetisGraph h;
+  static_cast<Adjacency&>(h) = full_adjacency(g);
+  if (guide) h.guide = full_adjacency(*guide);
   h.vertices.resize(std::size_t(g.n));
   for (int v = 0; v < g.n; ++v) h.vertices[std::size_t(v)] = v;
   return h;
 }
 
-//! The subgraph of g induced by its vertices v with part[v] == which (renumbered in ascending order).
+//! The lists of a's vertices v with local[v] >= 0, renumbered by local, the edges to others dropped.
+Adjacency induced_lists(const Adjacency& a, const std::vector<idx_t>& local, std::size_t size) {
+  Adjacency h;
+  h.xadj.reserve(size + 1);
+  for (std::size_t v = 0; v < local.size(); ++v) {
+    if (local[v] < 0) continue;
+    for (idx_t q = a.xadj[v]; q < a.xadj[v + 1]; ++q)
+      if (const idx_t r = local[std::size_t(a.adjncy[std::size_t(q)])]; r >= 0) h.adjncy.push_back(r);
+    h.xadj.push_back(idx_t(h.adjncy.size()));
+  }
+  return h;
+}
+
+//! The subgraph of g (and of its guide) induced by its vertices v with part[v] == which, renumbered in ascending
+//! order.
 MetisGraph induced(const MetisGraph& g, const std::vector<idx_t>& part, idx_t which) {
   MetisGraph h;
   std::vector<idx_t> local(std::size_t(g.size()), -1);
@@ -58,13 +87,8 @@ MetisGraph induced(const MetisGraph& g, const std::vector<idx_t>& part, idx_t wh
       local[std::size_t(v)] = h.size();
       h.vertices.push_back(g.vertices[std::size_t(v)]);
     }
-  h.xadj.reserve(h.vertices.size() + 1);
-  for (idx_t v = 0; v < g.size(); ++v) {
-    if (local[std::size_t(v)] < 0) continue;
-    for (idx_t q = g.xadj[std::size_t(v)]; q < g.xadj[std::size_t(v) + 1]; ++q)
-      if (const idx_t r = local[std::size_t(g.adjncy[std::size_t(q)])]; r >= 0) h.adjncy.push_back(r);
-    h.xadj.push_back(idx_t(h.adjncy.size()));
-  }
+  static_cast<Adjacency&>(h) = induced_lists(g, local, h.vertices.size());
+  if (g.guided()) h.guide = induced_lists(g.guide, local, h.vertices.size());
   return h;
 }
 
@@ -95,17 +119,51 @@ constexpr idx_t kSplitUfactor = 20;
 // Below the first level, parts of fewer vertices are ordered whole: METIS takes a few tens of milliseconds on them.
 constexpr idx_t kSplitVertices = 10000;
 
+// The balance bound of the refinement that follows a guided split (METIS_NodeRefine's ubfactor): no tighter than
+// 1.05, so that the refinement can move vertices after the widening has unbalanced the sides a little.
+constexpr double kRefineBalance = 1.05;
+
+//! Widens a separator of h's guide into one of h: the vertices of one side with a neighbour on the other side in
+//! h join the separator, on the side where they are fewer (on a tie, the larger side).
+void widen(const MetisGraph& h, std::vector<idx_t>& part) {
+  std::vector<idx_t> reach[2];
+  for (idx_t v = 0; v < h.size(); ++v) {
+    const idx_t s = part[std::size_t(v)];
+    if (s == 2) continue;
+    for (idx_t q = h.xadj[std::size_t(v)]; q < h.xadj[std::size_t(v) + 1]; ++q)
+      if (part[std::size_t(h.adjncy[std::size_t(q)])] == 1 - s) {
+        reach[s].push_back(v);
+        break;
+      }
+  }
+  const auto count = [&](idx_t s) { return std::count(part.begin(), part.end(), s); };
+  const int side = reach[0].size() != reach[1].size() ? (reach[0].size() < reach[1].size() ? 0 : 1)
+                                                       : (count(0) >= count(1) ? 0 : 1);
+  for (idx_t v : reach[side]) part[std::size_t(v)] = 2;
+}
+
 //! METIS's vertex separator of h: part[v] 0 or 1 (the sides) or 2 (the separator); `ufactor` 0: METIS's own
-//! balance. False when METIS fails or leaves a side empty.
+//! balance. A guided graph is split on its guide, the separator widened to separate h and refined on h by
+//! METIS's FM refinement (results/records/2026-11-27-guided-splits: the guide's split costs less, the fill is
+//! the same over METIS's random draws). False when METIS fails or leaves a side empty.
 bool bisect(MetisGraph& h, idx_t ufactor, std::vector<idx_t>& part) {
   idx_t n = h.size(), separator = 0;
   part.assign(std::size_t(n), 0);
   idx_t options[METIS_NOPTIONS];
   METIS_SetDefaultOptions(options);
   if (ufactor > 0) options[METIS_OPTION_UFACTOR] = ufactor;
-  if (METIS_ComputeVertexSeparator(&n, h.xadj.data(), h.adjncy.data(), nullptr, options, &separator, part.data()) !=
-      METIS_OK)
+  Adjacency& cut = h.guided() ? h.guide : h;
+  if (METIS_ComputeVertexSeparator(&n, cut.xadj.data(), cut.adjncy.data(), nullptr, options, &separator,
+                                   part.data()) != METIS_OK)
     return false;
+  if (h.guided()) {
+    widen(h, part);
+    const double balance = std::max(kRefineBalance, 1 + double(ufactor > 0 ? ufactor : 200) / 1000);
+    std::vector<idx_t> marker(std::size_t(n), -1);
+    if (METIS_NodeRefine(n, h.xadj.data(), nullptr, h.adjncy.data(), part.data(), marker.data(), real_t(balance)) !=
+        METIS_OK)
+      return false;
+  }
   const auto side = [&](idx_t s) { return std::count(part.begin(), part.end(), s); };
   return side(0) > 0 && side(1) > 0;
 }
@@ -162,10 +220,10 @@ int dissection_levels(int threads) {
 //! orderings overlap in time. The result depends on the thread count only through the levels: the same for one
 //! and two threads. Threads rather than forked processes: a fork write-protects every page of the process, and
 //! on a virtual machine whose page faults are slow the faults that follow cost more than a side's ordering
-//! (results/records/2026-11-26-ordering-threads).
-std::vector<int> dissected_metis_order(const GraphPattern& pat, int threads) {
+//! (results/records/2026-11-26-ordering-threads). With a guide, the splits are the guide's (bisect).
+std::vector<int> dissected_metis_order(const GraphPattern& pat, int threads, const GraphPattern* guide = nullptr) {
   const idx_t n = pat.n;
-  std::vector<int> perm = dissect(full_graph(pat), dissection_levels(threads), kSplitUfactor, threads);
+  std::vector<int> perm = dissect(full_graph(pat, guide), dissection_levels(threads), kSplitUfactor, threads);
   // The parts and the separators together: a permutation of the whole graph.
   std::vector<char> seen(std::size_t(n), 0);
   for (int v : perm)
@@ -203,16 +261,22 @@ cholmod_factor* analyze_with(const GraphPattern& g, const std::vector<int>& give
 
 }  // namespace
 
-cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc) {
+cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,
+                              const GraphPattern* guide) {
+  if (guide && guide->n != g.n)
+    throw SolverError(fmt::format("ordering: a guide graph of {} vertices for a {}-vertex graph", guide->n, g.n));
   const OrderingCache cache = OrderingCache::from_environment();
   const bool cacheable = cache.enabled() && method != "natural";
   const bool dissected = method == "metis" && g.n >= kDissectVertices;
+  if (!dissected) guide = nullptr;
   const int threads = worker_threads(), levels = dissection_levels(threads);
-  // A dissected ordering depends on its levels: the cache keeps one per level count ("metis" for one level).
-  const std::string key = dissected && levels > 1 ? fmt::format("metis{}", levels) : method;
+  // A dissected ordering depends on its levels and on its guide: the cache keeps one per level count ("metis"
+  // for one level) and marks the guided ones.
+  const std::string base = guide ? "metis-guided" : "metis";
+  const std::string key = dissected ? (levels > 1 ? fmt::format("{}{}", base, levels) : base) : method;
   std::vector<int> given = cacheable ? cache.find(g, key) : std::vector<int>{};
   const bool cached = !given.empty();  // postordered already: the analysis keeps it as it is
-  if (!cached && dissected) given = dissected_metis_order(g, threads);
+  if (!cached && dissected) given = dissected_metis_order(g, threads, guide);
   cholmod_factor* L = analyze_with(g, given, method, cc);
   if (cacheable && !cached) {
     try {

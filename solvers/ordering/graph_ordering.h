@@ -24,16 +24,22 @@ struct GraphPattern {
 //! threads (METIS's random draws kept per thread: metis_random.h). The result is the same for one and two
 //! threads, and for a given thread count on every run. With DEFORMBENCH_ORDERING_CACHE set, the ordering comes
 //! from (or goes to) that cache (ordering_cache.h), per level count. The caller frees the factor.
-//! \throw SolverError when CHOLMOD fails; Error when the cache directory cannot be written.
-cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc);
+//! `guide` (optional, g.n vertices): a sparser graph on g's vertices, such as the 1-ring graph of a 2-ring
+//! pattern, on which the dissection's separators are computed, then widened and refined to separate g: cheaper
+//! splits with the same fill over METIS's random draws (results/records/2026-11-27-guided-splits); the parts are
+//! still ordered on g. Used only where METIS is dissected.
+//! \throw SolverError when CHOLMOD fails or the guide's size is not g's; Error when the cache directory cannot be
+//! written.
+cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,
+                              const GraphPattern* guide = nullptr);
 
 //! CHOLMOD's analysis of `g` under the given order `perm` (perm[new] = old, g.n entries), postordered; otherwise
 //! as analyze_graph (no cache: the caller computed the order). \throw SolverError when CHOLMOD fails.
 cholmod_factor* analyze_graph_given(const GraphPattern& g, const std::vector<int>& perm, cholmod_common& cc);
 
 //! METIS's fill-reducing order of `g` (perm[new] = old), not postordered; on 20000 vertices or more dissected
-//! as in analyze_graph, so that every METIS ordering in the project is the same for the same graph and thread
-//! count.
+//! as in analyze_graph without a guide, so that every backend's METIS ordering of a matrix is the same for the same
+//! graph and thread count.
 //! \throw SolverError when METIS fails.
 std::vector<int> metis_permutation(const GraphPattern& g);
 

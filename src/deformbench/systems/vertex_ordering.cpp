@@ -45,8 +45,9 @@ void check_method(const std::string& method) {
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method) {
   check_method(method);
   if (method != "ringnd") {
-    // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
-    order_unknowns(interaction_pattern(adj, unk), unk, method);
+    // Upper triangle of the unknowns' 2-ring interaction graph, pattern only; METIS's splits on the 1-ring graph.
+    const InteractionPattern one_ring = method == "metis" ? interaction_pattern(adj, unk, 1) : InteractionPattern{};
+    order_unknowns(interaction_pattern(adj, unk), unk, method, method == "metis" ? &one_ring : nullptr);
     return;
   }
   // Dissected on the 1-ring graph; the postordering analysis then runs on the 2-ring graph.
@@ -59,12 +60,15 @@ void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& meth
   cholmod_free_factor(&L, &c.cc);
 }
 
-void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method) {
+void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method,
+                    const InteractionPattern* one_ring) {
   check_method(method);
   if (method == "ringnd")
     throw InputError("vertex ordering 'ringnd' needs the vertex adjacency, not the 2-ring pattern");
   PermutationCommon c;
-  cholmod_factor* L = analyze_graph({unk.num_unknowns(), pat.colptr.data(), pat.rows.data()}, method, c.cc);
+  const int n = unk.num_unknowns();
+  const GraphPattern guide{n, one_ring ? one_ring->colptr.data() : nullptr, one_ring ? one_ring->rows.data() : nullptr};
+  cholmod_factor* L = analyze_graph({n, pat.colptr.data(), pat.rows.data()}, method, c.cc, one_ring ? &guide : nullptr);
   renumber(static_cast<const int*>(L->Perm), unk);
   cholmod_free_factor(&L, &c.cc);
 }

@@ -20,11 +20,15 @@ inline const char* default_vertex_ordering(int block_size) { return block_size >
 //! (unknowns are adjacent when they share a 1-ring, i.e. the pattern of A^T A). method: "amd" | "metis" |
 //! "nesdis" (solvers/graph_ordering: METIS on 20000 unknowns or more is dissected and runs on two threads,
 //! with the same result on one) | "ringnd" (solvers/ordering/ring_dissection.h: nested dissection of the 1-ring
-//! graph with widened separators, then CHOLMOD's postordering analysis of the 2-ring graph).
+//! graph with widened separators, then CHOLMOD's postordering analysis of the 2-ring graph). "metis" splits
+//! the graph on its 1-ring graph where it dissects (analyze_graph's guide).
 //! \throw SolverError when the ordering library fails, InputError on an unknown method.
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method);
-//! The same from the interaction pattern of `unk`, computed by the caller (interaction_pattern(adj, unk)).
-void order_unknowns(const InteractionPattern& pattern, Unknowns& unk, const std::string& method);
+//! The same from the interaction pattern of `unk`, computed by the caller (interaction_pattern(adj, unk)), and
+//! for "metis" the 1-ring pattern (interaction_pattern(adj, unk, 1)) when the caller has it: without it METIS
+//! splits the 2-ring graph itself, a different ordering.
+void order_unknowns(const InteractionPattern& pattern, Unknowns& unk, const std::string& method,
+                    const InteractionPattern* one_ring = nullptr);
 
 //! The structured build and its vertex ordering at once, for an ordering that runs on one core (AMD, the scalar
 //! LAP system's): the ordering on a second thread while this one builds in `unk`'s present numbering, both
