@@ -27,7 +27,7 @@ struct GraphPattern {
 //! `guide` (optional, g.n vertices): a sparser graph on g's vertices, such as the 1-ring graph of a 2-ring
 //! pattern, on which the dissection's separators are computed, then widened and refined to separate g: cheaper
 //! splits with the same fill over METIS's random draws (results/records/2026-11-27-guided-splits); the parts are
-//! still ordered on g. Used only where METIS is dissected.
+//! still ordered on g. Used only where METIS is dissected in more than one level (more than two threads).
 //! \throw SolverError when CHOLMOD fails or the guide's size is not g's; Error when the cache directory cannot be
 //! written.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,

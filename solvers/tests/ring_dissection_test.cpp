@@ -1,11 +1,14 @@
 // Nested dissection on the 1-ring graph for the 2-ring pattern (solvers/ordering/ring_dissection.h): a
 // permutation of the ordered vertices, the same whatever the thread count, with the fill of METIS run on the
 // 2-ring graph itself (within 2%) on a triangulated grid, the mesh-like graph it is meant for. And METIS's
-// dissection split on the 1-ring graph (graph_ordering.h's guide): near METIS's fill, a guide of the wrong size
-// refused.
+// dissection split on the 1-ring graph (graph_ordering.h's guide): near METIS's fill at two levels, unused at one,
+// a guide of the wrong size refused.
 #include <algorithm>
+#include <cstdlib>
 #include <memory>
 #include <numeric>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <cholmod.h>
@@ -130,15 +133,56 @@ TEST(RingDissection, FillWithinTwoPercentOfMetisOnTheTwoRingGraph) {
   EXPECT_LE(ring, 1.02 * metis) << "ring dissection nnz(L) " << ring << ", METIS " << metis;
 }
 
-// METIS's dissection split on the 1-ring graph (analyze_graph's guide): the separators widened and refined on the
-// 2-ring graph. Its fill is a draw from the same distribution as METIS's own (over METIS's random seeds,
-// results/records/2026-11-27-guided-splits), so one draw is held to a wider bound than the distributions' 2%.
-TEST(GuidedMetis, FillNearMetisOnTheTwoRingGraph) {
-  Mesh mesh(150);  // 22350 ordered vertices: dissected
+//! DEFORMBENCH_THREADS set to `threads` while it lives (the worker threads, which set the dissection's levels).
+class WorkerThreads {
+ public:
+  explicit WorkerThreads(int threads) {
+    if (const char* e = std::getenv("DEFORMBENCH_THREADS")) saved_ = e;
+    setenv("DEFORMBENCH_THREADS", std::to_string(threads).c_str(), 1);
+  }
+  ~WorkerThreads() {
+    if (saved_) setenv("DEFORMBENCH_THREADS", saved_->c_str(), 1);
+    else unsetenv("DEFORMBENCH_THREADS");
+  }
+
+ private:
+  std::optional<std::string> saved_;
+};
+
+//! CHOLMOD's postordered METIS permutation of g (split on `guide` when it is given).
+std::vector<int> metis_perm(const db::GraphPattern& g, const db::GraphPattern* guide) {
+  cholmod_common cc;
+  cholmod_start(&cc);
+  const std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> guard(&cc, cholmod_finish);
+  cc.print = 0;
+  cc.supernodal = CHOLMOD_SIMPLICIAL;
+  cholmod_factor* L = db::analyze_graph(g, "metis", cc, guide);
+  const int* p = static_cast<const int*>(L->Perm);
+  std::vector<int> perm(p, p + L->n);
+  cholmod_free_factor(&L, &cc);
+  return perm;
+}
+
+// METIS's dissection split on the 1-ring graph (analyze_graph's guide), where it has more than one level: the
+// separators widened and refined on the 2-ring graph. Its fill is a draw from the same distribution as METIS's own
+// (over METIS's random seeds, results/records/2026-11-27-guided-splits), so one draw is held to a wider bound than
+// the distributions' 2%.
+TEST(GuidedMetis, FillNearMetisOnTheTwoRingGraphAtTwoLevels) {
+  const WorkerThreads four(4);  // two levels of splits
+  Mesh mesh(150);  // 22350 ordered vertices: dissected, its halves split again
   const db::GraphPattern g = mesh.two_ring(), guide = mesh.one_ring();
   const double guided = factor_nnz(g, {}, &guide), metis = factor_nnz(g, {});
   EXPECT_NE(guided, metis) << "the guide was not used";
   EXPECT_LE(guided, 1.05 * metis) << "guided nnz(L) " << guided << ", METIS " << metis;
+}
+
+TEST(GuidedMetis, OneLevelIgnoresTheGuide) {
+  Mesh mesh(150);
+  const db::GraphPattern g = mesh.two_ring(), guide = mesh.one_ring();
+  for (int threads : {1, 2}) {
+    const WorkerThreads t(threads);
+    EXPECT_EQ(metis_perm(g, &guide), metis_perm(g, nullptr)) << threads << " threads";
+  }
 }
 
 TEST(GuidedMetis, AGuideOfAnotherSizeIsRefused) {
