@@ -261,6 +261,13 @@ cholmod_factor* analyze_with(const GraphPattern& g, const std::vector<int>& give
 
 }  // namespace
 
+bool takes_guide(int n, const std::string& method) {
+  // Where the splits form a chain (more than one level): there the guide's cheaper splits shorten the serial path
+  // ahead of the parts' orderings. At one level (one or two threads) the one split saves too little to justify
+  // moving the bundled meshes' fill (results/records/2026-11-27-guided-splits).
+  return method == "metis" && n >= kDissectVertices && dissection_levels(worker_threads()) > 1;
+}
+
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,
                               const GraphPattern* guide) {
   if (guide && guide->n != g.n)
@@ -268,11 +275,8 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
   const OrderingCache cache = OrderingCache::from_environment();
   const bool cacheable = cache.enabled() && method != "natural";
   const bool dissected = method == "metis" && g.n >= kDissectVertices;
+  if (!takes_guide(g.n, method)) guide = nullptr;
   const int threads = worker_threads(), levels = dissection_levels(threads);
-  // The guide where the splits form a chain (more than one level): there its cheaper splits shorten the serial
-  // path ahead of the parts' orderings. At one level (one or two threads) the one split saves too little to
-  // justify moving the bundled meshes' fill (results/records/2026-11-27-guided-splits).
-  if (!dissected || levels < 2) guide = nullptr;
   // A dissected ordering depends on its levels and on its guide: the cache keeps one per level count ("metis"
   // for one level) and marks the guided ones.
   const std::string base = guide ? "metis-guided" : "metis";

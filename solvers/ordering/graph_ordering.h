@@ -32,6 +32,9 @@ struct GraphPattern {
 //! written.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,
                               const GraphPattern* guide = nullptr);
+//! Whether analyze_graph uses a guide for an n-vertex graph under `method` at the present worker threads, so that
+//! a caller builds one only then.
+bool takes_guide(int n, const std::string& method);
 
 //! CHOLMOD's analysis of `g` under the given order `perm` (perm[new] = old, g.n entries), postordered; otherwise
 //! as analyze_graph (no cache: the caller computed the order). \throw SolverError when CHOLMOD fails.

@@ -46,8 +46,9 @@ void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& meth
   check_method(method);
   if (method != "ringnd") {
     // Upper triangle of the unknowns' 2-ring interaction graph, pattern only; METIS's splits on the 1-ring graph.
-    const InteractionPattern one_ring = method == "metis" ? interaction_pattern(adj, unk, 1) : InteractionPattern{};
-    order_unknowns(interaction_pattern(adj, unk), unk, method, method == "metis" ? &one_ring : nullptr);
+    const bool guided = takes_guide(unk.num_unknowns(), method);
+    const InteractionPattern one_ring = guided ? interaction_pattern(adj, unk, 1) : InteractionPattern{};
+    order_unknowns(interaction_pattern(adj, unk), unk, method, guided ? &one_ring : nullptr);
     return;
   }
   // Dissected on the 1-ring graph; the postordering analysis then runs on the 2-ring graph.
