@@ -21,7 +21,7 @@ inline const char* default_vertex_ordering(int block_size) { return block_size >
 //! "nesdis" (solvers/graph_ordering: METIS on 20000 unknowns or more is dissected and runs on two threads,
 //! with the same result on one) | "ringnd" (solvers/ordering/ring_dissection.h: nested dissection of the 1-ring
 //! graph with widened separators, then CHOLMOD's postordering analysis of the 2-ring graph). "metis" splits
-//! the graph on its 1-ring graph where it dissects (analyze_graph's guide).
+//! the graph on its 1-ring graph where it dissects in two levels or more (analyze_graph's guide, takes_guide).
 //! \throw SolverError when the ordering library fails, InputError on an unknown method.
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method);
 //! The same from the interaction pattern of `unk`, computed by the caller (interaction_pattern(adj, unk)), and
@@ -33,9 +33,9 @@ void order_unknowns(const InteractionPattern& pattern, Unknowns& unk, const std:
 //! The structured build and its vertex ordering at once, for an ordering that runs on one core (AMD, the scalar
 //! LAP system's): the ordering on a second thread while this one builds in `unk`'s present numbering, both
 //! from one interaction pattern; then the system is renumbered into the ordering's (renumber_unknowns) and so
-//! is `unk`. Why: the serial AMD and the scalar LAP build take comparable time, and the renumbering
-//! costs less than either (docs/solvers.md; the measurement: results/records/2026-11-24-readme-figures/). K is held twice while it is renumbered ("K_upper_renumbering" in
-//! held_bytes).
+//! is `unk`. Why: the serial AMD and the scalar LAP build take comparable time, and the renumbering costs less
+//! than either (docs/solvers.md; the measurement: results/records/2026-11-24-readme-figures/). K is held twice
+//! while it is renumbered ("K_upper_renumbering" in held_bytes).
 //! `ordering_seconds`: the ordering thread's own time. Checks as build_normal_system (check_build).
 NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,
                                              std::size_t byte_budget, double& ordering_seconds);
