@@ -4,9 +4,9 @@ results/records/2026-11-27-guided-splits/timeline.patch for the head since 5baf3
 for the builds before), one run per block that starts with a "# LABEL" line. Per run: each step with its start
 (from the run's first step), its wall time and its thread; then the analysis split: the 2-ring pattern for the
 ordering, the 1-ring guide (where the build has one), the ordering, the postordering analysis, the multifrontal
-symbolic analysis; and a bound on the ordering's longest chain of steps: each dissection level's slowest split and slowest
-side extraction, then the slowest part's METIS_NodeND (the slowest steps of two levels may lie on different
-branches, so the chain can be shorter; meaningful with more than one thread).
+symbolic analysis; and a bound on the ordering's longest chain of steps: each dissection level's slowest split
+and slowest side extraction, then the slowest part's METIS_NodeND (the slowest steps of two levels may lie on
+different branches, so the chain can be shorter; meaningful with more than one thread).
 usage: scripts/analysis_timeline.py FILE > table.md"""
 import collections
 import sys
@@ -45,10 +45,12 @@ def table(label, steps):
     splits = {k: split[k] + induced[k] for k in split}  # a level's slowest split, then its slowest side extraction
     parts = [s[4] - s[3] for s in steps if s[0] == "nodend"]
     chain = sum(splits.values()) + (max(parts) if parts else 0.0)
-    analysis = sum(wall[w] for w in ("ordering_pattern", "ordering_guide", "ordering", "postorder_analysis", "symbolic"))
+    phases = ("ordering_pattern", "ordering_guide", "ordering", "postorder_analysis", "symbolic")
+    analysis = sum(wall[w] for w in phases)
     guide = f" + guide {wall['ordering_guide']:.3f}" if "ordering_guide" in wall else ""
     print()
-    print(f"analysis {analysis:.3f} s = pattern {wall['ordering_pattern']:.3f}{guide} + ordering {wall['ordering']:.3f} "
+    print(f"analysis {analysis:.3f} s = pattern {wall['ordering_pattern']:.3f}{guide} "
+          f"+ ordering {wall['ordering']:.3f} "
           f"+ postorder analysis {wall['postorder_analysis']:.3f} + symbolic {wall['symbolic']:.3f} "
           f"(of it CHOLMOD's supernodal analysis {wall['cholmod_analysis']:.3f}); "
           f"the ordering's longest chain {chain:.3f} s: splits by level "
