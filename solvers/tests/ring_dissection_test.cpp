@@ -176,6 +176,17 @@ TEST(GuidedMetis, FillNearMetisOnTheTwoRingGraphAtTwoLevels) {
   EXPECT_LE(guided, 1.05 * metis) << "guided nnz(L) " << guided << ", METIS " << metis;
 }
 
+// Four levels on a grid large enough to split at each (89102 ordered vertices, parts of 10000 or more down to the
+// fourth level): the sides' splits and orderings run on threads at once, so repeated runs must agree.
+TEST(GuidedMetis, SameOrderOnEveryRunAtSixteenThreads) {
+  const WorkerThreads sixteen(16);
+  Mesh mesh(299);
+  const db::GraphPattern g = mesh.two_ring(), guide = mesh.one_ring();
+  const std::vector<int> first = metis_perm(g, &guide);
+  EXPECT_EQ(metis_perm(g, &guide), first);
+  EXPECT_NE(metis_perm(g, nullptr), first) << "the guide was not used";
+}
+
 TEST(GuidedMetis, OneLevelIgnoresTheGuide) {
   Mesh mesh(150);
   const db::GraphPattern g = mesh.two_ring(), guide = mesh.one_ring();
