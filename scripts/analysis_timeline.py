@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build:
-results/records/2026-11-27-guided-splits/timeline.patch for the head since 5baf35e, the analysis-timeline record's
-for the builds before), one run per block that starts with a "# LABEL" line. Per run: each step with its start
-(from the run's first step), its wall time and its thread; then the analysis split: the 2-ring pattern for the
-ordering, the 1-ring guide (where the build has one), the ordering, the postordering analysis, the multifrontal
-symbolic analysis; and a bound on the ordering's longest chain of steps: each dissection level's slowest split
-and slowest side extraction, then the slowest part's METIS_NodeND (the slowest steps of two levels may lie on
-different branches, so the chain can be shorter; meaningful with more than one thread).
+results/records/2026-11-27-guided-splits/timeline.patch on e372c48, whose ordering the head keeps; the
+analysis-timeline record's for the builds before 5baf35e), one run per block that starts with a "# LABEL" line.
+Per run: each step with its start (from the run's first step), its wall time and its thread; then the analysis
+split: the 2-ring pattern for the ordering, the 1-ring guide (where the build has one), the ordering, the
+postordering analysis, the multifrontal symbolic analysis; and a bound on the ordering's longest chain of steps:
+each dissection level's slowest split and slowest side extraction, then the slowest part's METIS_NodeND (the
+slowest steps of two levels may lie on different branches, so the chain can be shorter; meaningful with more than
+one thread).
 usage: scripts/analysis_timeline.py FILE > table.md"""
 import collections
 import sys

@@ -116,6 +116,8 @@ std::vector<int> metis_order(MetisGraph& h) {
 // bound: a tight one at every level cost several percent of nnz(L) at four levels on the armadillo patterns
 // (results/records/2026-11-26-ordering-threads/tuning, `depth` mode).
 constexpr idx_t kSplitUfactor = 20;
+// METIS's own imbalance bound for nested dissection (its OMETIS default), which the deeper splits keep.
+constexpr idx_t kMetisUfactor = 200;
 // Below the first level, parts of fewer vertices are ordered whole: METIS takes a few tens of milliseconds on them.
 constexpr idx_t kSplitVertices = 10000;
 
@@ -158,7 +160,7 @@ bool bisect(MetisGraph& h, idx_t ufactor, std::vector<idx_t>& part) {
     return false;
   if (h.guided()) {
     widen(h, part);
-    const double balance = std::max(kRefineBalance, 1 + double(ufactor > 0 ? ufactor : 200) / 1000);
+    const double balance = std::max(kRefineBalance, 1 + double(ufactor > 0 ? ufactor : kMetisUfactor) / 1000);
     std::vector<idx_t> marker(std::size_t(n), -1);
     if (METIS_NodeRefine(n, h.xadj.data(), nullptr, h.adjncy.data(), part.data(), marker.data(), real_t(balance)) !=
         METIS_OK)

@@ -22,7 +22,6 @@
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
 #include "solvers/linear_solver.h"
-#include "solvers/ordering/graph_ordering.h"
 #include "systems/lri_system.h"
 #include "systems/normal_system.h"
 #include "systems/vertex_ordering.h"
@@ -317,10 +316,8 @@ const RunPredictor::Graph& RunPredictor::graph(const DeformOptions& o, int rings
   Timer t;
   g->pattern = interaction_pattern(adj_, g->unk, rings);
   if (!ordering.empty()) {
-    // As the run orders: METIS's splits on the 1-ring graph (order_unknowns from the adjacency).
-    const bool guided = rings == 2 && takes_guide(g->unk.num_unknowns(), ordering);
-    const InteractionPattern one_ring = guided ? interaction_pattern(adj_, g->unk, 1) : InteractionPattern{};
-    order_unknowns(g->pattern, g->unk, ordering, guided ? &one_ring : nullptr);
+    // As the run orders (the adjacency for METIS's guided splits, where the pattern is its 2-ring one).
+    order_unknowns(g->pattern, g->unk, ordering, rings == 2 ? &adj_ : nullptr);
     g->seconds = t.seconds();  // what the run counts as its ordering: the pattern built, then ordered
     g->pattern = interaction_pattern(adj_, g->unk, rings);
   }

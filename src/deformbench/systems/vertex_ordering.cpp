@@ -45,10 +45,8 @@ void check_method(const std::string& method) {
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method) {
   check_method(method);
   if (method != "ringnd") {
-    // Upper triangle of the unknowns' 2-ring interaction graph, pattern only; METIS's splits on the 1-ring graph.
-    const bool guided = takes_guide(unk.num_unknowns(), method);
-    const InteractionPattern one_ring = guided ? interaction_pattern(adj, unk, 1) : InteractionPattern{};
-    order_unknowns(interaction_pattern(adj, unk), unk, method, guided ? &one_ring : nullptr);
+    // Upper triangle of the unknowns' 2-ring interaction graph, pattern only.
+    order_unknowns(interaction_pattern(adj, unk), unk, method, &adj);
     return;
   }
   // Dissected on the 1-ring graph; the postordering analysis then runs on the 2-ring graph.
@@ -61,15 +59,17 @@ void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& meth
   cholmod_free_factor(&L, &c.cc);
 }
 
-void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method,
-                    const InteractionPattern* one_ring) {
+void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::string& method, const Adjacency* adj) {
   check_method(method);
   if (method == "ringnd")
     throw InputError("vertex ordering 'ringnd' needs the vertex adjacency, not the 2-ring pattern");
   PermutationCommon c;
   const int n = unk.num_unknowns();
-  const GraphPattern guide{n, one_ring ? one_ring->colptr.data() : nullptr, one_ring ? one_ring->rows.data() : nullptr};
-  cholmod_factor* L = analyze_graph({n, pat.colptr.data(), pat.rows.data()}, method, c.cc, one_ring ? &guide : nullptr);
+  // METIS's splits on the 1-ring graph where analyze_graph takes a guide.
+  const bool guided = adj && takes_guide(n, method);
+  const InteractionPattern one_ring = guided ? interaction_pattern(*adj, unk, 1) : InteractionPattern{};
+  const GraphPattern guide{n, one_ring.colptr.data(), one_ring.rows.data()};
+  cholmod_factor* L = analyze_graph({n, pat.colptr.data(), pat.rows.data()}, method, c.cc, guided ? &guide : nullptr);
   renumber(static_cast<const int*>(L->Perm), unk);
   cholmod_free_factor(&L, &c.cc);
 }

@@ -24,11 +24,11 @@ inline const char* default_vertex_ordering(int block_size) { return block_size >
 //! the graph on its 1-ring graph where it dissects in two levels or more (analyze_graph's guide, takes_guide).
 //! \throw SolverError when the ordering library fails, InputError on an unknown method.
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method);
-//! The same from the interaction pattern of `unk`, computed by the caller (interaction_pattern(adj, unk)), and
-//! for "metis" the 1-ring pattern (interaction_pattern(adj, unk, 1)) when the caller has it: without it METIS
-//! splits the 2-ring graph itself, a different ordering.
+//! The same from the interaction pattern of `unk`, computed by the caller (interaction_pattern(adj, unk)), and the
+//! adjacency it came from when the caller has it: without it METIS splits the 2-ring graph itself, a different
+//! ordering where the guide would be taken.
 void order_unknowns(const InteractionPattern& pattern, Unknowns& unk, const std::string& method,
-                    const InteractionPattern* one_ring = nullptr);
+                    const Adjacency* adj = nullptr);
 
 //! The structured build and its vertex ordering at once, for an ordering that runs on one core (AMD, the scalar
 //! LAP system's): the ordering on a second thread while this one builds in `unk`'s present numbering, both
