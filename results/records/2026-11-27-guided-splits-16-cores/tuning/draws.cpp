@@ -7,9 +7,11 @@
 // per level (the first split first), the separator columns' share of the flops (top: sum of the squared column
 // counts of L over the separators' columns, against all columns; CHOLMOD's unpostordered analysis), and the
 // heaviest of the parts against their mean (the same column sums over each part's columns): what a thread
-// schedule over the parts starts from.
+// schedule over the parts starts from; the deeper splits' ufactor (uf2) and the parts' METIS_NodeND wall seconds,
+// the slowest (ndmax: the ordering's last step when each part has its own core) and the sum (ndsum).
 //   g++ -O2 -o draws draws.cpp -I/usr/include/suitesparse -lcholmod -lmetis
-//   ./draws g104.bin L FIRST_SEED END_SEED
+//   [MODE=0|1] [UF2=U] ./draws g104.bin L FIRST_SEED END_SEED
+// MODE 0: ring2 only, 1: ring1 only, unset: both; UF2: the ufactor of the splits below the first (default 200).
 #include <metis.h>
 #include <cholmod.h>
 #include <cstdio>
@@ -40,9 +42,12 @@ H induced(const H& h, const vector<idx_t>& part, int s) {
   }
   return r;
 }
+double ndmax = 0, ndsum = 0; int UF2 = 200; int MODE = 2;
 vector<int> nd(H& h) {
+  double t0 = now();
   idx_t n = h.n(); vector<idx_t> p(n), ip(n); idx_t o[METIS_NOPTIONS]; opts(o);
   METIS_NodeND(&n, h.x2.data(), h.a2.data(), nullptr, o, p.data(), ip.data());
+  { double d = now() - t0; ndmax = max(ndmax, d); ndsum += d; }
   vector<int> r; for (idx_t k : p) r.push_back(h.verts[k]); return r;
 }
 void split(H& h, bool ring1, idx_t uf, vector<idx_t>& part) {
@@ -63,7 +68,7 @@ vector<int> dissect(H h, int L, bool ring1, idx_t uf) {
   vector<idx_t> part; split(h, ring1, uf, part);
   { int c=0; for (auto x: part) c += x==2; seps[L] += c; }
   H a = induced(h, part, 0), b = induced(h, part, 1);
-  vector<int> r = dissect(a, L-1, ring1, 200), rb = dissect(b, L-1, ring1, 200);
+  vector<int> r = dissect(a, L-1, ring1, UF2), rb = dissect(b, L-1, ring1, UF2);
   r.insert(r.end(), rb.begin(), rb.end());
   for (idx_t v = 0; v < h.n(); ++v) if (part[v] == 2) { r.push_back(h.verts[v]); insep[h.verts[v]] = 1; }
   return r;
@@ -79,9 +84,10 @@ void report_columns(cholmod_factor* F, int n) {
     if (leaf[P[k]] >= 0) pf[leaf[P[k]]] += c;
   }
   double mx = 0, sm = 0; for (double x : pf) { mx = max(mx, x); sm += x; }
-  printf(" topfl %.4g allfl %.4g parts %d partmax/mean %.3f\n", top, all, nleaf, mx / (sm / nleaf));
+  printf(" topfl %.4g allfl %.4g parts %d partmax/mean %.3f uf2 %d ndmax %.3f ndsum %.3f\n", top, all, nleaf, mx / (sm / nleaf), UF2, ndmax, ndsum);
 }
 int main(int argc, char** argv) {
+  if (getenv("UF2")) UF2 = atoi(getenv("UF2")); if (getenv("MODE")) MODE = atoi(getenv("MODE"));
   G g = load(argv[1]); int L = atoi(argv[2]); int s0 = atoi(argv[3]), s1 = atoi(argv[4]);
   cholmod_common cc; cholmod_start(&cc); cc.print = 0;
   H h; h.verts.resize(g.n); for (int v = 0; v < g.n; ++v) h.verts[v] = v;
@@ -94,7 +100,8 @@ int main(int argc, char** argv) {
     for (int v = 0; v < g.n; ++v) sort(h.a2.begin()+h.x2[v], h.a2.begin()+h.x2[v+1]); }
   vector<int> vert(g.n); for (int v = 0; v < g.nv; ++v) if (g.uof[v] >= 0) vert[g.uof[v]] = v;
   for (int u = 0; u < g.n; ++u) { int v = vert[u]; for (int q = g.off[v]; q < g.off[v+1]; ++q) { int w = g.uof[g.nbr[q]]; if (w >= 0) h.a1.push_back(w); } h.x1.push_back(h.a1.size()); }
-  for (int seed = s0; seed < s1; ++seed) for (int ring1 = 0; ring1 < 2; ++ring1) {
+  for (int seed = s0; seed < s1; ++seed) for (int ring1 = (MODE == 2 ? 0 : MODE); ring1 < (MODE == 2 ? 2 : MODE + 1); ++ring1) {
+    ndmax = ndsum = 0;
     SEED = seed; tsplit = 0; for (auto& x: seps) x = 0; insep.assign(g.n, 0); leaf.assign(g.n, -1); nleaf = 0;
     vector<int> perm = dissect(h, L, ring1, 20);
     cc.nmethods = 1; cc.method[0].ordering = CHOLMOD_GIVEN; cc.postorder = 0; cc.supernodal = CHOLMOD_SIMPLICIAL;
