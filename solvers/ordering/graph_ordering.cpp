@@ -1,6 +1,7 @@
 #include "solvers/ordering/graph_ordering.h"
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include <fmt/format.h>
@@ -9,6 +10,7 @@
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
 #include "solvers/ordering/cholmod_views.h"
+#include "solvers/ordering/dissection_postorder.h"
 #include "solvers/ordering/metis_random.h"
 #include "solvers/ordering/ordering_cache.h"
 #include "solvers/ordering/suitesparse_memory.h"
@@ -170,13 +172,21 @@ bool bisect(MetisGraph& h, idx_t ufactor, std::vector<idx_t>& part) {
   return side(0) > 0 && side(1) > 0;
 }
 
+//! A dissected order (graph indices in elimination order) and the ranges of its parts, those METIS_NodeND ordered.
+struct Dissected {
+  std::vector<int> order;
+  std::vector<PositionRange> parts;
+};
+
 //! h's vertices (graph indices) in elimination order: `levels` levels of METIS vertex separators (the first at
 //! `ufactor`, the deeper at METIS's own balance), the parts below them ordered by METIS_NodeND, each separator
 //! after its two sides. With `threads` > 1 (and METIS able to run on threads, metis_random.h) the two sides of a split
-//! are ordered at once, each with a share of the threads; the result does not depend on `threads`.
-std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
+//! are ordered at once, each with a share of the threads; the result does not depend on `threads`. h is released
+//! once split (its sides are what is left to order), unless `keep`.
+Dissected dissect(MetisGraph& h, int levels, idx_t ufactor, int threads, bool keep = false) {
   std::vector<idx_t> part;
-  if (levels == 0 || h.size() < kSplitVertices || !bisect(h, ufactor, part)) return metis_order(h);
+  if (levels == 0 || h.size() < kSplitVertices || !bisect(h, ufactor, part))
+    return {metis_order(h), {PositionRange{0, int(h.size())}}};
   MetisGraph side[2];
   const auto take_side = [&](int s) { side[s] = induced(h, part, s); };
   if (threads > 1) {
@@ -188,13 +198,13 @@ std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
   std::vector<int> separator;
   for (idx_t v = 0; v < h.size(); ++v)
     if (part[std::size_t(v)] == 2) separator.push_back(h.vertices[std::size_t(v)]);
-  h = {};
-  std::vector<int> order[2];
+  if (!keep) h = {};
+  Dissected d[2];
   const int large = side[1].size() > side[0].size() ? 1 : 0;  // claimed first, with the larger share of threads
   const int share[2] = {threads - threads / 2, std::max(threads / 2, 1)};
   const auto order_side = [&](int task) {
     const int s = task ^ large;
-    order[s] = dissect(std::move(side[s]), levels - 1, 0, share[task]);
+    d[s] = dissect(side[s], levels - 1, 0, share[task]);
   };
   if (threads > 1 && metis_on_threads()) {
     run_tasks(2, order_side);
@@ -202,9 +212,11 @@ std::vector<int> dissect(MetisGraph h, int levels, idx_t ufactor, int threads) {
     order_side(0);
     order_side(1);
   }
-  order[0].insert(order[0].end(), order[1].begin(), order[1].end());
-  order[0].insert(order[0].end(), separator.begin(), separator.end());
-  return std::move(order[0]);
+  const int shift = int(d[0].order.size());
+  for (const PositionRange r : d[1].parts) d[0].parts.push_back({r.lo + shift, r.hi + shift});
+  d[0].order.insert(d[0].order.end(), d[1].order.begin(), d[1].order.end());
+  d[0].order.insert(d[0].order.end(), separator.begin(), separator.end());
+  return std::move(d[0]);
 }
 
 //! Levels of dissection for `threads`: one up to two threads, one more for each doubling beyond, so that every
@@ -222,18 +234,23 @@ int dissection_levels(int threads) {
 //! orderings overlap in time. The result depends on the thread count only through the levels: the same for one
 //! and two threads. Threads rather than forked processes: a fork write-protects every page of the process, and
 //! on a virtual machine whose page faults are slow the faults that follow cost more than a side's ordering
-//! (results/records/2026-11-26-ordering-threads). With a guide, the splits are the guide's (bisect).
-std::vector<int> dissected_metis_order(const GraphPattern& pat, int threads, const GraphPattern* guide = nullptr) {
+//! (results/records/2026-11-26-ordering-threads). With a guide, the splits are the guide's (bisect). With
+//! `postorder`, the order comes postordered as CHOLMOD's analysis postorders it, the parts' elimination trees found
+//! on the threads (dissection_postorder.h); the whole graph's lists are then kept for it while the parts are ordered.
+std::vector<int> dissected_metis_order(const GraphPattern& pat, int threads, const GraphPattern* guide = nullptr,
+                                       bool postorder = false) {
   const idx_t n = pat.n;
-  std::vector<int> perm = dissect(full_graph(pat, guide), dissection_levels(threads), kSplitUfactor, threads);
+  MetisGraph whole = full_graph(pat, guide);
+  Dissected d = dissect(whole, dissection_levels(threads), kSplitUfactor, threads, postorder);
   // The parts and the separators together: a permutation of the whole graph.
   std::vector<char> seen(std::size_t(n), 0);
-  for (int v : perm)
+  for (int v : d.order)
     if (v < 0 || v >= n || seen[std::size_t(v)]++)
       throw SolverError("METIS ordering: the dissected ordering is not a permutation");
-  if (idx_t(perm.size()) != n)
+  if (idx_t(d.order.size()) != n)
     throw SolverError("METIS ordering: the dissected ordering is incomplete");
-  return perm;
+  if (!postorder) return std::move(d.order);
+  return postorder_dissection({pat.n, whole.xadj.data(), whole.adjncy.data()}, d.order, d.parts, threads);
 }
 
 }  // namespace
@@ -270,11 +287,27 @@ bool takes_guide(int n, const std::string& method) {
   return method == "metis" && n >= kDissectVertices && dissection_levels(worker_threads()) > 1;
 }
 
-cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,
-                              const GraphPattern* guide) {
+namespace {
+
+//! Where an ordering of g under a method comes from: the ordering cache (under its key), a dissection here (on the
+//! worker threads, with its guide) or CHOLMOD.
+struct OrderingPlan {
+  OrderingCache cache;
+  bool cacheable, dissected;
+  std::string key;
+  const GraphPattern* guide;
+  int threads;
+
+  std::vector<int> cached(const GraphPattern& g) const { return cacheable ? cache.find(g, key) : std::vector<int>{}; }
+  void store(const GraphPattern& g, const int* perm) const {
+    if (cacheable) cache.store(g, key, perm);
+  }
+};
+
+OrderingPlan plan_ordering(const GraphPattern& g, const std::string& method, const GraphPattern* guide) {
   if (guide && guide->n != g.n)
     throw SolverError(fmt::format("ordering: a guide graph of {} vertices for a {}-vertex graph", guide->n, g.n));
-  const OrderingCache cache = OrderingCache::from_environment();
+  OrderingCache cache = OrderingCache::from_environment();
   const bool cacheable = cache.enabled() && method != "natural";
   const bool dissected = method == "metis" && g.n >= kDissectVertices;
   if (!takes_guide(g.n, method)) guide = nullptr;
@@ -282,20 +315,49 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
   // A dissected ordering depends on its levels and on its guide: the cache keeps one per level count ("metis"
   // for one level) and marks the guided ones.
   const std::string base = guide ? "metis-guided" : "metis";
-  const std::string key = dissected ? (levels > 1 ? fmt::format("{}{}", base, levels) : base) : method;
-  std::vector<int> given = cacheable ? cache.find(g, key) : std::vector<int>{};
+  std::string key = dissected ? (levels > 1 ? fmt::format("{}{}", base, levels) : base) : method;
+  return {std::move(cache), cacheable, dissected, std::move(key), guide, threads};
+}
+
+}  // namespace
+
+cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,
+                              const GraphPattern* guide) {
+  const OrderingPlan plan = plan_ordering(g, method, guide);
+  std::vector<int> given = plan.cached(g);
   const bool cached = !given.empty();  // postordered already: the analysis keeps it as it is
-  if (!cached && dissected) given = dissected_metis_order(g, threads, guide);
+  if (!cached && plan.dissected) given = dissected_metis_order(g, plan.threads, plan.guide);
   cholmod_factor* L = analyze_with(g, given, method, cc);
-  if (cacheable && !cached) {
+  if (!cached) {
     try {
-      cache.store(g, key, static_cast<const int*>(L->Perm));
+      plan.store(g, static_cast<const int*>(L->Perm));
     } catch (...) {
       cholmod_free_factor(&L, &cc);
       throw;
     }
   }
   return L;
+}
+
+std::vector<int> order_graph(const GraphPattern& g, const std::string& method, const GraphPattern* guide) {
+  const OrderingPlan plan = plan_ordering(g, method, guide);
+  std::vector<int> perm = plan.cached(g);
+  if (!perm.empty()) return perm;
+  if (plan.dissected) {
+    perm = dissected_metis_order(g, plan.threads, plan.guide, true);
+  } else {
+    cholmod_common cc;
+    cholmod_start(&cc);
+    const std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> finish(&cc, cholmod_finish);
+    cc.print = 0;
+    cc.supernodal = CHOLMOD_SIMPLICIAL;  // only the permutation is wanted
+    cholmod_factor* L = analyze_with(g, {}, method, cc);
+    const int* p = static_cast<const int*>(L->Perm);
+    perm.assign(p, p + g.n);
+    cholmod_free_factor(&L, &cc);
+  }
+  plan.store(g, perm.data());
+  return perm;
 }
 
 cholmod_factor* analyze_graph_given(const GraphPattern& g, const std::vector<int>& perm, cholmod_common& cc) {

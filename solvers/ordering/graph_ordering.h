@@ -32,6 +32,11 @@ struct GraphPattern {
 //! written.
 cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, cholmod_common& cc,
                               const GraphPattern* guide = nullptr);
+//! The postordered fill-reducing order of `g` under `method` (perm[new] = old): the Perm of analyze_graph's factor
+//! (the same cache, dissection and guide), without the rest of its analysis. A dissected METIS order is postordered
+//! part by part on the worker threads (dissection_postorder.h) rather than by CHOLMOD's analysis of the whole graph,
+//! which runs on one thread. \throw as analyze_graph.
+std::vector<int> order_graph(const GraphPattern& g, const std::string& method, const GraphPattern* guide = nullptr);
 //! Whether analyze_graph uses a guide for an n-vertex graph under `method` at the present worker threads, so that
 //! a caller builds one only then.
 bool takes_guide(int n, const std::string& method);

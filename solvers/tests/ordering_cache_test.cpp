@@ -1,5 +1,6 @@
 // The opt-in ordering cache (solvers/ordering/ordering_cache.h): what it stores is what an uncached analysis
-// computes, a hit gives the same analysis, and a damaged entry is recomputed, not used.
+// computes, a hit gives the same analysis (or order_graph's permutation), and a damaged entry is recomputed, not
+// used.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -106,6 +107,20 @@ TEST(OrderingCache, DissectedOrderingsAreCachedPerLevelCount) {
   EXPECT_EQ(cache.find(g, "metis2"), four.perm);
   EXPECT_EQ(cache.find(g, "metis"), two.perm);
   EXPECT_NE(two.perm, four.perm);
+}
+
+// order_graph (the permutation alone, a dissected one postordered part by part) shares analyze_graph's entries.
+TEST(OrderingCache, OrderGraphStoresAndFindsTheSameEntries) {
+  const Grid grid(150);  // dissected
+  const db::GraphPattern g = grid.pattern();
+  const Analysis cold = analyze(g, "metis");
+  CacheDir tmp;
+  const db::OrderingCache cache = db::OrderingCache::from_environment();
+  EXPECT_EQ(db::order_graph(g, "metis"), cold.perm);  // a miss: computed and stored
+  EXPECT_EQ(cache.find(g, "metis"), cold.perm);
+  std::vector<int> planted(cold.perm.rbegin(), cold.perm.rend());
+  cache.store(g, "metis", planted.data());
+  EXPECT_EQ(db::order_graph(g, "metis"), planted);  // a hit: the entry as it is
 }
 
 TEST(OrderingCache, DamagedEntriesAreRecomputed) {

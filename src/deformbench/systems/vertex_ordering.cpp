@@ -63,15 +63,12 @@ void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::str
   check_method(method);
   if (method == "ringnd")
     throw InputError("vertex ordering 'ringnd' needs the vertex adjacency, not the 2-ring pattern");
-  PermutationCommon c;
   const int n = unk.num_unknowns();
-  // METIS's splits on the 1-ring graph where analyze_graph takes a guide.
+  // METIS's splits on the 1-ring graph where the ordering takes a guide.
   const bool guided = adj && takes_guide(n, method);
   const InteractionPattern one_ring = guided ? interaction_pattern(*adj, unk, 1) : InteractionPattern{};
   const GraphPattern guide{n, one_ring.colptr.data(), one_ring.rows.data()};
-  cholmod_factor* L = analyze_graph({n, pat.colptr.data(), pat.rows.data()}, method, c.cc, guided ? &guide : nullptr);
-  renumber(static_cast<const int*>(L->Perm), unk);
-  cholmod_free_factor(&L, &c.cc);
+  renumber(order_graph({n, pat.colptr.data(), pat.rows.data()}, method, guided ? &guide : nullptr).data(), unk);
 }
 
 NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,

@@ -18,10 +18,11 @@ inline const char* default_vertex_ordering(int block_size) { return block_size >
 
 //! Renumbers the unknowns of `unk` in a fill-reducing, postordered order of their interaction graph
 //! (unknowns are adjacent when they share a 1-ring, i.e. the pattern of A^T A). method: "amd" | "metis" |
-//! "nesdis" (solvers/graph_ordering: METIS on 20000 unknowns or more is dissected and runs on two threads,
-//! with the same result on one) | "ringnd" (solvers/ordering/ring_dissection.h: nested dissection of the 1-ring
-//! graph with widened separators, then CHOLMOD's postordering analysis of the 2-ring graph). "metis" splits
-//! the graph on its 1-ring graph where it dissects in two levels or more (analyze_graph's guide, takes_guide).
+//! "nesdis" (solvers/ordering/graph_ordering.h's order_graph: METIS on 20000 unknowns or more is dissected and
+//! runs on the worker threads, with the same result on one and two, and is postordered part by part on them) |
+//! "ringnd" (solvers/ordering/ring_dissection.h: nested dissection of the 1-ring graph with widened separators,
+//! then CHOLMOD's postordering analysis of the 2-ring graph). "metis" splits the graph on its 1-ring graph where it
+//! dissects in two levels or more (the ordering's guide, takes_guide).
 //! \throw SolverError when the ordering library fails, InputError on an unknown method.
 void order_unknowns(const Adjacency& adj, Unknowns& unk, const std::string& method);
 //! The same from the interaction pattern of `unk`, computed by the caller (interaction_pattern(adj, unk)), and the

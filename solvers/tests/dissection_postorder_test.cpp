@@ -1,0 +1,197 @@
+// The postorder of a dissected order found part by part (solvers/ordering/dissection_postorder.h) against its
+// exact reference, CHOLMOD's postordered analysis of the whole graph under the same order: the same permutation on
+// random dissection-shaped graphs (parts of several connected pieces, pieces with no separator neighbour,
+// separators between and after the parts) at any thread count; parts that touch refused. And order_graph, which
+// uses it for METIS's dissected orders, against analyze_graph's permutation on a grid at 1-16 worker threads.
+#include <algorithm>
+#include <cstdlib>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <cholmod.h>
+#include <gtest/gtest.h>
+
+#include "solvers/base/error.h"
+#include "solvers/ordering/dissection_postorder.h"
+#include "solvers/ordering/graph_ordering.h"
+
+namespace {
+
+//! An undirected graph as edge pairs, with its adjacency lists and the upper triangle (with the diagonal).
+struct Graph {
+  int n = 0;
+  std::vector<std::pair<int, int>> edges;
+  std::vector<int> ptr, adj, colptr, rows;
+
+  void finish() {
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    std::vector<std::vector<int>> lists(static_cast<std::size_t>(n)), upper(static_cast<std::size_t>(n));
+    for (const auto& [a, b] : edges) {
+      lists[std::size_t(a)].push_back(b);
+      lists[std::size_t(b)].push_back(a);
+      upper[std::size_t(std::max(a, b))].push_back(std::min(a, b));
+    }
+    ptr.assign(1, 0);
+    colptr.assign(1, 0);
+    for (int v = 0; v < n; ++v) {
+      std::sort(lists[std::size_t(v)].begin(), lists[std::size_t(v)].end());
+      adj.insert(adj.end(), lists[std::size_t(v)].begin(), lists[std::size_t(v)].end());
+      ptr.push_back(int(adj.size()));
+      std::sort(upper[std::size_t(v)].begin(), upper[std::size_t(v)].end());
+      rows.insert(rows.end(), upper[std::size_t(v)].begin(), upper[std::size_t(v)].end());
+      rows.push_back(v);
+      colptr.push_back(int(rows.size()));
+    }
+  }
+  db::GraphPattern adjacency() const { return {n, ptr.data(), adj.data()}; }
+  db::GraphPattern upper() const { return {n, colptr.data(), rows.data()}; }
+};
+
+//! The Perm of CHOLMOD's postordered simplicial analysis of g under `order`.
+std::vector<int> cholmod_postordered(const Graph& g, std::vector<int> order) {
+  cholmod_common cc;
+  cholmod_start(&cc);
+  const std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> guard(&cc, cholmod_finish);
+  cc.print = 0;
+  cc.supernodal = CHOLMOD_SIMPLICIAL;
+  cholmod_factor* L = db::analyze_graph_given(g.upper(), order, cc);
+  const int* p = static_cast<const int*>(L->Perm);
+  std::vector<int> perm(p, p + L->n);
+  cholmod_free_factor(&L, &cc);
+  return perm;
+}
+
+//! A random graph shaped by a nested dissection: blocks of positions, each a part or a separator; edges within a
+//! part (sparse, so that parts fall into several pieces, some isolated), from a part to later separators, and
+//! between separators. The vertices are numbered at random (order maps positions to them).
+struct RandomDissection {
+  Graph g;
+  std::vector<int> order;
+  std::vector<db::PositionRange> parts;
+
+  explicit RandomDissection(unsigned seed) {
+    std::mt19937 rng(seed);
+    const auto below = [&](unsigned k) { return int(rng() % k); };
+    int n = 0;
+    for (int b = 0, blocks = 3 + below(6); b < blocks; ++b) {
+      const bool part = b == 0 || below(2) == 0;
+      const int size = part ? 1 + below(30) : below(8);
+      if (part) parts.push_back({n, n + size});
+      n += size;
+    }
+    g.n = n;
+    std::vector<char> in_part(static_cast<std::size_t>(n), 0);
+    for (const db::PositionRange r : parts)
+      for (int k = r.lo; k < r.hi; ++k) in_part[std::size_t(k)] = 1;
+    std::vector<std::pair<int, int>> by_position;
+    for (const db::PositionRange r : parts)
+      for (int j = r.lo; j < r.hi; ++j) {
+        for (int i = r.lo; i < j; ++i)
+          if (below(8) == 0) by_position.emplace_back(i, j);
+        for (int s = r.hi; s < n; ++s)
+          if (!in_part[std::size_t(s)] && below(6) == 0) by_position.emplace_back(j, s);
+      }
+    for (int s = 0; s < n; ++s)
+      for (int t = s + 1; t < n; ++t)
+        if (!in_part[std::size_t(s)] && !in_part[std::size_t(t)] && below(4) == 0) by_position.emplace_back(s, t);
+    order.resize(std::size_t(n));
+    std::iota(order.begin(), order.end(), 0);
+    for (int k = n - 1; k > 0; --k) std::swap(order[std::size_t(k)], order[std::size_t(below(unsigned(k) + 1))]);
+    for (const auto& [i, j] : by_position) g.edges.emplace_back(order[std::size_t(i)], order[std::size_t(j)]);
+    for (auto& [a, b] : g.edges)
+      if (a > b) std::swap(a, b);
+    g.finish();
+  }
+};
+
+TEST(DissectionPostorder, SameAsCholmodsPostorderedAnalysisOnRandomDissections) {
+  for (unsigned seed = 1; seed <= 200; ++seed) {
+    const RandomDissection d(seed);
+    const std::vector<int> reference = cholmod_postordered(d.g, d.order);
+    for (int threads : {1, 3})
+      ASSERT_EQ(db::postorder_dissection(d.g.adjacency(), d.order, d.parts, threads), reference)
+          << "seed " << seed << ", " << threads << " threads, " << d.g.n << " vertices, " << d.parts.size()
+          << " parts";
+  }
+}
+
+TEST(DissectionPostorder, WholeGraphAsOnePartAndNoParts) {
+  const RandomDissection d(7);
+  const std::vector<int> reference = cholmod_postordered(d.g, d.order);
+  EXPECT_EQ(db::postorder_dissection(d.g.adjacency(), d.order, {{0, d.g.n}}, 2), reference);
+  EXPECT_EQ(db::postorder_dissection(d.g.adjacency(), d.order, {}, 2), reference);
+}
+
+TEST(DissectionPostorder, RefusesPartsThatAreNotSeparated) {
+  // A path 0 - 1 - 2 in this order.
+  Graph g;
+  g.n = 3;
+  g.edges = {{0, 1}, {1, 2}};
+  g.finish();
+  const std::vector<int> order{0, 1, 2};
+  // Two parts joined by an edge.
+  EXPECT_THROW(db::postorder_dissection(g.adjacency(), order, {{0, 1}, {1, 3}}, 1), db::SolverError);
+  // A part whose neighbour outside it comes earlier.
+  EXPECT_THROW(db::postorder_dissection(g.adjacency(), order, {{1, 3}}, 1), db::SolverError);
+  // Overlapping or out-of-range parts, an order of another size.
+  EXPECT_THROW(db::postorder_dissection(g.adjacency(), order, {{0, 2}, {1, 3}}, 1), db::SolverError);
+  EXPECT_THROW(db::postorder_dissection(g.adjacency(), order, {{0, 4}}, 1), db::SolverError);
+  EXPECT_THROW(db::postorder_dissection(g.adjacency(), {0, 1}, {}, 1), db::SolverError);
+  // A part followed by its separator is accepted.
+  EXPECT_EQ(db::postorder_dissection(g.adjacency(), order, {{0, 1}}, 1), cholmod_postordered(g, order));
+}
+
+//! DEFORMBENCH_THREADS set to `threads` while it lives (the worker threads, which set the dissection's levels).
+class WorkerThreads {
+ public:
+  explicit WorkerThreads(int threads) {
+    if (const char* e = std::getenv("DEFORMBENCH_THREADS")) saved_ = e;
+    setenv("DEFORMBENCH_THREADS", std::to_string(threads).c_str(), 1);
+  }
+  ~WorkerThreads() {
+    if (saved_) setenv("DEFORMBENCH_THREADS", saved_->c_str(), 1);
+    else unsetenv("DEFORMBENCH_THREADS");
+  }
+
+ private:
+  std::optional<std::string> saved_;
+};
+
+//! A k x k grid whose vertices each neighbour the 8 around them: METIS dissects it from k = 142 on.
+Graph grid(int k) {
+  Graph g;
+  g.n = k * k;
+  for (int y = 0; y < k; ++y)
+    for (int x = 0; x < k; ++x)
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 1}, {0, 1}, {1, 1}})
+        if (x + dx >= 0 && x + dx < k && y + dy < k) g.edges.emplace_back(x + k * y, x + dx + k * (y + dy));
+  g.finish();
+  return g;
+}
+
+TEST(OrderGraph, SameAsAnalyzeGraphsPermutationAtAnyThreadCount) {
+  const Graph g = grid(170);  // 28900 vertices: dissected, in two levels from four threads
+  for (int threads : {1, 2, 4, 16}) {
+    const WorkerThreads t(threads);
+    cholmod_common cc;
+    cholmod_start(&cc);
+    const std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> guard(&cc, cholmod_finish);
+    cc.print = 0;
+    cc.supernodal = CHOLMOD_SIMPLICIAL;
+    for (const std::string method : {"metis", "amd"}) {
+      cholmod_factor* L = db::analyze_graph(g.upper(), method, cc);
+      const int* p = static_cast<const int*>(L->Perm);
+      const std::vector<int> reference(p, p + L->n);
+      cholmod_free_factor(&L, &cc);
+      EXPECT_EQ(db::order_graph(g.upper(), method), reference) << method << ", " << threads << " threads";
+    }
+  }
+}
+
+}  // namespace
