@@ -155,7 +155,8 @@ std::vector<int> postorder_dissection(const GraphPattern& adjacency, const std::
                                       const std::vector<PositionRange>& parts, int threads) {
   const int n = adjacency.n;
   if (int(order.size()) != n)
-    throw SolverError(fmt::format("postorder of a dissection: an order of {} entries for {} vertices", order.size(), n));
+    throw SolverError(
+        fmt::format("postorder of a dissection: an order of {} entries for {} vertices", order.size(), n));
   Dissection d{adjacency, order, std::vector<int>(std::size_t(n), -1), std::vector<int>(std::size_t(n), -1),
                std::vector<int>(std::size_t(n)), std::vector<int>(std::size_t(n))};
   for (int k = 0; k < n; ++k) {
