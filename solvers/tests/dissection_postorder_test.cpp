@@ -4,10 +4,8 @@
 // separators between and after the parts) at any thread count; parts that touch refused. And order_graph, which
 // uses it for METIS's dissected orders, against analyze_graph's permutation on a grid at 1-16 worker threads.
 #include <algorithm>
-#include <cstdlib>
 #include <memory>
 #include <numeric>
-#include <optional>
 #include <random>
 #include <string>
 #include <utility>
@@ -19,6 +17,7 @@
 #include "solvers/base/error.h"
 #include "solvers/ordering/dissection_postorder.h"
 #include "solvers/ordering/graph_ordering.h"
+#include "solvers/tests/worker_threads.h"
 
 namespace {
 
@@ -147,21 +146,7 @@ TEST(DissectionPostorder, RefusesPartsThatAreNotSeparated) {
   EXPECT_EQ(db::postorder_dissection(g.adjacency(), order, {{0, 1}}, 1), cholmod_postordered(g, order));
 }
 
-//! DEFORMBENCH_THREADS set to `threads` while it lives (the worker threads, which set the dissection's levels).
-class WorkerThreads {
- public:
-  explicit WorkerThreads(int threads) {
-    if (const char* e = std::getenv("DEFORMBENCH_THREADS")) saved_ = e;
-    setenv("DEFORMBENCH_THREADS", std::to_string(threads).c_str(), 1);
-  }
-  ~WorkerThreads() {
-    if (saved_) setenv("DEFORMBENCH_THREADS", saved_->c_str(), 1);
-    else unsetenv("DEFORMBENCH_THREADS");
-  }
-
- private:
-  std::optional<std::string> saved_;
-};
+using db::test::WorkerThreads;
 
 //! A k x k grid whose vertices each neighbour the 8 around them: METIS dissects it from k = 142 on.
 Graph grid(int k) {

@@ -4,10 +4,8 @@
 // dissection split on the 1-ring graph (graph_ordering.h's guide): near METIS's fill at two levels, unused at one,
 // a guide of the wrong size refused.
 #include <algorithm>
-#include <cstdlib>
 #include <memory>
 #include <numeric>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +14,7 @@
 
 #include "solvers/base/error.h"
 #include "solvers/ordering/graph_ordering.h"
+#include "solvers/tests/worker_threads.h"
 #include "solvers/ordering/ring_dissection.h"
 
 namespace {
@@ -133,21 +132,7 @@ TEST(RingDissection, FillWithinTwoPercentOfMetisOnTheTwoRingGraph) {
   EXPECT_LE(ring, 1.02 * metis) << "ring dissection nnz(L) " << ring << ", METIS " << metis;
 }
 
-//! DEFORMBENCH_THREADS set to `threads` while it lives (the worker threads, which set the dissection's levels).
-class WorkerThreads {
- public:
-  explicit WorkerThreads(int threads) {
-    if (const char* e = std::getenv("DEFORMBENCH_THREADS")) saved_ = e;
-    setenv("DEFORMBENCH_THREADS", std::to_string(threads).c_str(), 1);
-  }
-  ~WorkerThreads() {
-    if (saved_) setenv("DEFORMBENCH_THREADS", saved_->c_str(), 1);
-    else unsetenv("DEFORMBENCH_THREADS");
-  }
-
- private:
-  std::optional<std::string> saved_;
-};
+using db::test::WorkerThreads;
 
 //! CHOLMOD's postordered METIS permutation of g (split on `guide` when it is given).
 std::vector<int> metis_perm(const db::GraphPattern& g, const db::GraphPattern* guide) {
