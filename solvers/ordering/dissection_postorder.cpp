@@ -62,13 +62,11 @@ struct Dissection {
   std::vector<int> parent, count;  //!< by position: the elimination tree (positions) and column counts
 };
 
-//! The tree and counts of part `p` (positions r.lo .. r.hi - 1) into d.parent and d.count, and the separators'
-//! graph's star edges (hub, separator vertex) of each of its connected pieces into `stars`. The part is analyzed
-//! with its halo, the separator vertices it touches, after it: their rows of L are the part's columns' only
-//! rows outside it, and paths through the part's earlier vertices are all that make them.
-void analyze_part(Dissection& d, int p, PositionRange r, std::vector<std::pair<int, int>>& stars, cholmod_common& cc) {
-  const int m = r.hi - r.lo;
-  std::vector<std::pair<int, int>> edges;  // (separator position, local column) of each edge out of the part
+//! The pattern of part `p` (positions r.lo .. r.hi - 1, numbered from 0) followed by its halo, the separator
+//! vertices it touches (ascending positions into `halo`), and each edge out of the part as (separator position,
+//! part column) into `out`, sorted. \throw SolverError on an edge to another part or to an earlier position.
+UpperPattern part_with_halo(const Dissection& d, int p, PositionRange r, std::vector<std::pair<int, int>>& out,
+                            std::vector<int>& halo) {
   UpperPattern a;
   for (int j = r.lo; j < r.hi; ++j) {
     const int v = d.order[std::size_t(j)];
@@ -80,20 +78,31 @@ void analyze_part(Dissection& d, int p, PositionRange r, std::vector<std::pair<i
         throw SolverError(fmt::format("postorder of a dissection: an edge from part {} leads to position {}, which "
                                       "is not a later separator vertex", p, i));
       } else {
-        edges.emplace_back(i, j - r.lo);
+        out.emplace_back(i, j - r.lo);
       }
     }
     a.close_column();
   }
-  std::sort(edges.begin(), edges.end());
-  std::vector<int> halo;  // the separator positions touched, ascending: the halo's columns, after the part's
-  for (std::size_t e = 0; e < edges.size(); ++e) {
-    a.rows.push_back(edges[e].second);
-    if (e + 1 == edges.size() || edges[e + 1].first != edges[e].first) {
-      halo.push_back(edges[e].first);
+  std::sort(out.begin(), out.end());
+  for (std::size_t e = 0; e < out.size(); ++e) {
+    a.rows.push_back(out[e].second);
+    if (e + 1 == out.size() || out[e + 1].first != out[e].first) {
+      halo.push_back(out[e].first);
       a.close_column();
     }
   }
+  return a;
+}
+
+//! The tree and counts of part `p` (positions r.lo .. r.hi - 1) into d.parent and d.count, and the separators'
+//! graph's star edges (hub, separator vertex) of each of its connected pieces into `stars`. The part is analyzed
+//! with its halo after it: the halo's rows of L are the part's columns' only rows outside it, and paths through the
+//! part's earlier vertices are all that make them.
+void analyze_part(Dissection& d, int p, PositionRange r, std::vector<std::pair<int, int>>& stars, cholmod_common& cc) {
+  const int m = r.hi - r.lo;
+  std::vector<std::pair<int, int>> out;
+  std::vector<int> halo;
+  UpperPattern a = part_with_halo(d, p, r, out, halo);
   std::vector<int> parent(std::size_t(a.size())), count(std::size_t(a.size()));
   tree_and_counts(a, parent.data(), count.data(), cc);
   // The pieces: each part vertex's root in the part's forest; a root's parent is its piece's first halo vertex.
@@ -105,7 +114,7 @@ void analyze_part(Dissection& d, int p, PositionRange r, std::vector<std::pair<i
     d.count[std::size_t(r.lo + k)] = count[std::size_t(k)];
   }
   std::vector<std::pair<int, int>> touched;  // (piece's root, separator position)
-  for (const auto& [i, k] : edges) touched.emplace_back(root[std::size_t(k)], i);
+  for (const auto& [i, k] : out) touched.emplace_back(root[std::size_t(k)], i);
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   for (std::size_t t = 0, hub = 0; t < touched.size(); ++t) {
@@ -149,6 +158,26 @@ void analyze_separators(Dissection& d, std::vector<std::pair<int, int>>& stars, 
   }
 }
 
+//! d.position and d.part_of. \throw SolverError unless d.order is a permutation and `parts` disjoint ranges of it.
+void locate(Dissection& d, const std::vector<PositionRange>& parts) {
+  const int n = int(d.order.size());
+  for (int k = 0; k < n; ++k) {
+    const int v = d.order[std::size_t(k)];
+    if (v < 0 || v >= n || d.position[std::size_t(v)] >= 0)
+      throw SolverError("postorder of a dissection: the order is not a permutation");
+    d.position[std::size_t(v)] = k;
+  }
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    const PositionRange r = parts[p];
+    if (r.lo < 0 || r.lo > r.hi || r.hi > n)
+      throw SolverError(fmt::format("postorder of a dissection: part [{}, {}) outside {} positions", r.lo, r.hi, n));
+    for (int k = r.lo; k < r.hi; ++k) {
+      if (d.part_of[std::size_t(k)] >= 0) throw SolverError("postorder of a dissection: the parts overlap");
+      d.part_of[std::size_t(k)] = int(p);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<int> postorder_dissection(const GraphPattern& adjacency, const std::vector<int>& order,
@@ -159,22 +188,8 @@ std::vector<int> postorder_dissection(const GraphPattern& adjacency, const std::
         fmt::format("postorder of a dissection: an order of {} entries for {} vertices", order.size(), n));
   Dissection d{adjacency, order, std::vector<int>(std::size_t(n), -1), std::vector<int>(std::size_t(n), -1),
                std::vector<int>(std::size_t(n)), std::vector<int>(std::size_t(n))};
-  for (int k = 0; k < n; ++k) {
-    const int v = order[std::size_t(k)];
-    if (v < 0 || v >= n || d.position[std::size_t(v)] >= 0)
-      throw SolverError("postorder of a dissection: the order is not a permutation");
-    d.position[std::size_t(v)] = k;
-  }
+  locate(d, parts);
   const int np = int(parts.size());
-  for (int p = 0; p < np; ++p) {
-    const PositionRange r = parts[std::size_t(p)];
-    if (r.lo < 0 || r.lo > r.hi || r.hi > n)
-      throw SolverError(fmt::format("postorder of a dissection: part [{}, {}) outside {} positions", r.lo, r.hi, n));
-    for (int k = r.lo; k < r.hi; ++k) {
-      if (d.part_of[std::size_t(k)] >= 0) throw SolverError("postorder of a dissection: the parts overlap");
-      d.part_of[std::size_t(k)] = p;
-    }
-  }
   std::vector<std::vector<std::pair<int, int>>> stars(static_cast<std::size_t>(np));
   const int tasks = std::max(1, std::min(threads, np));
   run_tasks(tasks, [&](int t) {

@@ -182,11 +182,14 @@ struct Dissected {
 //! `ufactor`, the deeper at METIS's own balance), the parts below them ordered by METIS_NodeND, each separator
 //! after its two sides. With `threads` > 1 (and METIS able to run on threads, metis_random.h) the two sides of a split
 //! are ordered at once, each with a share of the threads; the result does not depend on `threads`. h is released
-//! once split (its sides are what is left to order), unless `keep`.
+//! once split or ordered, unless `keep`.
 Dissected dissect(MetisGraph& h, int levels, idx_t ufactor, int threads, bool keep = false) {
   std::vector<idx_t> part;
-  if (levels == 0 || h.size() < kSplitVertices || !bisect(h, ufactor, part))
-    return {metis_order(h), {PositionRange{0, int(h.size())}}};
+  if (levels == 0 || h.size() < kSplitVertices || !bisect(h, ufactor, part)) {
+    Dissected leaf{metis_order(h), {PositionRange{0, int(h.size())}}};
+    if (!keep) h = {};
+    return leaf;
+  }
   MetisGraph side[2];
   const auto take_side = [&](int s) { side[s] = induced(h, part, s); };
   if (threads > 1) {
