@@ -6,12 +6,14 @@
 # where the two builds order alike, and two, where the new one is guided). Writes timeline.txt (every TIMELINE
 # line, a "# binary edit threads round" line before each run), timeline.md (every run's steps,
 # scripts/analysis_timeline.py) and splits.md (per binary, edit and threads: medians of the analysis, the
-# patterns, the first split and the ordering) here.
-# usage: results/records/2026-11-27-guided-splits/timeline.sh BASE_DIAG NEW_DIAG [ROUNDS]   (from the repository
-#        root; data/generated/armadillo_loop2.off as in ../2026-11-27-init-floor)
+# patterns, the first split, the ordering and the postordering analysis) here, or in OUT when it is set.
+# usage: [OUT=DIR] [THREADS="2 4"] results/records/2026-11-27-guided-splits/timeline.sh BASE_DIAG NEW_DIAG [ROUNDS]
+#        (from the repository root; data/generated/armadillo_loop2.off as in ../2026-11-27-init-floor)
 set -euo pipefail
 base=$1 new=$2 rounds=${3:-3} threads_list=${THREADS:-2 4}
 here=$(cd "$(dirname "$0")" && pwd)
+out=${OUT:-$here}
+mkdir -p "$out"
 t=$(mktemp -d); trap 'rm -rf "$t"' EXIT
 one() {  # label binary edit threads round
   echo "# $1 $3 $4 $5"
@@ -25,9 +27,9 @@ for ((r = 1; r <= rounds; r++)); do
       else one new "$new" $edit $threads $r; one base "$base" $edit $threads $r; fi
     done
   done
-done > "$here/timeline.txt"
-/usr/bin/python3 scripts/analysis_timeline.py "$here/timeline.txt" > "$here/timeline.md"
-/usr/bin/python3 - "$here/timeline.txt" > "$here/splits.md" <<'PY'
+done > "$out/timeline.txt"
+/usr/bin/python3 scripts/analysis_timeline.py "$out/timeline.txt" > "$out/timeline.md"
+/usr/bin/python3 - "$out/timeline.txt" > "$out/splits.md" <<'PY'
 import collections, statistics, sys
 sys.path.insert(0, "scripts")
 from analysis_timeline import runs
@@ -44,12 +46,13 @@ for label, steps in runs(sys.argv[1]):
     c["patterns"].append(wall["ordering_pattern"] + wall["ordering_guide"])
     c["first split"].append(first[4] - first[3])
     c["ordering"].append(wall["ordering"])
+    c["postorder analysis"].append(wall["postorder_analysis"])
 def med(xs): return "%.3f (%.3f-%.3f)" % (statistics.median(xs), min(xs), max(xs))
-cols = ["analysis", "patterns", "first split", "ordering"]
+cols = ["analysis", "patterns", "first split", "ordering", "postorder analysis"]
 print("| edit | threads | binary | runs | " + " s | ".join(cols) + " s |")
 print("|---|---|---|---|" + "---|" * len(cols))
 for key in sorted(cells):
     c = cells[key]
     print(f"| {key[0]} | {key[1]} | {key[2]} | {len(c['analysis'])} | " + " | ".join(med(c[k]) for k in cols) + " |")
 PY
-cat "$here/splits.md"
+cat "$out/splits.md"
