@@ -1,23 +1,12 @@
 // Scratch: where CHOLMOD's supernodal analysis of a postordered vertex pattern (what the multifrontal backend runs on
 // the ordered block graph) spends its time: the whole cholmod_analyze (natural order, supernodal) against the tree
 // and counts (cholmod_analyze_ordering) plus cholmod_super_symbolic given them. Five rounds per pattern.
-//   g++ -O2 -o backend_analysis backend_analysis.cpp -I/usr/include/suitesparse -lcholmod
+//   g++ -O2 -o backend_analysis backend_analysis.cpp -I../../2026-11-27-guided-splits-16-cores/tuning
+//     -I/usr/include/suitesparse -lcholmod -lmetis   (one command)
 //   ./backend_analysis PATTERN   (PATTERN: a dumped 2-ring pattern, as postorder_bench.sh's)
-#include <cholmod.h>
-#include <cstdio>
-#include <cstdlib>
-#include <ctime>
 #include <numeric>
-#include <vector>
-using namespace std;
-static double now() { timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }
-struct G { int n; vector<int> p, i; };
-G load(const char* f) {
-  FILE* F = fopen(f, "rb"); G g; long long nz; if (fread(&g.n, 4, 1, F) != 1 || fread(&nz, 8, 1, F) != 1) exit(3);
-  g.p.resize(g.n + 1); g.i.resize(nz);
-  if (fread(g.p.data(), 4, g.n + 1, F) != size_t(g.n + 1) || fread(g.i.data(), 4, nz, F) != size_t(nz)) exit(3);
-  fclose(F); return g;
-}
+
+#include "dissect_common.h"  // now(), G and load() of the dumped patterns
 cholmod_sparse view(G& g) {
   cholmod_sparse A{}; A.nrow = A.ncol = g.n; A.nzmax = g.i.size(); A.p = g.p.data(); A.i = g.i.data();
   A.stype = 1; A.itype = CHOLMOD_INT; A.xtype = CHOLMOD_PATTERN; A.dtype = CHOLMOD_DOUBLE; A.sorted = 1; A.packed = 1;

@@ -9,9 +9,10 @@
 #include "solvers/ordering/dissection_postorder.h"
 
 vector<db::PositionRange> parts;
+bool guided;  // every split on the 1-ring graph, as graph_ordering.cpp from two levels on
 vector<int> dissect(H& h, int levels, idx_t uf, int at) {
   if (levels == 0 || h.n() < 10000) { parts.push_back({at, at + int(h.n())}); return nd(h); }
-  vector<idx_t> part; split(h, levels > 1 && uf == 200, uf, part);
+  vector<idx_t> part; split(h, guided, uf, part);
   H s0 = induced(h, part, 0), s1 = induced(h, part, 1);
   vector<int> o = dissect(s0, levels - 1, 200, at);
   vector<int> o1 = dissect(s1, levels - 1, 200, at + int(o.size()));
@@ -23,6 +24,7 @@ double median(vector<double> v) { sort(v.begin(), v.end()); return v[v.size() / 
 int main(int argc, char** argv) {
   G g = load(argv[1]); const int levels = atoi(argv[2]), repeats = atoi(argv[3]); SEED = -1;
   H h = whole_graph(g);
+  guided = levels > 1;
   vector<int> order = dissect(h, levels, 20, 0);
   const db::GraphPattern adjacency{g.n, h.x2.data(), h.a2.data()};
   vector<double> tc, t1, t2;
