@@ -49,11 +49,9 @@ int main(int argc, char** argv) {
   CLI::App app("deformbench: linear mesh deformation (LAP, TF, LRI) with interchangeable linear solvers",
                "deformbench");
   app.require_subcommand(1);
-  app.footer(fmt::format("Exit codes: 0 ok, 1 usage (an unknown option, a value out of range, options that do not go "
-                         "together, an output that cannot be written), 2 bad input (a mesh, an edit, a selection), 3 "
-                         "solver failure (singular, indefinite, non-finite), 4 over the memory budget.\n"
-                         "--frames is capped at {}.",
-                         kMaxFrames));
+  app.footer("Exit codes: 0 ok, 1 usage (an unknown option, a value out of range, options that do not go together, an "
+             "output that cannot be written), 2 bad input (a mesh, an edit, a selection), 3 solver failure (singular, "
+             "indefinite, non-finite), 4 over the memory budget; 128 + N when ended by signal N.");
   const commands::Command deform = commands::add_deform(app);
   CLI::App* solvers = app.add_subcommand("solvers", "list the linear-solver backends and the orderings each accepts");
   CLI::App* prov = app.add_subcommand("provenance", "print what result rows record about this machine and build");

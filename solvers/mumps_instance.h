@@ -102,7 +102,7 @@ class Instance {
   std::vector<double> scaling_;
   bool given_ = false, compressed_ = false, factored_ = false, alive_ = false, distributed_ = false;
   //! Out of core: MUMPS's files of this process (OOC_PREFIX "deformbench-mumps.PID", one process per rank), removed
-  //! on SIGINT / SIGTERM; JOB=-2 removes them otherwise.
+  //! on an ending signal (base/cleanup.h); JOB=-2 removes them otherwise.
   cleanup::ScratchPath ooc_files_;
 };
 

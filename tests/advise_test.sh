@@ -34,6 +34,10 @@ errs = [float(r["error_vs_refined"]) for r in rows]
 sys.exit(0 if all(math.isfinite(e) and e < 1e-2 for e in errs) else 1)
 PY
 
+# --calibrate measures the machine: an edit or a run's option beside it would be ignored, so it is refused.
+expect "advise --calibrate with an edit" 1 "--calibrate measures this machine and takes no EDIT" -- "$BIN" advise \
+  "$T/plane.edit" --calibrate
+expect "advise --calibrate with --frames" 1 "--frames does not go with --calibrate" -- "$BIN" advise --calibrate --frames 3
 expect "advise --predict-only" 0 "predicted" -- "$BIN" advise "$T/plane.edit" --method tf --constraints soft --backends $B \
   --predict-only
 grep -q "verdict" "$T/stdout" && fail "--predict-only printed a verdict" || ok "--predict-only runs nothing"

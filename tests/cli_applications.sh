@@ -34,6 +34,9 @@ for cmd in coat transplant; do
   [ -s "$T/out.ply" ] && [ -s "$T/out.csv" ] && grep -q "^app,source,target" "$T/out.csv" &&
     { passes=$((passes + 1)); echo "ok   $cmd wrote the mesh and the CSV"; } ||
     { fails=$((fails + 1)); echo "FAIL $cmd: out.ply / out.csv missing or without header"; }
+  # A measurement that does not apply (transplant: the coating's amplitude) is an empty cell, never "nan".
+  ! grep -qiw nan "$T/out.csv" "$T/message" && { passes=$((passes + 1)); echo "ok   $cmd wrote no nan"; } ||
+    { fails=$((fails + 1)); echo "FAIL $cmd: nan in its output: $(grep -iw nan "$T/out.csv" "$T/message")"; }
   expect "$cmd closed target" 2 "target patch is not a disk: it has no boundary" -- $cmd "$T/grid.off" "$T/octa.off" --out "$T/out.ply"
   expect "$cmd annulus source" 2 "source patch is not a disk: .*more than one loop" -- $cmd "$T/tube.off" "$T/grid.off" --out "$T/out.ply"
   expect "$cmd empty patch" 2 "target region holds no whole face.*empty" -- $cmd "$T/grid.off" "$T/grid.off" --target-region kring:12,0 --out "$T/out.ply"

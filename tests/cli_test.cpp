@@ -213,6 +213,22 @@ TEST_F(Staged, CommitRenamesEveryOutputTogether) {
   EXPECT_EQ(listing(), (std::vector<std::string>{"r.csv", "r.ply"}));
 }
 
+// Two outputs of one run cannot be one file, however spelled: the second would replace the first, and the kept
+// copy of the earlier file with it (an audit found export-system's --out K.mtx --rhs ./K.mtx lose the earlier file).
+TEST_F(Staged, TwoOutputsCannotShareAFile) {
+  std::ofstream(path("k.mtx")) << "earlier";
+  {
+    StagedOutputs out;
+    std::ofstream(out.stage(path("k.mtx"))) << "matrix";
+    EXPECT_THROW(out.stage((fs::path(dir_) / "." / "k.mtx").string()), Error);
+    EXPECT_THROW(out.stage(path("k.mtx")), Error);
+  }
+  std::ifstream in(path("k.mtx"));
+  const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(kept, "earlier");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"k.mtx"})) << "no temporary left";
+}
+
 TEST_F(Staged, AFailedRunLeavesNothing) {
   {
     StagedOutputs out;

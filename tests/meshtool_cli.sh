@@ -37,6 +37,7 @@ expect stl_encoding 1 "--stl: .*not one of" -- convert "$T/good.off" "$T/out.stl
 expect out_missing_dir 1 "does not exist" -- repair "$T/good.off" "$T/no/dir/out.off"
 expect out_is_input 1 "is an input file" -- repair "$T/good.off" "$T/good.off"
 expect out_is_input_spelled 1 "is an input file" -- subdivide "$T/good.off" "$T/./good.off" 1
+expect stl_option_not_stl 1 "--stl: OUT .*out.off is not an .stl file" -- convert "$T/good.off" "$T/out.off" --stl binary
 
 # Bad input (2).
 expect missing_input 2 "cannot open mesh file" -- info "$T/nothere.off"
@@ -47,6 +48,18 @@ expect huge_element 2 "element 'junk' declares 1000000000000 entries" -- info "$
 expect validate_non_manifold 2 "non-manifold edge \(0, 2\).*meshtool repair" -- info "$T/fin.off" --validate
 expect subdivide_non_manifold 2 "meshtool repair" -- subdivide "$T/fin.off" "$T/out.off" 1
 expect repair_nothing_left 2 "no face is left" -- repair "$T/flat.off" "$T/out.off"
+# An empty mesh, in the formats that can spell one, and header counts that cannot be.
+: >"$T/empty.obj"
+printf 'OFF\n0 0 0\n' >"$T/empty.off"
+expect empty_obj 2 "empty.obj: the mesh is empty \(no faces\)" -- convert "$T/empty.obj" "$T/out.ply"
+expect empty_off 2 "empty.off: the mesh is empty \(no faces\)" -- info "$T/empty.off"
+printf 'OFF\n3 1 -1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/edges.off"
+expect negative_edge_count 2 "line 2: bad edge count '-1'" -- info "$T/edges.off"
+ply_head='ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n'
+printf "${ply_head}property double x\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" >"$T/twice_x.ply"
+expect ply_property_twice 2 "line 7: 'vertex' element: property 'x' declared twice" -- info "$T/twice_x.ply"
+printf "${ply_head}element vertex 3\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" >"$T/twice_v.ply"
+expect ply_element_twice 2 "line 7: element 'vertex' declared twice \(first on line 3\)" -- info "$T/twice_v.ply"
 # STL: a face STL cannot hold is refused before the file is opened; a binary STL cut short is named as such.
 expect stl_degenerate_face 2 "cannot write .*out.stl: face 0: corners 1 and 2 are the same point" \
   -- convert "$T/repeated.off" "$T/out.stl"

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# SIGINT and SIGTERM mid-run leave nothing behind (solvers/base/cleanup.h; docs/cli.md, exit codes): sent to
+# SIGINT and SIGTERM (and, while a mesh is written, SIGHUP and SIGPIPE) mid-run leave nothing behind
+# (solvers/base/cleanup.h; docs/cli.md, exit codes): sent to
 # `deformbench deform --solver mumps --factor-dir DIR` mid-solve (one process, and 2 ranks under mpirun), to
 # `meshtool convert` while it writes the mesh, to `advise` and `advise --calibrate` while a child runs, and to an
-# experiment driver while its cell runs. Each must exit 130
-# (SIGINT) or 143 (SIGTERM) (under mpirun: the launcher's own non-zero code), leave no MUMPS file and no staged
+# experiment driver while its cell runs. Each must exit 128 + the signal's number, 130 for SIGINT and 143 for
+# SIGTERM (under mpirun: the launcher's own non-zero code), leave no MUMPS file and no staged
 # `*.tmp.PID*` temporary, leave the earlier outputs byte for byte as they were, and leave no child running.
 # Every signal is sent once the process is seen in the phase (polling for its scratch file, or its child), never
 # after a fixed sleep, so a loaded machine only makes the test slower.
@@ -55,7 +56,7 @@ never_reached() {
 exits_with() {
   [ "$2" -eq "$(code_of "$1")" ] && ok "$3: exit $2" || fail "$3: exit $2, not $(code_of "$1") $(tail -c 300 "$T/log")"
 }
-code_of() { case $1 in INT) echo 130 ;; TERM) echo 143 ;; esac; }
+code_of() { echo $((128 + $(kill -l "$1"))); }
 
 # Earlier outputs in $T/out, kept in $T/before to compare with.
 earlier_outputs() {
@@ -165,7 +166,8 @@ mid_write() {
   done
   [ $caught -eq 1 ] || fail "$name SIG$sig: the write was never caught in 5 runs"
 }
-for sig in INT TERM; do
+# SIGHUP (a closed terminal) and SIGPIPE (a reader gone) clean up as SIGINT and SIGTERM do.
+for sig in INT TERM HUP PIPE; do
   mid_write $sig meshtool big.obj "$BIN/meshtool" convert "$BIG" "$T/out/big.obj"
 done
 # deform's mesh and CSV are staged together (the CSV row is written after the mesh)

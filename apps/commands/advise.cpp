@@ -400,6 +400,19 @@ int run_advise(const CLI::App& app, const AdviseArgs& a) {
   return 0;
 }
 
+// --calibrate measures the machine: it takes --threads and --timeout-s, and would ignore an EDIT or any other
+// option silently.
+void check_calibrate(const CLI::App& app, const AdviseArgs& a) {
+  if (!a.edit.empty()) throw UsageError(fmt::format("--calibrate measures this machine and takes no EDIT ({})", a.edit));
+  for (const CLI::Option* o : app.get_options()) {
+    const std::vector<std::string>& names = o->get_lnames();
+    if (o->count() == 0 || names.empty()) continue;
+    if (names[0] != "calibrate" && names[0] != "threads" && names[0] != "timeout-s")
+      throw UsageError(fmt::format("--{} does not go with --calibrate (it takes --threads and --timeout-s only)",
+                                   names[0]));
+  }
+}
+
 }  // namespace
 
 Command add_advise(CLI::App& tool) {
@@ -427,6 +440,7 @@ Command add_advise(CLI::App& tool) {
   app->add_flag("--calibrate", a->calibrate, "measure this machine's rates for the predictions (a few minutes)");
   return {app, [app, a] {
             if (a->edit.empty() && !a->calibrate) throw UsageError("advise: an EDIT is required (or --calibrate)");
+            if (a->calibrate) check_calibrate(*app, *a);
             if (a->scale != 1 && !a->predict_only) throw UsageError("--scale predicts only: add --predict-only");
             return run_advise(*app, *a);
           }};

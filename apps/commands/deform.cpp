@@ -60,7 +60,7 @@ CLI::Validator TransformSpec() {
 void add_deform_options(CLI::App& d, DeformArgs& a) {
   d.add_option("edit", a.edit, "a Botsch-Sorkine stem (STEM.off|.ply|.obj + STEM.sel + STEM.def) or a .edit file")
       ->type_name("EDIT")->required();
-  d.add_option("--out", a.out, "the deformed mesh (.off, .ply or .obj); written only if the whole run succeeds")
+  d.add_option("--out", a.out, "the deformed mesh (.off, .ply, .obj or .stl); written only if the whole run succeeds")
       ->type_name("FILE")->required();
   d.add_option("--csv", a.csv, "also write one tidy CSV row (.csv) of the measurements, with --out, all or nothing")
       ->type_name("FILE");

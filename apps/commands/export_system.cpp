@@ -66,7 +66,8 @@ void check_args(const CLI::App& e, const ExportArgs& a, const DeformOptions& o) 
   const std::vector<std::string> inputs = edit_case_files(a.edit);
   cli::check_output("--out", a.out, {".mtx"}, inputs);
   if (e.count("--rhs") > 0) cli::check_output("--rhs", a.rhs, {".mtx"}, inputs);
-  if (a.out == a.rhs) throw UsageError("--out and --rhs name the same file");
+  if (e.count("--rhs") > 0 && same_file(a.out, a.rhs))
+    throw UsageError(fmt::format("--out {} and --rhs {} name the same file", a.out, a.rhs));
 }
 
 int run_export(const CLI::App& e, ExportArgs& a) {
@@ -96,7 +97,7 @@ int run_export(const CLI::App& e, ExportArgs& a) {
       write_market_array(s, sys.rhs, provenance_comment(a, o, sys.name + " right-hand side"));
     });
   outputs.commit();
-  fmt::print("wrote {}: system {} (block {}: exp_solvers --matrix-block {}), n {}, {} entries in the upper triangle{}\n",
+  fmt::print("wrote {}: system {} (block {}: exp_solvers --matrix-block {}), n {}, {} entries in its lower triangle{}\n",
              a.out, sys.name, sys.block, sys.block,
              sys.K.rows(), sys.K.nonZeros(),
              a.rhs.empty() ? "" : fmt::format("; {}: {} x {}", a.rhs, sys.rhs.rows(), sys.rhs.cols()));

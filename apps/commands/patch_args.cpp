@@ -1,5 +1,7 @@
 #include "patch_args.h"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "solvers/base/atomic_file.h"
@@ -38,7 +40,7 @@ std::vector<int> select_region(const Mesh& m, const char* option, const std::str
 void add_patch_options(CLI::App& app, PatchArgs& a, const std::string& source_help) {
   app.add_option("source", a.source, source_help)->type_name("SOURCE")->required();
   app.add_option("target", a.target, "the target mesh (.off, .ply, .obj)")->type_name("TARGET")->required();
-  app.add_option("--out", a.out, "the resulting target mesh (.off, .ply or .obj); written only if the run succeeds")
+  app.add_option("--out", a.out, "the resulting target mesh (.off, .ply, .obj or .stl); written only if the run succeeds")
       ->type_name("FILE")->required();
   app.add_option("--csv", a.csv, "also write one CSV row (.csv) of the measurements with provenance")
       ->type_name("FILE");
@@ -74,6 +76,10 @@ void write_outputs(const PatchArgs& a, const std::string& command, const PatchIn
                        {"target_region", a.target_region},
                        {"backend", backend}};
   for (const auto& [name, value] : values) {
+    if (std::isnan(value)) {  // not measured by this command: an empty cell, nothing printed
+      row.emplace_back(name, "");
+      continue;
+    }
     row.emplace_back(name, num(value));
     fmt::print("{} {}\n", name, num(value));
   }

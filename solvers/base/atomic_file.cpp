@@ -41,6 +41,12 @@ std::string target_of(const fs::path& p) {
 
 }  // namespace
 
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
 void write_atomically(const std::string& path, const std::function<void(std::ostream&)>& write, bool binary) {
   const fs::path target(path);
   if (target.has_parent_path() && !fs::exists(target.parent_path()))
@@ -74,6 +80,8 @@ StagedOutputs::~StagedOutputs() {
 }
 
 std::string StagedOutputs::stage(const std::string& target) {
+  for (const Entry& e : entries_)
+    if (same_file(e.target, target)) throw Error("two outputs name the same file: " + e.target + " and " + target);
   const fs::path p(target);
   const fs::path tmp = p.parent_path() / (p.stem().string() + temporary_suffix() + p.extension().string());
   entries_.push_back({target, tmp.string(), cleanup::ScratchPath(tmp.string())});

@@ -10,6 +10,10 @@
 
 namespace db {
 
+//! Whether two paths name the same file however spelled ("./a.mtx", "DIR/a.mtx", a symbolic or hard link to
+//! it); for paths not there yet, whether they resolve to the same place.
+bool same_file(const std::string& a, const std::string& b);
+
 //! Calls write(stream) on a temporary file next to path, then renames it to path (a StagedOutputs temporary is
 //! written as it is: commit() renames it).
 //! \throw Error naming the target once and the cause ("cannot write out.ply: No space left on device") when the
@@ -21,7 +25,7 @@ void write_atomically(const std::string& path, const std::function<void(std::ost
 //! extension, so writers that go by it still work) and commit() renames them all into place at the end. When a
 //! rename fails, the targets already renamed are put back as they were before the run (the earlier file, or none);
 //! the destructor removes temporaries never committed (a run that failed halfway leaves no output), and so does a
-//! SIGINT / SIGTERM (cleanup.h), which waits for a commit under way to finish.
+//! signal that ends the process (cleanup.h), which waits for a commit under way to finish.
 class StagedOutputs {
  public:
   StagedOutputs() = default;
@@ -29,7 +33,9 @@ class StagedOutputs {
   StagedOutputs& operator=(const StagedOutputs&) = delete;
   ~StagedOutputs();
 
-  //! The temporary to write instead of `target` ("DIR/NAME.tmp.PID.EXT").
+  //! The temporary to write instead of `target` ("DIR/NAME.tmp.PID.EXT"). \throw Error when `target` is the
+  //! same file as one staged before (two outputs of a run cannot share a file: the second would replace the first
+  //! and its earlier version could not be put back).
   std::string stage(const std::string& target);
   //! Renames every staged temporary to its target. \throw Error naming the target that failed (every target is
   //! then as it was before: the earlier file, or none).
@@ -38,7 +44,7 @@ class StagedOutputs {
  private:
   struct Entry {
     std::string target, temporary;
-    cleanup::ScratchPath on_signal;  // the temporary, removed on SIGINT / SIGTERM
+    cleanup::ScratchPath on_signal;  // the temporary, removed on an ending signal (cleanup.h)
   };
   void roll_back(std::size_t committed, const std::vector<std::string>& kept);
   std::vector<Entry> entries_;

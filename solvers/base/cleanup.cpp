@@ -41,6 +41,18 @@ std::atomic<bool> g_acting{false};
 // A child that does not end within this after the forwarded signal is killed (SIGKILL).
 constexpr long kChildGraceMs = 5000;
 
+// The signals whose default action ends the process and that a user or the system sends to stop a run: a closed
+// terminal (SIGHUP), Ctrl-C and Ctrl-\ (SIGINT, SIGQUIT), a reader gone (SIGPIPE), kill and timeout (SIGTERM),
+// alarms, user signals and a CPU-time limit. Each cleans up before the process ends by it.
+constexpr int kEndingSignals[] = {SIGHUP, SIGINT, SIGQUIT, SIGPIPE, SIGTERM, SIGALRM, SIGUSR1, SIGUSR2, SIGXCPU};
+
+sigset_t ending_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int sig : kEndingSignals) sigaddset(&set, sig);
+  return set;
+}
+
 template <class Slot, std::size_t N>
 int claim(Slot (&slots)[N]) {
   install_handlers();
@@ -106,12 +118,15 @@ void remove_scratch() {
   }
 }
 
+// Children get SIGINT for a SIGINT and SIGTERM for any other ending signal (a pipe or terminal closed on this
+// process is not closed on them), and clean up as this process does.
 void end_children(int sig) {
   const pid_t self = ::getpid();
+  const int forwarded = sig == SIGINT ? SIGINT : SIGTERM;
   bool mine[kChildSlots] = {};
   for (int i = 0; i < kChildSlots; ++i) {
     mine[i] = g_children[i].state.load() == kActive && g_children[i].owner == self;
-    if (mine[i]) ::kill(g_children[i].pid, sig);
+    if (mine[i]) ::kill(g_children[i].pid, forwarded);
   }
   for (long waited = 0;; waited += 10) {
     bool running = false;
@@ -144,7 +159,7 @@ void act(int sig) {
   sigaddset(&set, sig);
   ::pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
   ::raise(sig);
-  ::_exit(128 + sig);  // not reached: the default action of SIGINT / SIGTERM ends the process
+  ::_exit(128 + sig);  // not reached: the default action of an ending signal ends the process
 }
 
 void on_signal(int sig) {
@@ -168,16 +183,17 @@ void install_handlers() {
   std::call_once(once, [] {
     struct sigaction sa {};
     sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaddset(&sa.sa_mask, SIGINT);
-    sigaddset(&sa.sa_mask, SIGTERM);
+    sa.sa_mask = ending_signals();
     sa.sa_flags = SA_RESTART;
-    for (int sig : {SIGINT, SIGTERM}) {
+    for (int sig : kEndingSignals) {
       struct sigaction old {};
       // A signal ignored when the process started (nohup, a background job of a non-interactive shell) stays so.
       if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
       ::sigaction(sig, &sa, nullptr);
     }
+    // A file-size limit (ulimit -f) makes the write that passes it fail (EFBIG), reported and cleaned up as a
+    // full disk is, instead of ending the process mid-write.
+    ::signal(SIGXFSZ, SIG_IGN);
   });
 }
 
@@ -229,17 +245,14 @@ DeferSignals::~DeferSignals() {
 }
 
 ForkGuard::ForkGuard() : parent_(::getpid()) {
-  sigset_t block;
-  sigemptyset(&block);
-  sigaddset(&block, SIGINT);
-  sigaddset(&block, SIGTERM);
+  const sigset_t block = ending_signals();
   ::pthread_sigmask(SIG_BLOCK, &block, &old_mask_);
 }
 
 ForkGuard::~ForkGuard() { ::pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr); }
 
 void ForkGuard::in_child() const {
-  for (int sig : {SIGINT, SIGTERM}) {
+  for (int sig : kEndingSignals) {
     struct sigaction cur {};
     if (::sigaction(sig, nullptr, &cur) == 0 && cur.sa_handler != SIG_IGN) ::signal(sig, SIG_DFL);
   }

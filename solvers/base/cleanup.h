@@ -1,9 +1,11 @@
 #pragma once
-//! What an interrupted run leaves behind: nothing. SIGINT and SIGTERM run one async-signal-safe handler that
-//! ends the registered child processes, removes the registered scratch (staged outputs, out-of-core files, the
-//! children's outputs) and then ends the process by the same signal (default action), so its exit status is the shell's 128 + signal:
-//! 130 for SIGINT, 143 for SIGTERM (docs/cli.md, exit codes). The handlers are installed by the first
-//! registration; a process that never registers anything keeps the default action (the same exit status).
+//! What an interrupted run leaves behind: nothing. The signals that end a process by default and stop runs in
+//! practice (SIGINT and SIGTERM; SIGHUP, SIGQUIT, SIGPIPE, SIGALRM, SIGUSR1, SIGUSR2, SIGXCPU: "ending signals"
+//! below) run one async-signal-safe handler that ends the registered child processes, removes the registered
+//! scratch (staged outputs, out-of-core files, the children's outputs) and then ends the process by the same
+//! signal (default action), so its exit status is the shell's 128 + signal: 130 for SIGINT, 143 for SIGTERM
+//! (docs/cli.md, exit codes). SIGXFSZ is ignored, so a file-size limit fails the write instead. The handlers are
+//! installed by the first registration; a process that never registers anything keeps the default actions.
 //!
 //! The registry is fixed-size static storage (the handler allocates nothing): a registration that finds no free
 //! slot is not cleaned on a signal (the normal paths still remove it).
@@ -15,7 +17,7 @@
 namespace db::cleanup {
 
 //! Registers a scratch file (`path`) or the files of a directory whose names begin with a prefix
-//! (`path` = "DIR/PREFIX", matching = Prefix) for removal on SIGINT / SIGTERM, for the life of this object.
+//! (`path` = "DIR/PREFIX", matching = Prefix) for removal on an ending signal, for the life of this object.
 //! Removing the file itself stays the owner's job on the normal paths.
 class ScratchPath {
  public:
@@ -32,8 +34,8 @@ class ScratchPath {
   int slot_ = -1;
 };
 
-//! Registers a running child process: on SIGINT / SIGTERM it gets the same signal and is waited for (SIGKILL
-//! after a grace period), so an interrupted parent never leaves it running.
+//! Registers a running child process: on an ending signal it gets SIGINT (for a SIGINT) or SIGTERM and is waited
+//! for (SIGKILL after a grace period), so an interrupted parent never leaves it running.
 class ChildProcess {
  public:
   explicit ChildProcess(pid_t pid);
@@ -45,7 +47,7 @@ class ChildProcess {
   int slot_ = -1;
 };
 
-//! While one lives (in any thread), a SIGINT / SIGTERM is held back and acted on when the last one ends: the
+//! While one lives (in any thread), an ending signal is held back and acted on when the last one ends: the
 //! renames that commit a run's outputs finish together, or the run ends before the first of them.
 class DeferSignals {
  public:
@@ -55,7 +57,7 @@ class DeferSignals {
   ~DeferSignals();
 };
 
-//! Around a fork: SIGINT / SIGTERM deferred (DeferSignals) and blocked in this thread, so the child starts with them
+//! Around a fork: the ending signals deferred (DeferSignals) and blocked in this thread, so the child starts with them
 //! blocked and none is lost between the fork and its exec; the parent registers the child (ChildProcess) before
 //! this ends. The child calls in_child() before it execs.
 class ForkGuard {
@@ -64,7 +66,7 @@ class ForkGuard {
   ForkGuard(const ForkGuard&) = delete;
   ForkGuard& operator=(const ForkGuard&) = delete;
   ~ForkGuard();
-  //! In the forked child, before exec (async-signal-safe): the default action for SIGINT / SIGTERM (unless they
+  //! In the forked child, before exec (async-signal-safe): the default action for the ending signals (unless they
   //! were ignored) and the signal mask of before the guard, so a signal already sent ends the child; and SIGTERM
   //! when the forking thread ends (PR_SET_PDEATHSIG, kept across exec), so a parent that dies however it dies
   //! (even by a signal handled on another thread while it forked) leaves no child running.
@@ -76,7 +78,7 @@ class ForkGuard {
   pid_t parent_;
 };
 
-//! Installs the SIGINT / SIGTERM handlers now (idempotent; registration does it too).
+//! Installs the ending signals' handlers now (idempotent; registration does it too).
 void install_handlers();
 
 }  // namespace db::cleanup

@@ -11,6 +11,8 @@
 
 namespace db {
 
+//! Name and value; NaN where the measurement does not apply to this application (a coating's columns in a
+//! transplant's row): an empty CSV cell.
 using NamedValues = std::vector<std::pair<std::string, double>>;
 
 //! Whether a coating keeps its size: the normal heights of the coating on the target, (result - target) . n over

@@ -45,7 +45,7 @@ ChildRun run_child(const std::vector<std::string>& argv, double timeout_s) {
     throw Error(fmt::format("pipe: {}", std::strerror(errno)));
   }
   Timer wall;
-  // A SIGINT / SIGTERM to this process is forwarded to the child and waits for it (cleanup.h): held back from
+  // An ending signal to this process is forwarded to the child and waits for it (cleanup.h): held back from
   // the fork until the child is registered, so none arrives in between and leaves the child running.
   std::optional<cleanup::ForkGuard> hold(std::in_place);
   const pid_t pid = ::fork();

@@ -1,5 +1,10 @@
 #include "core/cli.h"
 
+#include <fcntl.h>
+#include <linux/fs.h>
+#include <linux/magic.h>
+#include <sys/ioctl.h>
+#include <sys/statfs.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
@@ -13,6 +18,7 @@
 
 #include <fmt/format.h>
 
+#include "solvers/base/atomic_file.h"
 #include "solvers/base/error.h"
 
 namespace db::cli {
@@ -191,6 +197,30 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
   }
 }
 
+namespace {
+
+// The file's attributes (chattr: FS_APPEND_FL, FS_IMMUTABLE_FL, ...); 0 where it cannot be opened or its file
+// system keeps none.
+int inode_flags(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return 0;
+  int flags = 0;  // the kernel writes an int, whatever the ioctl's declared type
+  if (::ioctl(fd, FS_IOC_GETFLAGS, &flags) != 0) flags = 0;
+  ::close(fd);
+  return flags;
+}
+
+// "proc", "sysfs": a kernel file system whose directories take no new files, though access() may say they do.
+const char* virtual_file_system(const std::string& dir) {
+  struct statfs st {};
+  if (::statfs(dir.c_str(), &st) != 0) return nullptr;
+  if (st.f_type == PROC_SUPER_MAGIC) return "proc";
+  if (st.f_type == SYSFS_MAGIC) return "sysfs";
+  return nullptr;
+}
+
+}  // namespace
+
 void check_directory(const std::string& option, const std::string& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
@@ -198,6 +228,13 @@ void check_directory(const std::string& option, const std::string& dir) {
   if (!fs::is_directory(dir, ec)) throw UsageError(fmt::format("{}: directory '{}' does not exist", option, dir));
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw UsageError(fmt::format("{}: directory '{}' is not writable ({})", option, dir, std::strerror(errno)));
+  if (const char* kind = virtual_file_system(dir))
+    throw UsageError(fmt::format("{}: directory '{}' is on the kernel's {} file system: no file can be written there",
+                                 option, dir, kind));
+  // An append-only directory (chattr +a) takes new files but not the rename that puts an output in place.
+  if (inode_flags(dir) & FS_APPEND_FL)
+    throw UsageError(fmt::format("{}: directory '{}' is append-only (chattr +a): an output cannot be put in place",
+                                 option, dir));
   // A full file system is found before the solve, not when the result is written.
   struct statvfs st {};
   if (::statvfs(dir.c_str(), &st) == 0 && st.f_blocks > 0 && st.f_bavail == 0)
@@ -219,14 +256,13 @@ void check_output(const std::string& option, const std::string& path, const std:
   std::error_code ec;
   if (fs::is_directory(p, ec)) throw UsageError(fmt::format("{} {}: is a directory", option, path));
   // An immutable or append-only file (chattr +i / +a) cannot be replaced, though its directory is writable.
-  if (fs::exists(p, ec) && ::access(path.c_str(), W_OK) != 0 && errno == EPERM)
+  if (fs::exists(p, ec) && ((::access(path.c_str(), W_OK) != 0 && errno == EPERM) ||
+                             (inode_flags(path) & (FS_APPEND_FL | FS_IMMUTABLE_FL))))
     throw UsageError(fmt::format("{} {}: cannot be replaced ({}: immutable or append-only)", option, path,
                                  std::strerror(EPERM)));
-  for (const std::string& in : inputs) {
-    const bool same = fs::exists(p, ec) && fs::exists(in, ec) ? fs::equivalent(p, in, ec)
-                                                              : fs::weakly_canonical(p, ec) == fs::weakly_canonical(in, ec);
-    if (same) throw UsageError(fmt::format("{} {}: is an input file; write the result elsewhere", option, path));
-  }
+  for (const std::string& in : inputs)
+    if (same_file(path, in))
+      throw UsageError(fmt::format("{} {}: is an input file; write the result elsewhere", option, path));
 }
 
 }  // namespace db::cli

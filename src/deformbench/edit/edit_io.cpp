@@ -126,7 +126,9 @@ std::map<std::string, Entry> read_edit_entries(const std::string& path) {
   std::map<std::string, Entry> kv;
   static const char* known[] = {"mesh", "name", "sel", "def", "roi", "handle", "transform", "targets"};
   each_line(path, "edit", [&](int ln, const std::string& line) {
-    const std::string s = strip(line);
+    // A UTF-8 byte-order mark (some editors write one) is no part of the first key.
+    const bool bom = ln == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0;
+    const std::string s = strip(bom ? line.substr(3) : line);
     if (s.empty()) return;
     const auto eq = s.find('=');
     if (eq == std::string::npos) throw InputError(fmt::format("{}: line {}: expected 'key = value'", path, ln));

@@ -78,7 +78,8 @@ std::vector<int> select_by_spec(const Mesh& mesh, const std::string& spec, const
   const std::string kind = spec.substr(0, colon);
   const std::string rest = colon == std::string::npos ? "" : spec.substr(colon + 1);
   auto as_int = [&](double v, const char* name) {
-    if (v != std::floor(v) || std::abs(v) > 2e9) throw InputError(fmt::format("{}: {} must be an integer", what, name));
+    if (v != std::floor(v)) throw InputError(fmt::format("{}: {} must be an integer", what, name));
+    if (std::abs(v) > 2e9) throw InputError(fmt::format("{}: {} {:.0f} is out of range (at most 2e9)", what, name, v));
     return static_cast<int>(v);
   };
   try {

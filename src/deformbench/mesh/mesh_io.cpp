@@ -29,13 +29,24 @@ const std::vector<std::string>& mesh_extensions() {
   return extensions;
 }
 
-Mesh read_mesh(const std::string& path) {
+namespace {
+
+Mesh read_by_extension(const std::string& path) {
   const std::string ext = extension_of(path);
   if (ext == ".off") return io::read_off(path, io::read_file(path));
   if (ext == ".ply") return io::read_ply(path, io::read_file(path));
   if (ext == ".obj") return io::read_obj(path, io::read_file(path));
   if (ext == ".stl") return io::read_stl(path);
   unknown_extension(path, ext);
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::string& path) {
+  Mesh m = read_by_extension(path);
+  // Every format can spell an empty mesh (an empty OBJ, "OFF 0 0 0"); no command has a use for one.
+  if (m.num_faces() == 0) throw InputError(path + ": the mesh is empty (no faces)");
+  return m;
 }
 
 void write_mesh(const std::string& path, const Mesh& mesh, const MeshWriteOptions& options) {

@@ -109,7 +109,7 @@ Mesh read_off(const std::string& path, const std::string& data) {
   long long nv = 0, nf = 0, ne = 0;
   if (!parse_int(t[first], nv) || nv < 0) fail(path, count_line, "bad vertex count " + quote(t[first]));
   if (!parse_int(t[first + 1], nf) || nf < 0) fail(path, count_line, "bad face count " + quote(t[first + 1]));
-  if (t.size() - first == 3 && !parse_int(t[first + 2], ne))
+  if (t.size() - first == 3 && (!parse_int(t[first + 2], ne) || ne < 0))
     fail(path, count_line, "bad edge count " + quote(t[first + 2]));
   if (nv > kMaxElements || nf > kMaxElements)
     fail(path, count_line,

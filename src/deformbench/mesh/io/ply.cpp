@@ -128,10 +128,16 @@ PlyHeader parse_ply_header(const std::string& path, const std::string& data) {
     } else if (t[0] == "element") {
       long long n = 0;
       if (t.size() != 3 || !parse_int(t[2], n) || n < 0) fail(path, ln, "expected 'element <name> <count>'");
+      for (const Element& e : h.elems)
+        if (e.name == t[1]) fail(path, ln, fmt::format("element '{}' declared twice (first on line {})", e.name, e.line));
       h.elems.push_back({std::string(t[1]), n, {}, ln});
     } else if (t[0] == "property") {
       if (h.elems.empty()) fail(path, ln, "property before any element");
-      h.elems.back().props.push_back(parse_ply_property(path, ln, t));
+      Element& el = h.elems.back();
+      el.props.push_back(parse_ply_property(path, ln, t));
+      for (std::size_t k = 0; k + 1 < el.props.size(); ++k)
+        if (el.props[k].name == el.props.back().name)
+          fail(path, ln, fmt::format("'{}' element: property '{}' declared twice", el.name, el.props[k].name));
     } else {
       fail(path, ln, "unknown header keyword " + quote(t[0]));
     }
