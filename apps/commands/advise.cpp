@@ -299,6 +299,11 @@ void reference(Session& s) {
 //! --scale's mesh: the edit's subdivided (scale_edit), or where it cannot be (not an oriented 2-manifold) the edit's
 //! own with all of the scale left to the growth law, said on stderr.
 std::unique_ptr<ScaledEdit> scaled_for_prediction(const EditCase& ec, double scale) {
+  // The subdivision and its analyses take minutes near the cap: say what is coming before the wait.
+  const int levels = scale_levels(ec.mesh.num_vertices(), scale);
+  if (levels > 0)
+    fmt::print(stderr, "[advise] --scale {}: Loop-subdividing the mesh {} time(s), to about {:.0f} vertices, then "
+               "analysing it\n", scale, levels, ec.mesh.num_vertices() * std::pow(4.0, levels));
   try {
     return std::make_unique<ScaledEdit>(scale_edit(ec.mesh, ec.edit, scale));
   } catch (const InputError& e) {
