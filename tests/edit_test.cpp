@@ -258,9 +258,11 @@ TEST_F(EditFiles, LoadEditFileErrorsNameTheFile) {
   expect_input_error([&] { load_edit_case(write("k.edit", "mesh = tube.off\nroi = all\nhandle = all\ntransform = translate:0,0,1\n")); },
                      "no free vertex");
   expect_input_error([&] { load_edit_case(path("missing.edit")); }, "cannot open edit file");
-  expect_input_error([&] { load_edit_case(path("nostem")); }, "missing " + path("nostem") + ".off");
+  expect_input_error([&] { load_edit_case(path("nostem")); }, path("nostem") + ".off is missing");
   write_mesh(path("half.off"), make_cylinder(3, 4, 1, 1));
-  expect_input_error([&] { load_edit_case(path("half")); }, "missing " + path("half") + ".sel");
+  expect_input_error([&] { load_edit_case(path("half")); }, path("half") + ".sel is missing");
+  std::filesystem::create_directory(path("dirstem.off"));  // there, but no file
+  expect_input_error([&] { load_edit_case(path("dirstem")); }, path("dirstem") + ".off is not a regular file");
 }
 
 TEST(CgalCactus, StemAndEditFileAgree) {

@@ -283,10 +283,13 @@ EditCase load_stem(const std::string& stem) {
   EditCase c;
   c.mesh_path = stem_mesh(stem);
   const std::string sel = stem + ".sel", def = stem + ".def";
-  if (c.mesh_path.empty() || !exists(sel) || !exists(def))
-    throw InputError(fmt::format("edit case '{}': not a .edit file, and not a stem with .off (or .ply/.obj), .sel and "
-                                 ".def files (missing {})",
-                                 stem, c.mesh_path.empty() ? stem + ".off" : !exists(sel) ? sel : def));
+  if (c.mesh_path.empty() || !exists(sel) || !exists(def)) {
+    const std::string lacking = c.mesh_path.empty() ? stem + ".off" : !exists(sel) ? sel : def;
+    std::error_code ec;
+    throw InputError(fmt::format("edit case '{}': not a .edit file, and not a stem with .off (or .ply/.obj/.stl), .sel "
+                                 "and .def files ({} {})",
+                                 stem, lacking, fs::exists(lacking, ec) ? "is not a regular file" : "is missing"));
+  }
   c.mesh = read_mesh(c.mesh_path);
   // Non-manifold meshes load: uniform lap and tf deform them; cotan and lri refuse them (make_deformer).
   prefixed(c.mesh_path, [&] { validate_mesh(c.mesh, Manifold::Allowed); });
