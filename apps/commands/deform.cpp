@@ -76,7 +76,8 @@ void add_deform_options(CLI::App& d, DeformArgs& a) {
              "at most one line per interval, none for a run shorter than it (docs/cli.md)");
   add_deform_option_flags(d, a.values);
   d.add_flag("--vs-double", a.vs_double,
-             "mixed: deform again with the double factor afterwards and report the largest difference")
+             "with a refined backend (mixed precision or --solver ..._refined): deform again with the double factor, "
+             "unrefined, afterwards and report the largest difference")
       ->group("Precision");
 }
 
