@@ -41,7 +41,7 @@ PANELS = [
     ("lri-random-gram_schmidt", "LRI random, Gram-Schmidt"),
     ("lri-height_angle-gram_schmidt", "LRI height angle, Gram-Schmidt"),
     ("lri-curvature-gram_schmidt", "LRI curvature, Gram-Schmidt"),
-    ("lri-first-polar", "LRI first, polar (= every strategy)"),
+    ("lri-first-polar", "LRI first, polar"),
     ("lri-uncoordinated", "LRI uncoordinated (handle frames at rest)"),
 ]
 COLORS = {"lap": (0.35, 0.55, 0.85), "tf": (0.35, 0.75, 0.55), "tf-normalized": (0.55, 0.8, 0.35),

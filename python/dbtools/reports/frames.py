@@ -189,7 +189,7 @@ def observations(ss):
     return "\n".join(o) + "\n"
 
 
-# Issue 17: TF without its scale blow-up, against plain TF, LAP and LRI (polar: the same mesh for every strategy).
+# Issue 17: TF without its scale blow-up, against plain TF, LAP and LRI (first-neighbour frames, polar).
 TF_SCALE_CONFIGS = [("lap", "LAP"), ("tf", "TF"), ("tf-normalized", "TF normalized"), ("lri-first-polar", "LRI polar")]
 TF_SCALE_MEASURES = [("ideal_rms", "RMS to ideal"), ("volume_change", "volume change"),
                      ("edge_distortion", "edge-length distortion"), ("max_displacement", "max displacement")]
