@@ -173,11 +173,15 @@ def plot_scaling(results, out):
     data = cells(rows, ("series",))
     fit = {(f["series"], f["system"], f["measure"]): f for f in fits}
     panels = (("init_s", 1.0, "init s"), ("factor_bytes", MIB, "factor MiB"), ("frame_s", 1.0, "frame s"))
-    series = sorted({k[3] for k in data})
+    # The tiers first: a subdivision series starts from a tier's mesh, whose cell it shares (the same size and
+    # value); each cell is drawn once, in the first series that has it, so that no point reads as two agreeing
+    # measurements.
+    series = sorted({k[3] for k in data}, key=lambda x: (x != "tiers", x))
     st = styles(None, [f"{system} {x}" for system in ("lap", "tf") for x in series + ["fit"]])
     fig, axes = plt.subplots(1, 3, figsize=(15, 7))
     for ax, (measure, scale, label) in zip(axes, panels):
         for system in ("lap", "tf"):
+            drawn = set()
             for s in series:
                 # Out-of-core cells (factor on disk) drawn hollow: their frames read the factor back from the
                 # page cache, and the fits leave their frame time and peak RSS out.
@@ -185,6 +189,8 @@ def plot_scaling(results, out):
                     pts = sorted((c["vertices"], c[measure] / scale) for k, c in data.items()
                                  if k[1] == system and k[3] == s and c["status"] == "ok" and measure in c
                                  and c["storage"] == storage)
+                    pts = [p for p in pts if (p, storage) not in drawn]  # the same cell: same size, same value
+                    drawn.update((p, storage) for p in pts)
                     if pts:
                         xs, ys = zip(*pts)
                         face = {} if storage == "memory" else {"markerfacecolor": "none"}
