@@ -10,9 +10,7 @@
 // --memory-budget-mb (default half the RAM) before allocating anything. Exit codes: 0 ok, 1 usage, 2 bad input,
 // 4 over the memory budget.
 #include <algorithm>
-#include <cctype>
 #include <cstdint>
-#include <filesystem>
 #include <iostream>
 #include <map>
 #include <string>
@@ -168,13 +166,6 @@ Prediction predict_shape(const std::string& shape, std::map<std::string, double>
   return p;
 }
 
-// Whether a path names an .stl file (the extension in any case, as the writers take it).
-bool is_stl(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext == ".stl";
-}
-
 Mesh make_shape(const std::string& shape, std::map<std::string, double> k) {
   auto i = [&](const char* key) { return static_cast<int>(k[key]); };
   if (shape == "cylinder") return make_cylinder(i("rings"), i("segments"), k["radius"], k["height"]);
@@ -306,7 +297,7 @@ int main(int argc, char** argv) {
     if (!convert_cmd->parsed())
       throw UsageError("a subcommand is required: info, convert, repair, subdivide or generate");
     cli::check_output("OUT", out, mesh_extensions(), {in});
-    if (convert_cmd->count("--stl") > 0 && !is_stl(out))
+    if (convert_cmd->count("--stl") > 0 && mesh_extension(out) != ".stl")
       throw UsageError(fmt::format("--stl: OUT {} is not an .stl file", out));
     write_mesh(out, read_mesh(in), {stl == "binary" ? StlEncoding::Binary : StlEncoding::Ascii});
     return 0;

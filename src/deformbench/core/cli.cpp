@@ -127,6 +127,26 @@ std::string unknown_subcommand(const CLI::App& app) {
   return fmt::format("unknown command '{}' (commands: {})", word, fmt::join(names, ", "));
 }
 
+// The file's attributes (chattr: FS_APPEND_FL, FS_IMMUTABLE_FL, ...); 0 where it cannot be opened or its file
+// system keeps none.
+int inode_flags(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return 0;
+  int flags = 0;  // the kernel writes an int, whatever the ioctl's declared type
+  if (::ioctl(fd, FS_IOC_GETFLAGS, &flags) != 0) flags = 0;
+  ::close(fd);
+  return flags;
+}
+
+// "proc", "sysfs": a kernel file system whose directories take no new files, though access() may say they do.
+const char* virtual_file_system(const std::string& dir) {
+  struct statfs st {};
+  if (::statfs(dir.c_str(), &st) != 0) return nullptr;
+  if (st.f_type == PROC_SUPER_MAGIC) return "proc";
+  if (st.f_type == SYSFS_MAGIC) return "sysfs";
+  return nullptr;
+}
+
 }  // namespace
 
 CLI::Validator Integer(long long min, long long max) {
@@ -196,30 +216,6 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
     return exit_code(e);
   }
 }
-
-namespace {
-
-// The file's attributes (chattr: FS_APPEND_FL, FS_IMMUTABLE_FL, ...); 0 where it cannot be opened or its file
-// system keeps none.
-int inode_flags(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return 0;
-  int flags = 0;  // the kernel writes an int, whatever the ioctl's declared type
-  if (::ioctl(fd, FS_IOC_GETFLAGS, &flags) != 0) flags = 0;
-  ::close(fd);
-  return flags;
-}
-
-// "proc", "sysfs": a kernel file system whose directories take no new files, though access() may say they do.
-const char* virtual_file_system(const std::string& dir) {
-  struct statfs st {};
-  if (::statfs(dir.c_str(), &st) != 0) return nullptr;
-  if (st.f_type == PROC_SUPER_MAGIC) return "proc";
-  if (st.f_type == SYSFS_MAGIC) return "sysfs";
-  return nullptr;
-}
-
-}  // namespace
 
 void check_directory(const std::string& option, const std::string& dir) {
   std::error_code ec;

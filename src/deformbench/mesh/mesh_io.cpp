@@ -14,25 +14,12 @@ namespace db {
 
 namespace {
 
-std::string extension_of(const std::string& path) {
-  return io::lower(std::filesystem::path(path).extension().string());
-}
-
 [[noreturn]] void unknown_extension(const std::string& path, const std::string& ext) {
   throw InputError(path + ": unknown mesh extension '" + ext + "' (expected .off, .ply, .obj or .stl)");
 }
 
-}  // namespace
-
-const std::vector<std::string>& mesh_extensions() {
-  static const std::vector<std::string> extensions = {".off", ".ply", ".obj", ".stl"};
-  return extensions;
-}
-
-namespace {
-
 Mesh read_by_extension(const std::string& path) {
-  const std::string ext = extension_of(path);
+  const std::string ext = mesh_extension(path);
   if (ext == ".off") return io::read_off(path, io::read_file(path));
   if (ext == ".ply") return io::read_ply(path, io::read_file(path));
   if (ext == ".obj") return io::read_obj(path, io::read_file(path));
@@ -42,6 +29,15 @@ Mesh read_by_extension(const std::string& path) {
 
 }  // namespace
 
+const std::vector<std::string>& mesh_extensions() {
+  static const std::vector<std::string> extensions = {".off", ".ply", ".obj", ".stl"};
+  return extensions;
+}
+
+std::string mesh_extension(const std::string& path) {
+  return io::lower(std::filesystem::path(path).extension().string());
+}
+
 Mesh read_mesh(const std::string& path) {
   Mesh m = read_by_extension(path);
   // Every format can spell an empty mesh (an empty OBJ, "OFF 0 0 0"); no command has a use for one.
@@ -50,7 +46,7 @@ Mesh read_mesh(const std::string& path) {
 }
 
 void write_mesh(const std::string& path, const Mesh& mesh, const MeshWriteOptions& options) {
-  const std::string ext = extension_of(path);
+  const std::string ext = mesh_extension(path);
   if (ext == ".off") {
     write_atomically(path, [&](std::ostream& os) { io::write_off(os, mesh); });
   } else if (ext == ".obj") {

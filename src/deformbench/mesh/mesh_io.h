@@ -22,10 +22,12 @@ struct MeshWriteOptions {
 
 //! The extensions read_mesh reads and write_mesh writes: .off, .ply, .obj, .stl.
 const std::vector<std::string>& mesh_extensions();
+//! The extension read_mesh and write_mesh go by: `path`'s, lower case with the dot (".stl").
+std::string mesh_extension(const std::string& path);
 
 //! Reads by extension (.off, .ply, .obj, .stl; case-insensitive); polygons with more than three corners are
 //! fan-triangulated. Sets mesh.name to the file stem. Does not call validate_mesh().
-//! \throw InputError unreadable file, unknown extension, malformed content.
+//! \throw InputError unreadable file, unknown extension, malformed content, an empty mesh (no faces).
 Mesh read_mesh(const std::string& path);
 
 //! Writes by extension (.off, .ply binary little-endian, .obj, .stl as options.stl says) atomically (temp file +
