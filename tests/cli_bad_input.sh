@@ -214,12 +214,13 @@ write_edit "$T/fifo_def.edit" indices:roi_tf.txt indices:handle.txt def:fifo.def
 expect fifo_def 2 "cannot open transform file: .*fifo.def \(not a regular file" -- deform "$T/fifo_def.edit" --out "$OUT"
 expect fifo_transform 2 "cannot open transform file: .*fifo.def \(not a regular file" -- deform "$G" --transform "def:$T/fifo.def" --out "$OUT"
 rm -f "$T"/fifo.*
-# 2 GB sparse files (no line end): refused by their size or at line 1 after a bounded read, never read whole.
+# 2 GB sparse files (zeros, no line end): refused by their size or at line 1 after a bounded read (a text
+# reader stops at the first NUL byte, a mesh reader at its line bound), never read whole.
 # They lie outside $T, whose files every case checksums.
 truncate -s 2G "$L/sparse.edit" "$L/sparse.txt" "$L/sparse.off" "$L/sparse.idx"
 expect sparse_edit 2 "edit file .*sparse.edit holds 2147483648 bytes, more than such a file can sensibly hold" -- deform "$L/sparse.edit" --out "$OUT"
 printf 'mesh = %s\nroi = indices:%s\nhandle = indices:%s\ntargets = %s\n' "$T/good.off" "$T/roi_tf.txt" "$T/handle.txt" "$L/sparse.txt" >"$L/sparse_targets.edit"
-expect sparse_targets 2 "sparse.txt: line 1: longer than 65536 bytes" -- deform "$L/sparse_targets.edit" --out "$OUT"
+expect sparse_targets 2 "sparse.txt: line 1: holds a NUL byte" -- deform "$L/sparse_targets.edit" --out "$OUT"
 printf 'mesh = %s\nroi = indices:%s\nhandle = indices:%s\ntransform = translate:0,0,1\n' "$T/good.off" "$L/sparse.idx" "$T/handle.txt" >"$L/sparse_indices.edit"
 expect sparse_indices 2 "index list file .*sparse.idx holds 2147483648 bytes, more than" -- deform "$L/sparse_indices.edit" --out "$OUT"
 printf 'mesh = %s\nroi = indices:%s\nhandle = indices:%s\ntransform = translate:0,0,1\n' "$L/sparse.off" "$T/roi_tf.txt" "$T/handle.txt" >"$L/sparse_mesh.edit"
@@ -289,6 +290,8 @@ expect coordinates_overflow 2 "vertices 1 and 0 \\(their x coordinates .*\\) lie
 echo "== 2 bad input: per-vertex targets"
 printf '0 0 1.1\n0 nan 1.2\n' >"$T/drag_nan.txt"; write_drag "$T/drag_nan.edit" drag_nan.txt
 expect targets_nan 2 "drag_nan.txt: line 2: bad number 'nan'" -- deform "$T/drag_nan.edit" --out "$OUT"
+printf '0 0 1.1\n0 0\0001.2\n' >"$T/drag_nul.txt"; write_drag "$T/drag_nul.edit" drag_nul.txt
+expect targets_nul 2 "drag_nul.txt: line 2: holds a NUL byte \(a binary file, not a targets file\?\)" -- deform "$T/drag_nul.edit" --out "$OUT"
 printf '0 0 1.1 3\n' >"$T/drag_4.txt"; write_drag "$T/drag_4.edit" drag_4.txt
 expect targets_four_numbers 2 "drag_4.txt: line 1: expected 3 numbers \(x y z\), got 4" -- deform "$T/drag_4.edit" --out "$OUT"
 printf '3 4\n' >"$T/handle2.txt"

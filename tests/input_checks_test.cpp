@@ -147,8 +147,10 @@ TEST_F(EditFiles, SpecialAndOversizedInputsAreRefusedBeforeReading) {
   // A selection of a 3-vertex mesh, or an index list of it, holds a few lines, not 2 GB.
   EXPECT_MENTIONS(input_error([&] { read_sel(path("big.def"), 3); }), "holds 2147483648 bytes");
   EXPECT_MENTIONS(input_error([&] { read_index_list(path("big.def"), 3); }), "holds 2147483648 bytes");
-  // Streamed readers stop at the first line that does not end.
-  EXPECT_MENTIONS(input_error([&] { read_targets(path("big.def")); }), "line 1: longer than 65536 bytes");
+  // Streamed readers stop at the first NUL byte, and at the first line that does not end.
+  EXPECT_MENTIONS(input_error([&] { read_targets(path("big.def")); }), "line 1: holds a NUL byte");
+  std::ofstream(path("long.txt")) << "0 0 1\n" << std::string(1 << 17, '7');
+  EXPECT_MENTIONS(input_error([&] { read_targets(path("long.txt")); }), "line 2: longer than 65536 bytes");
   std::ofstream(path("big.off")).close();
   fs::resize_file(path("big.off"), std::uintmax_t(1) << 31);
   EXPECT_MENTIONS(input_error([&] { read_mesh(path("big.off")); }), "line 1: longer than 65536 bytes");

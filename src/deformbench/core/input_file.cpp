@@ -70,6 +70,9 @@ void InputFile::each_line(std::size_t max_line, const std::function<void(int, co
       if (line.size() + (end - i) > max_line)
         throw InputError(fmt::format("{}: line {}: longer than {} bytes (not a {} file?)", path_, n + 1, max_line,
                                      what_));
+      if (std::memchr(buf + i, '\0', end - i))
+        throw InputError(fmt::format("{}: line {}: holds a NUL byte (a binary file, not a {} file?)", path_,
+                                     n + 1, what_));
       line.append(buf + i, end - i);
       if (!nl) break;
       fn(++n, line);

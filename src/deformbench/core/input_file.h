@@ -29,6 +29,7 @@ class InputFile {
   std::string read_all();
   //! Calls fn(line number, line) for each line (without '\n'), streaming; a line longer than max_line bytes is an
   //! error at that line, so a file without line ends (a sparse file of zeros) is refused after max_line bytes.
+  //! A NUL byte is an error at its line: a text file holds none, and a message quoting the line would end there.
   void each_line(std::size_t max_line, const std::function<void(int, const std::string&)>& fn);
 
  private:
