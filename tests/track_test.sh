@@ -109,8 +109,23 @@ expect "CPU time: a slower init fails" 1 \
   "${GATE[@]}" "$T/cpu_slow.csv"
 
 # The trend view of these histories: the runs with overrides are left out, the two others (one commit, in a row) are
-# one point and give every figure.
-expect "trend view" 0 "2 run\(s\) of machine [0-9a-f]{12} as 1 point\(s\) .*-> $T/plots/history_\*.png" -- \
+# one point, which is no trend: no figure. A copy of a run as another, later commit's makes two points and every
+# figure.
+mkdir -p "$T/plots" && : >"$T/plots/history_init.png"
+expect "trend view: one point" 0 "one point of machine [0-9a-f]{12} .*no trend figure" -- \
+  env PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -m dbtools.plots.history --results "$T" --out "$T/plots"
+[ -e "$T/plots/history_init.png" ] && fail "an earlier trend figure left beside one point" || ok "no trend figure"
+/usr/bin/python3 - "$(ls "$T"/history/runs/*.csv | head -1)" "$T/history/runs/zz_next_commit.csv" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1], newline="")))
+for r in rows:
+    r.update(git_sha="0123456789ab", commit="0123456789ab" * 3, date="2999-01-01T00:00:00Z")
+with open(sys.argv[2], "w", newline="") as f:
+    w = csv.DictWriter(f, fieldnames=list(rows[0]))
+    w.writeheader()
+    w.writerows(rows)
+PY
+expect "trend view" 0 "3 run\(s\) of machine [0-9a-f]{12} as 2 point\(s\) .*-> $T/plots/history_\*.png" -- \
   env PYTHONPATH="$SRC/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -m dbtools.plots.history --results "$T" --out "$T/plots"
 for f in init frame factor_bytes peak_rss; do
   [ -s "$T/plots/history_$f.png" ] && ok "history_$f.png" || fail "no history_$f.png"

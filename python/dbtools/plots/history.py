@@ -13,9 +13,10 @@ the machine rates of each point below:
   OUT/history_peak_rss.png      peak RSS of the cell's process
 The times are the CPU times the gate compares (dbtools/track/gate.py), normalized as it normalizes them: each
 round of a run divided by that round's drift, the median over the round's CPU times of (time / that time's
-median over all the plotted runs), then the median over the run's rounds. The rates panel (median dgemm GFlop/s
-and memory read GB/s around the run's cells) shows whether a step is the machine's. Run with Debian's
-/usr/bin/python3 (numpy + matplotlib).
+median over all the plotted runs), then the median over the run's rounds; each point's bar spans its rounds' min
+to max. The rates panel (dgemm GFlop/s and memory read GB/s around the run's cells, each on its own axis) shows
+whether a step is the machine's. One point is no trend: then no figure is written (and earlier ones are removed).
+Run with Debian's /usr/bin/python3 (numpy + matplotlib).
 """
 import csv
 import os
@@ -76,8 +77,13 @@ def run_count(rows):
     return len({(r["date"], r.get("history_file", "")) for r in rows})
 
 
+def summary(values):
+    """(median, min, max) of a non-empty list."""
+    return statistics.median(values), min(values), max(values)
+
+
 def medians(rows):
-    """(cell, measure) -> median value; 'dgemm' / 'read' -> median rate over the run."""
+    """(cell, measure) -> (median, min, max) of its values; 'dgemm' / 'read' -> those of the rate over the run."""
     vals, rates = defaultdict(list), defaultdict(list)
     for r in rows:
         if r["value"] != "":
@@ -86,14 +92,15 @@ def medians(rows):
                         ("read", "memory_read_before", "memory_read_after")):
             if r.get(a) not in (None, "", "nan"):
                 rates[k].append((float(r[a]) + float(r[b])) / 2)
-    out = {k: statistics.median(v) for k, v in vals.items()}
-    out.update({k: statistics.median(v) for k, v in rates.items()})
+    out = {k: summary(v) for k, v in vals.items()}
+    out.update({k: summary(v) for k, v in rates.items()})
     return out
 
 
 def normalized_cpu(runs, gate):
-    """[{(cell, measure): median normalized CPU time}] per run: the gate's round drift (gate.round_drift)
-    against the pooled medians of every plotted run, each run's values divided by their round's factor."""
+    """[{(cell, measure): (median, min, max) of the normalized CPU times}] per run: the gate's round drift
+    (gate.round_drift) against the pooled medians of every plotted run, each run's values divided by their round's
+    factor."""
     s = gate.Settings()
     hists = [gate.History.from_rows(rows) for rows in runs]
     pooled = defaultdict(list)
@@ -106,7 +113,7 @@ def normalized_cpu(runs, gate):
     out = []
     for h in hists:
         drift = gate.Drift(now=gate.round_drift(h, ref, s))
-        out.append({key: statistics.median(vals) for key in pooled if key in h.values
+        out.append({key: summary(vals) for key in pooled if key in h.values
                     for vals in [drift.normalized(h, key, "now")] if vals})
     return out
 
@@ -131,6 +138,9 @@ def series(cell):
     return " ".join(cell.split("/")[2:4])
 
 
+NAN = (float("nan"),) * 3
+
+
 def figure(runs, meds, measure, ylabel, scale, path):
     tiers = deform_cells(runs)
     x = list(range(len(runs)))
@@ -139,22 +149,16 @@ def figure(runs, meds, measure, ylabel, scale, path):
     st = styles(None, sorted({series(c) for cells in tiers.values() for c in cells}))
     for ax, (tier, cells) in zip(axes[:, 0], tiers.items()):
         for cell in cells:
-            y = [m.get((cell, measure), float("nan")) * scale for m in meds]
-            ax.plot(x, y, ls="-" if cell.split("/")[3] == "structured" else "--", label=series(cell),
-                    **st[series(cell)])
-        ax.set_title(tier, fontsize=9, loc="left")
+            stats = [m.get((cell, measure), NAN) for m in meds]
+            spread(ax, x, stats, scale, ls="-" if cell.split("/")[3] == "structured" else "--", label=series(cell),
+                   **st[series(cell)])
+        ax.set_title(f"{tier} (bars: min to max over the point's rounds)", fontsize=9, loc="left")
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
         ax.grid(alpha=0.3)
-    ax = axes[-1, 0]
-    rates = styles(None, ["dgemm GFlop/s", "memory read GB/s"])
-    for key, name in (("dgemm", "dgemm GFlop/s"), ("read", "memory read GB/s")):
-        ax.plot(x, [m.get(key, float("nan")) for m in meds], label=name, **rates[name])
-    ax.set_title("machine rates around the cells (medians)", fontsize=9, loc="left")
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
-    ax.grid(alpha=0.3)
-    ax.set_xticks(x)
-    ax.set_xticklabels([label(r) for r in runs], fontsize=7, rotation=45, ha="right")
+    rates_panel(axes[-1, 0], x, meds)
+    axes[-1, 0].set_xticks(x)
+    axes[-1, 0].set_xticklabels([label(r) for r in runs], fontsize=7, rotation=45, ha="right")
     what = ", normalized by the rounds' drift" if measure.endswith("_cpu_s") else ""
     fig.suptitle(f"tracking suite: {ylabel} per cell over runs{what} (machine {runs[-1][0]['machine_id']})",
                  fontsize=10)
@@ -163,6 +167,25 @@ def figure(runs, meds, measure, ylabel, scale, path):
     fig.savefig(tmp, dpi=110)
     plt.close(fig)
     os.replace(tmp, path)
+
+
+def spread(ax, x, stats, scale, **style):
+    """A line through the medians, each point's bar from its min to its max."""
+    med, lo, hi = ([v[i] * scale for v in stats] for i in range(3))
+    ax.errorbar(x, med, yerr=[[m - a for m, a in zip(med, lo)], [b - m for m, b in zip(med, hi)]], capsize=3,
+                **style)
+
+
+def rates_panel(ax, x, meds):
+    """The machine rates, each on its own axis (GFlop/s left, GB/s right), in its axis' colour."""
+    st = styles(None, ["dgemm GFlop/s", "memory read GB/s"])
+    twin = ax.twinx()
+    for a, key, name in ((ax, "dgemm", "dgemm GFlop/s"), (twin, "read", "memory read GB/s")):
+        spread(a, x, [m.get(key, NAN) for m in meds], 1.0, label=name, **st[name])
+        a.set_ylabel(name, color=st[name]["color"], fontsize=8)
+        a.tick_params(axis="y", colors=st[name]["color"])
+    ax.set_title("machine rates around the cells (medians; bars: min to max)", fontsize=9, loc="left")
+    ax.grid(alpha=0.3)
 
 
 def plot(results, out, machine=None):
@@ -178,6 +201,12 @@ def plot(results, out, machine=None):
     if not runs:
         print(f"history: no history of machine {machine}", file=sys.stderr)
         return 1
+    if len(runs) < 2:  # one point is no trend: its values are in the run's CSV and the site's history pages
+        for _, _, _, name in FIGURES:
+            Path(out, name).unlink(missing_ok=True)
+        print(f"history: one point of machine {machine} (the runs of one commit in a row join): no trend figure "
+              "until a run of another commit (./run track)", file=sys.stderr)
+        return 0
     meds = [medians(r) for r in runs]
     try:
         for m, cpu in zip(meds, normalized_cpu(runs, gate)):
