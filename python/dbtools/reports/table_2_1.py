@@ -114,8 +114,8 @@ def header(run):
            "diagonal), so every vertex is an unknown: the LAP system is #V x #V, the TF system 3#V x 3#V.\n"]
     notes = sorted((k[len("edit:"):], v) for k, v in run.settings.items() if k.startswith("edit:"))
     out.append("".join(f"- {tier}: {note}\n" for tier, note in notes))
-    out.append("**Measures**: memory = the cell child's own peak RSS (VmHWM, MiB = 2^20 bytes; the thesis' MB are "
-               "presumably the same unit); init = build + analyze + factorize; fps = 1 / median frame time (right-hand "
+    out.append("**Measures**: memory = the cell child's own peak RSS (VmHWM, MiB = 2^20 bytes; as are the thesis' MB: its "
+               "section 2.3 turns 36599062500 bytes into 34903, a division by 2^20); init = build + analyze + factorize; fps = 1 / median frame time (right-hand "
                "side + solve + positions written) over the frames of the drag. Handle mode (issue 16): after the drag the same factored system precomputes its responses to the handle's affine map (one multi-right-hand-side solve, `precompute`) and the drag runs again streaming them; fps = 1 / its median frame, and the cell records how far its last frame lies from the full mode's (`handle_vs_full`, in table_2_1.csv). `#over` / `#slow`: predicted over the "
                "memory / time budget, never attempted (the prediction is shown: MiB for #over, seconds for #slow).\n")
     return "\n".join(out)
