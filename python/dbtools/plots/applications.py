@@ -39,9 +39,12 @@ def view_for(V, patch):
     P = V[patch]
     c = P.mean(0)
     _, _, vt = np.linalg.svd(P - c, full_matrices=False)
-    n = vt[2]
-    if np.dot(n, c - V.mean(0)) < 0:  # face outwards from the mesh's centre
-        n = -n
+    n = vt[2]  # its sign is the SVD's, which rounding decides
+    out = np.dot(n, c - V.mean(0))
+    if abs(out) > 1e-6 * np.linalg.norm(V.max(0) - V.min(0)):
+        n = n if out > 0 else -n  # face outwards from the mesh's centre
+    else:  # a patch at the mesh's centre (a plane, a disc on it): look from the side its largest component points to
+        n = n if n[np.argmax(np.abs(n))] > 0 else -n
     elev = np.degrees(np.arcsin(np.clip(n[2], -1, 1)))
     azim = np.degrees(np.arctan2(n[1], n[0]))
     return elev - 25.0 if elev > 60 else elev + 20.0, azim + 20.0

@@ -91,6 +91,9 @@ def fig_ideal(cases, by, out):
     return path
 
 
+FAILED_Y = 0.3  # where fig_strategy_diff marks a failed configuration: above any difference it draws
+
+
 def fig_strategy_diff(cases, by, out):
     floor = 1e-17  # identical results plot on the floor
     fig, ax = plt.subplots(figsize=(max(8, 0.8 * len(cases)), 5))
@@ -103,6 +106,10 @@ def fig_strategy_diff(cases, by, out):
             vals = np.where(np.isnan(vals), np.nan, np.maximum(vals, floor))
             off = {"random": -0.2, "height_angle": 0.0, "curvature": 0.2}[s] + (0.05 if ortho == "polar" else -0.05)
             ax.plot(x + off, vals, linestyle="none", markersize=6, label=f"{s}, {name}", **st[f"{s}, {name}"])
+            failed = [i for i, c in enumerate(cases) if math.isnan(vals[i]) and (c, f"lri-{s}-{ortho}") in by]
+            if failed:  # no difference to draw: the configuration (or the first-neighbour one) failed
+                ax.plot(x[failed] + off, np.full(len(failed), FAILED_Y), "x", color=st[f"{s}, {name}"]["color"], ms=7,
+                        mew=2)
     sig = np.array([value(by.get((c, "lri-first-polar"), {}), "frame_sigma_min") for c in cases])
     for i, sv in enumerate(sig):
         if sv < 1e-3:
@@ -112,7 +119,8 @@ def fig_strategy_diff(cases, by, out):
     ax.set_xticks(x)
     ax.set_xticklabels(cases, rotation=35, ha="right", fontsize=8)
     ax.set_ylabel("max |x - x_first| / bbox diagonal")
-    ax.set_title("Frame strategy against first-neighbour frames (grey: a solved frame collapsed)")
+    ax.set_title("Frame strategy against first-neighbour frames (grey: a solved frame collapsed; x at the top: "
+                 "failed, no difference)", fontsize=9)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.005, 1.0))
     fig.tight_layout()

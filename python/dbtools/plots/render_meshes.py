@@ -8,7 +8,8 @@ db::write_mesh) and CASE__roles.sel; writes OUT/render_CASE.png. Flat shading by
 Drawn as a 2D PolyCollection of an orthographic projection, faces sorted back to front (painter's algorithm):
 mplot3d's Poly3DCollection does the same sort, but its axes are square, which leaves slender shapes (a bar
 standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio, shared by all panels of a case
-(but a result far larger than the others, drawn in a frame of its own, its size in its title). Where the results
+(but a result far larger than the others, or a rest shape whose frame would leave the results' panels mostly
+empty, is drawn in a frame of its own, its size in its title). Where the results
 differ by too little to tell apart side by side, a grid of distance maps below the shapes colours each result by
 its per-vertex distance from LAP's, in rest bounding-box diagonals, with a colour bar.
 
@@ -118,6 +119,9 @@ DISTANCE_MAP_BELOW = 0.1
 SAME_BELOW = 1e-6
 # A panel whose shape is this many times the median panel's size gets a frame of its own.
 OWN_FRAME_ABOVE = 2.0
+# The rest shape gets a frame of its own where sharing the results' frame would make that frame this many times
+# larger in area (a straight bar beside its bends: every panel mostly empty).
+REST_OWN_FRAME_ABOVE = 1.5
 VIEWS = {"cgal_cyl": (20.0, 35.0), "dino": (20.0, -50.0), "bar_twist": (20.0, -60.0), "bs08_plane": (25.0, -70.0),
          "bunny": (90.0, -90.0), "armadillo": (90.0, -90.0)}  # (elev, azim) by prefix
 
@@ -218,6 +222,11 @@ def case_view(case, meshes, faces):
     typical = float(np.median(list(size.values())))
     own = {k: s / typical for k, s in size.items() if s > OWN_FRAME_ABOVE * typical}
     lo, hi = box(np.vstack([p for k, p in P.items() if k not in own]))
+    results = [p for k, p in P.items() if k not in own and k != "rest"]
+    if "rest" in P and "rest" not in own and results:
+        rlo, rhi = box(np.vstack(results))
+        if np.prod(hi - lo) > REST_OWN_FRAME_ABOVE * np.prod(rhi - rlo):  # the rest shape would empty the frames
+            own["rest"], lo, hi = size["rest"] / typical, rlo, rhi
     lims = {k: box(p) if k in own else (lo, hi) for k, p in P.items()}
     extent = hi - lo
     return {"elev": elev, "azim": azim, "cam": cam, "light": light / np.linalg.norm(light), "faces": faces,

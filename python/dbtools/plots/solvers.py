@@ -4,7 +4,8 @@
 
 Reads RESULTS/solvers.csv (and RESULTS/solvers_blas_*.csv when present) and writes
   OUT/solvers_factorize_vs_solve.png  factorize against per-solve time, per backend (default ordering)
-  OUT/solvers_scaling.png             factorize and solve time against the number of unknowns n
+  OUT/solvers_scaling.png             factorize and solve time against the number of unknowns n (the fastest
+                                      repetition, a bar up to the slowest)
   OUT/solvers_orderings.png           nnz(L) and factorize time per ordering, sparse direct backends, largest tier
   OUT/solvers_blas.png                factorize time per OpenBLAS kernel set: only when the runs report more than
                                       one distinct core (dbtools/reports/kernel_sets.py); else it is removed
@@ -82,13 +83,14 @@ def plot_factor_vs_solve(cells, meta, out):
             xs = [max(p[1], 1e-7) for p in pts]
             ys = [max(p[2], 1e-7) for p in pts]
             ax.plot(xs, ys, style(meta, b), label=b, **st[b])
-            for p, x, y in zip(pts, xs, ys):
-                ax.annotate(p[3][:4], (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("factorize time [s] (once per edit)")
         ax.set_ylabel("solve time [s] (every frame)")
-        ax.set_title(f"{system}: factorize vs solve, default ordering")
+        # The models in the order each backend's line passes them (a label per point would overlap 17 backends').
+        models = [m for _, m in sorted({(v["n"], k[0]) for k, v in cells.items() if k[1] == system and "n" in v})]
+        ax.set_title(f"{system}: factorize vs solve, default ordering\neach line's points, by unknowns: "
+                     + ", ".join(models), fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
     axes[-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # outside: covers no point
     fig.tight_layout()
@@ -105,15 +107,20 @@ def plot_scaling(cells, meta, out):
         for i, (measure, label) in enumerate([(FACT, "factorize [s]"), (SOLVE, "solve [s]")]):
             ax = axes[i][j]
             for b in bks:
-                pts = sorted((v["n"], v[measure]) for k, v in cells.items()
+                top = measure.replace("_min_s", "_max_s")
+                pts = sorted((v["n"], max(v[measure], 1e-7), max(v.get(top, v[measure]), 1e-7))
+                             for k, v in cells.items()
                              if k[1] == system and k[2] == b and k[3] == "default" and measure in v and "n" in v)
                 if not pts:
                     continue
-                ax.plot([p[0] for p in pts], [max(p[1], 1e-7) for p in pts], style(meta, b), label=b, **st[b])
+                n, lo, hi = zip(*pts)  # the bar: from the minimum (the point) up to the largest repetition
+                ax.errorbar(n, lo, yerr=[[0] * len(lo), [h - v for v, h in zip(lo, hi)]], capsize=2,
+                            linestyle=style(meta, b), label=b, **st[b])
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_ylabel(label)
-            ax.set_title(f"{system}: {label.split()[0]} vs unknowns")
+            ax.set_title(f"{system}: {label.split()[0]} vs unknowns\n(point: fastest repetition; bar: up to the "
+                         "slowest)", fontsize=10)
             ax.grid(True, which="both", alpha=0.3)
             if i == 1:
                 ax.set_xlabel("unknowns n")
