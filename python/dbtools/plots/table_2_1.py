@@ -164,6 +164,15 @@ def draw_fit(ax, f, scale, system, style):
             label=f"{system.upper()} fit: #V^{k:.2f} (r2 {float(f['r2']):.3f}, n {f['points']})")
 
 
+def spread(cell, measure, scale):
+    """(median, min, max) of a timed measure NAME_s over its repetitions (NAME_min_s, NAME_max_s), scaled; the value
+    three times for a measure without spread (bytes)."""
+    v = cell[measure]
+    stem = measure[:-2] if measure.endswith("_s") else None
+    lo, hi = (cell.get(f"{stem}_min_s", v), cell.get(f"{stem}_max_s", v)) if stem else (v, v)
+    return v / scale, lo / scale, hi / scale
+
+
 def plot_scaling(results, out):
     rows = read_rows(os.path.join(results, "scaling.csv"))
     fits = read_rows(os.path.join(results, "scaling_fits.csv"))
@@ -186,22 +195,23 @@ def plot_scaling(results, out):
                 # Out-of-core cells (factor on disk) drawn hollow: their frames read the factor back from the
                 # page cache, and the fits leave their frame time and peak RSS out.
                 for storage in ("memory", "disk"):
-                    pts = sorted((c["vertices"], c[measure] / scale) for k, c in data.items()
+                    pts = sorted((c["vertices"], *spread(c, measure, scale)) for k, c in data.items()
                                  if k[1] == system and k[3] == s and c["status"] == "ok" and measure in c
                                  and c["storage"] == storage)
                     pts = [p for p in pts if (p, storage) not in drawn]  # the same cell: same size, same value
                     drawn.update((p, storage) for p in pts)
                     if pts:
-                        xs, ys = zip(*pts)
+                        xs, ys, lo, hi = zip(*pts)
                         face = {} if storage == "memory" else {"markerfacecolor": "none"}
-                        ax.plot(xs, ys, linestyle="none", alpha=0.75, **face, **st[f"{system} {s}"],
-                                label=f"{system.upper()} {s}" + (" (factor on disk)" if storage == "disk" else ""))
+                        ax.errorbar(xs, ys, yerr=[[y - a for y, a in zip(ys, lo)], [b - y for y, b in zip(ys, hi)]],
+                                    linestyle="none", alpha=0.75, capsize=2, **face, **st[f"{system} {s}"],
+                                    label=f"{system.upper()} {s}" + (" (factor on disk)" if storage == "disk" else ""))
             draw_fit(ax, fit.get(("all", system, measure)), scale, system, st[f"{system} fit"])
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("vertices")
         ax.set_ylabel(label)
-        ax.set_title(f"structured build: {label}")
+        ax.set_title(f"structured build: {label}" + (" (median; bar: min to max)" if measure.endswith("_s") else ""))
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=6.5, loc="upper left", bbox_to_anchor=(0.0, -0.14))  # below the axes: covers no point
     fig.tight_layout()
