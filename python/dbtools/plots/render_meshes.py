@@ -9,9 +9,9 @@ Drawn as a 2D PolyCollection of an orthographic projection, faces sorted back to
 mplot3d's Poly3DCollection does the same sort, but its axes are square, which leaves slender shapes (a bar
 standing up) a few pixels wide; the 2D panels take the shape's own aspect ratio, shared by all panels of a case
 (but a result far larger than the others, or a rest shape whose frame would leave the results' panels mostly
-empty, is drawn in a frame of its own, its size in its title). Where the results
-differ by too little to tell apart side by side, a grid of distance maps below the shapes colours each result by
-its per-vertex distance from LAP's, in rest bounding-box diagonals, with a colour bar.
+empty, is drawn in a frame of its own, its size in its title). Where the results differ by too little to tell apart
+side by side, a grid of distance maps below the shapes colours each result by its per-vertex distance from LAP's, in
+rest bounding-box diagonals, with a colour bar.
 
 usage: python3 -m dbtools.plots.render_meshes [--results results] [--out RESULTS/figures] [--cases SUBSTRING]
        [--max-faces N]

@@ -106,8 +106,8 @@ def plot_scaling(cells, meta, out):
     for j, system in enumerate(systems):
         for i, (measure, label) in enumerate([(FACT, "factorize [s]"), (SOLVE, "solve [s]")]):
             ax = axes[i][j]
+            top = measure.replace("_min_s", "_max_s")
             for b in bks:
-                top = measure.replace("_min_s", "_max_s")
                 pts = sorted((v["n"], max(v[measure], 1e-7), max(v.get(top, v[measure]), 1e-7))
                              for k, v in cells.items()
                              if k[1] == system and k[2] == b and k[3] == "default" and measure in v and "n" in v)

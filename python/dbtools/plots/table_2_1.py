@@ -147,7 +147,8 @@ def plot_table(results, out):
         print("[plots] no table_2_1.csv: skipping the Table 2-1 plots", file=sys.stderr)
         return
     table_figure(table, thesis, ("peak_rss_bytes", "memory_mb", "predicted_bytes"), MIB,
-                 "Table 2-1: memory (peak RSS of the cell; the thesis' MB are MiB: its section 2.3 divides bytes by 2^20)", "MiB", os.path.join(out, "table_2_1_memory.png"))
+                 "Table 2-1: memory (peak RSS of the cell; the thesis' MB are MiB: its section 2.3 divides bytes by "
+                 "2^20)", "MiB", os.path.join(out, "table_2_1_memory.png"))
     table_figure(table, thesis, ("init_s", "init_s", "predicted_s"), 1.0,
                  "Table 2-1: init = build + analyze + factorize", "seconds", os.path.join(out, "table_2_1_init.png"))
 
