@@ -3,11 +3,10 @@ scaling_fits.csv, table_2_1_settings.csv): the thesis' layout with its numbers b
 phase times in detail, the targets at the 104k tier and the scaling fits. Reads CSVs only, never measures."""
 import os
 
-from .common import (MIB, NAN, SPREAD_NOTE, cells, count_flagged, fmt, isnan, mark, number, provenance, read_rows,
+from .common import (FLAG, MIB, NAN, SPREAD_NOTE, cells, fmt, median, isnan, mark, number, provenance, read_rows,
                     settings, spread_text, write_atomically)
 
 # The timings the tables show, each with its spread or flag; fps and fps_handle follow their frame's.
-TIMED = ("build_s", "analyze_s", "factorize_s", "init_s", "frame_s", "init_precompute_s", "frame_handle_s")
 FLAG_OF = {"fps": "frame_s", "fps_handle": "frame_handle_s"}
 
 KEY = ("model", "system", "build", "backend", "factor_storage", "ordering_used")
@@ -205,8 +204,8 @@ def phase_times(run):
            "for the frames (rhs / solve / write: their medians). factorize GFlop/s: the factorization's flops over its "
            "time; BLAS dgemm: the rate of the BLAS's dgemm (1024^3, its own threads) measured by the driver just before "
            "and after the cell, their mean: the ceiling of the factorization's dense kernels at that moment; memory "
-           "read: the rate the worker threads read a 128 MB array at, likewise (the solves stream the factor). On a "
-           "shared machine both move by up to 2x within a day, and the times in this table with them.\n\n"
+           "read: the rate the worker threads read a 128 MB array at, likewise (the solves stream the factor). "
+           f"{rates_range(run.cells)}\n\n"
            "| model | system | build | build s | analyze s | factorize s | init s | frame s (rhs / solve / write) | "
            "handle frame s | predicted s | ordering | nnz(L) | factorize GFlop/s | BLAS dgemm GFlop/s | memory read "
            "GB/s |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -220,13 +219,24 @@ def phase_times(run):
                    f"{g(c.get('write_s'))}) | {t('frame_handle_s')} | {g(c.get('predicted_s'))} | "
                    f"{c.ordering_used or '-'} | {fmt(c.get('nnz_factor'), '{:.0f}')} | {g(rate)} | {g(gemm(c))} | "
                    f"{g(read_rate(c))} |")
-    return "\n".join(out) + "\n" + spread_footnote(run.cells)
+    table = "\n".join(out) + "\n"
+    return table + spread_footnote(table)
 
 
-def spread_footnote(cs):
-    """The flag's meaning under a table, with how many of its timings carry it."""
-    n = count_flagged([c.get for c in cs if c.ok()], TIMED)
-    return f"\n{SPREAD_NOTE} Flagged here: {n} timing(s).\n"
+def rates_range(cs):
+    """How far the machine's rates moved over the cells of this run: the times move with them."""
+    rates = lambda keys: [x for c in cs if c.ok() for x in map(c.get, keys) if not isnan(x)]  # noqa: E731
+    g, r = rates(("blas_dgemm_before", "blas_dgemm_after")), rates(("memory_read_before", "memory_read_after"))
+    if not g or not r:
+        return "The run has no machine rates."
+    return (f"Over this run's cells dgemm ran at {min(g):.3g} - {max(g):.3g} GFlop/s ({max(g) / min(g):.2g}x) and "
+            f"memory read at {min(r):.3g} - {max(r):.3g} GB/s ({max(r) / min(r):.2g}x): the times in this table move "
+            "with them.")
+
+
+def spread_footnote(*tables):
+    """The flag's meaning under tables, with how many of the timings they show carry it."""
+    return f"\n{SPREAD_NOTE} Flagged here: {sum(t.count(FLAG) for t in tables)} timing(s).\n"
 
 
 def init_why(c):
@@ -261,39 +271,45 @@ def rss_why(c):
             f"deformer {c.get('baseline_rss_bytes') / MIB:.0f} MiB")
 
 
-def target(out, what, c, value, limit, at_most, unit, why):
+def target(out, what, c, value, limit, at_most, unit, why, timed=None, scale=1.0):
+    """A target's row, judged on the median (`value`); a timed one shows its spread over the repeats (`timed`: the
+    measure, `scale` its unit)."""
     if c is None or not c.ok() or isnan(value):
         out.append(f"| {what} | {c.status if c else 'missing'} | - | {c.message if c else ''} |")
         return
     met = value <= limit if at_most else value >= limit
-    out.append(f"| {what} | {value:.3g} {unit} | {'yes' if met else '**no**'} | {why} |")
+    spread = spread_text(c.get, timed, lambda x: f"{x * scale:.3g}") if timed else ""
+    out.append(f"| {what} | {f'{value:.3g} {unit} {spread}'.strip()} | {'yes' if met else '**no**'} | {why} |")
 
 
 def targets(run):
-    out = ["## Targets at the 104k tier (planck = armadillo_loop1)\n\n| target | measured | met | where it goes "
-           "(same cells) |\n|---|---|---|---|"]
+    out = ["## Targets at the 104k tier (planck = armadillo_loop1)\n\nA timed target is met when its median is; the "
+           "spread beside it (least - largest, n = repeats) says whether every repeat was.\n\n| target | measured "
+           "(median) | met | where it goes (same cells) |\n|---|---|---|---|"]
     tfs, tfn, lps = run.find("planck", "tf", "structured"), run.find("planck", "tf", "naive"), run.find("planck", "lap", "structured")
     ok = lambda c: c is not None and c.ok()  # noqa: E731
     v = lambda c, m, s=1.0: c.get(m) * s if ok(c) else NAN  # noqa: E731
-    target(out, "TF structured init <= 2.0 s", tfs, v(tfs, "init_s"), 2.0, True, "s", init_why(tfs) if ok(tfs) else "")
+    target(out, "TF structured init <= 2.0 s", tfs, v(tfs, "init_s"), 2.0, True, "s", init_why(tfs) if ok(tfs) else "",
+           "init_s")
     target(out, "TF structured frame <= 100 ms", tfs, v(tfs, "frame_s", 1e3), 100, True, "ms",
-           frame_why(tfs) if ok(tfs) else "")
+           frame_why(tfs) if ok(tfs) else "", "frame_s", 1e3)
     target(out, "TF structured peak RSS <= 1.0 GB (10^9 B)", tfs, v(tfs, "peak_rss_bytes", 1e-9), 1.0, True, "GB",
            rss_why(tfs) if ok(tfs) else "")
-    target(out, "LAP structured init <= 0.5 s", lps, v(lps, "init_s"), 0.5, True, "s", init_why(lps) if ok(lps) else "")
+    target(out, "LAP structured init <= 0.5 s", lps, v(lps, "init_s"), 0.5, True, "s", init_why(lps) if ok(lps) else "",
+           "init_s")
     target(out, "LAP structured frame <= 25 ms", lps, v(lps, "frame_s", 1e3), 25, True, "ms",
-           frame_why(lps) if ok(lps) else "")
+           frame_why(lps) if ok(lps) else "", "frame_s", 1e3)
     both = ok(tfs) and ok(tfn)
     q = lambda m: tfn.get(m) / tfs.get(m) if both else NAN  # noqa: E731
     mib = lambda c, m: c.get(m) / MIB  # noqa: E731
     target(out, "TF held matrices naive/structured >= 3x", tfs if both else None, q("held_total_bytes"), 3, False, "x",
            f"naive {mib(tfn, 'held_total_bytes'):.0f} vs structured {mib(tfs, 'held_total_bytes'):.0f} MiB" if both else "")
     target(out, "TF build naive/structured >= 5x", tfs if both else None, q("build_s"), 5, False, "x",
-           f"naive {tfn.get('build_s'):.2f} vs structured {tfs.get('build_s'):.2f} s" if both else "")
+           f"naive {tfn.get('build_s'):.2f} vs structured {tfs.get('build_s'):.2f} s (medians)" if both else "")
     at = dict(held(tfn)).get("At", 0.0) if both else 0.0
     target(out, "TF peak RSS naive/structured >= 1.5x", tfs if both else None, q("peak_rss_bytes"), 1.5, False, "x",
-           f"naive {mib(tfn, 'peak_rss_bytes'):.0f} vs structured {mib(tfs, 'peak_rss_bytes'):.0f} MiB; the factor, "
-           f"{mib(tfs, 'factor_bytes'):.0f} MiB in both, is {100 * tfs.get('factor_bytes') / tfs.get('peak_rss_bytes'):.0f}% "
+           f"naive {mib(tfn, 'peak_rss_bytes'):.0f} vs structured {mib(tfs, 'peak_rss_bytes'):.0f} MiB; the factor "
+           f"(naive {mib(tfn, 'factor_bytes'):.0f}, structured {mib(tfs, 'factor_bytes'):.0f} MiB) is {100 * tfs.get('factor_bytes') / tfs.get('peak_rss_bytes'):.0f}% "
            f"of the structured peak; beside it the naive cell keeps A^T ({at / MIB:.0f} MiB) for its frames, as the "
            f"thesis' first version did" if both else "")
     big_target(run, out, ok)
@@ -336,7 +352,8 @@ def scaling(run):
                    f"{cell_text(c, 'init_s', 3, 1, False)} | {cell_text(c, 'frame_s', 4, 1, False)} | "
                    f"{cell_text(c, 'factor_bytes', 1, MIB, True)} | {cell_text(c, 'peak_rss_bytes', 1, MIB, True)} | "
                    f"{c.status}{'' if c.factor_storage != 'disk' else ' (factor on disk)'} |")
-    return "\n".join(out) + "\n" + spread_footnote(run.scaling)
+    table = "\n".join(out) + "\n"
+    return table + spread_footnote(table)
 
 
 def not_run(run):
@@ -345,12 +362,27 @@ def not_run(run):
     return "## Cells that did not run\n\n" + ("\n".join(lines) if lines else "none") + "\n"
 
 
+def init_spread_note(run):
+    """How far apart a cell's fresh children put its init, over the cells that ran it more than once."""
+    r = sorted(c.get("init_max_s") / c.get("init_min_s") for c in run.cells + run.scaling
+               if c.ok() and c.get("init_reps") > 1 and c.get("init_min_s") > 0)
+    p = provenance(run.rows)
+    where = f"On this machine ({p.get('hardware_threads')} hardware threads) the"
+    if not r:
+        return f"{where} cells ran once each: no spread of the init between runs."
+    return (f"{where} largest / least init of a cell's children was {r[0]:.2f} - {r[-1]:.2f}x (median "
+            f"{median(r):.2f}x over {len(r)} cells): compare init times at that resolution.")
+
+
+def notes(run):
+    return NOTES.format(init_spread=init_spread_note(run))
+
+
 NOTES = """## Notes
 
 - Init is measured once per run of a cell; the table takes the median of --repeats fresh children; frame times are \
-medians over the drag (of the runs' medians). On a shared 2-core machine other processes (builds) make single-shot \
-timings vary by 2x or more between runs: compare orders of magnitude, not digits. The phase table gives every \
-timing's spread; the flag under the tables marks a timing whose repeats disagree (fps: its frame's).
+medians over the drag (of the runs' medians). {init_spread} The phase table gives every timing's spread; the flag \
+under the tables marks a timing whose repeats disagree (fps: its frame's).
 - Thesis vertex counts differ from the bundled meshes (the thesis' models are not available); the planck tier is \
 armadillo Loop-subdivided once, the horse tier CGAL's refined_elephant.
 - The sparse factor prediction comes from a symbolic analysis of the vertex-level 2-ring graph (for TF expanded to 3x3 \
@@ -365,8 +397,8 @@ def write(results):
     run = Run(results)
     if not run.cells:
         return False
-    parts = [header(run), system_table(run, "tf"), system_table(run, "lap"), spread_footnote(run.cells), ratios(run),
-             memory_detail(run),
-             phase_times(run), targets(run), scaling(run), not_run(run), NOTES]
+    tf, lap = system_table(run, "tf"), system_table(run, "lap")
+    parts = [header(run), tf, lap, spread_footnote(tf, lap), ratios(run), memory_detail(run), phase_times(run),
+             targets(run), scaling(run), not_run(run), notes(run)]
     write_atomically(os.path.join(results, "table_2_1.md"), "\n".join(p for p in parts if p))
     return True
