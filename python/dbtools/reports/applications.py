@@ -3,9 +3,10 @@ from results/applications.csv, one row per case, and the renders figures/render_
 Reads the CSV and checks which renders exist; measures nothing (the seam-angle ratios below are quotients of the
 CSV's own numbers).
 """
+import math
 import os
 
-from .common import cite_figure, fmt, isnan, number, provenance, read_rows, write_atomically
+from .common import cite_figure, fmt, isnan, number, provenance, read_rows, spread_name, spread_text, write_atomically
 
 SIZES = [("source_patch_vertices", "source patch V"), ("patch_vertices", "target region V"),
          ("target_vertices", "target V"), ("result_vertices", "result V"), ("band_faces", "band faces"),
@@ -30,11 +31,30 @@ def spec(column):
     return "{:.0f}" if column in COUNTS else "{:.4g}"
 
 
+def value_cell(r, k):
+    """A column's value; a timing that is a median of several runs with its spread (least - largest, n)."""
+    get = lambda name: number(r.get(name, ""))  # noqa: E731
+    text = fmt(get(k), spec(k))
+    if k.endswith("_s") and get(spread_name(k, "reps")) > 1:
+        text += " " + spread_text(get, k, lambda x: f"{x:.4g}")
+    return text
+
+
 def table(rows, columns):
     o = ["| case |" + "".join(f" {lab} |" for _, lab in columns), "|---|" + "---|" * len(columns)]
     for r in rows:
-        o.append(f"| `{r['case']}` |" + "".join(f" {fmt(number(r.get(k, '')), spec(k))} |" for k, _ in columns))
+        o.append(f"| `{r['case']}` |" + "".join(f" {value_cell(r, k)} |" for k, _ in columns))
     return "\n".join(o)
+
+
+def runs_note(rows):
+    """How many runs the times are, from the CSV's NAME_reps columns."""
+    reps = {number(r.get(spread_name(k, "reps"), "")) for r in rows for k, _ in TIMES if k.endswith("_s")}
+    reps = sorted(int(x) for x in reps if not isnan(x))
+    if not reps or reps == [1]:
+        return "Times are one run each on the shared machine."
+    return (f"Times are medians over up to {reps[-1]} runs each on the shared machine, least - largest and n beside "
+            "them where there are several.")
 
 
 def amplitude_note(rows):
@@ -45,16 +65,29 @@ def amplitude_note(rows):
     full = half and (by.get("coat_plane_flat") or by.get(f"coat_plane_flat.{half['map']}.{half['encoding']}"))
     if not full or not half:
         return ""
-    a, b = number(full["seam_max_deg_after"]), number(half["seam_max_deg_after"])
-    if isnan(a) or isnan(b) or a <= 0:
+    a0, a1 = number(full["seam_max_deg_before"]), number(full["seam_max_deg_after"])
+    b0, b1 = number(half["seam_max_deg_before"]), number(half["seam_max_deg_after"])
+    heights = number(half["height_max_ratio"]) / number(full["height_max_ratio"])
+    if any(isnan(x) for x in (a0, a1, b0, b1, heights)) or a1 - a0 <= 0:
         return ""
-    return (f"The flat target's seam, 0 degrees before, is {fmt(a, '{:.3g}')} degrees after the coating at amplitude 1 "
-            f"and {fmt(b, '{:.3g}')} at amplitude 0.5 (ratio {b / a:.2f}): the angle follows the transferred "
-            "detail linearly, so it is the slope of the coating itself where it reaches the region's boundary (the "
-            "whole BS08 plane is mapped onto the region), not a crease of the solve. "
-            "The boundary vertices are fixed and the detail is transferred up to them; a coating that must meet "
-            "the boundary flat would need the detail faded towards it, which the method (Sorkine et al. 2004) does "
-            "not do.\n")
+    seam = (b1 - b0) / (a1 - a0)
+    # A dihedral angle is linear in the slopes that make it up to a relative term of order its square (radians):
+    # the tolerance for "linear" is that term at the larger angle.
+    tol, dev = math.radians(max(a1, b1)) ** 2, abs(seam / heights - 1)
+    o = (f"The flat target's seam is {fmt(a0, '{:.3g}')} degrees before and {fmt(a1, '{:.3g}')} after the coating at "
+         f"full amplitude (`{full['case']}`), {fmt(b0, '{:.3g}')} before and {fmt(b1, '{:.3g}')} after with the "
+         f"amplitude halved (`{half['case']}`): the change scales by {seam:.5g}, the coating's largest height by "
+         f"{heights:.5g} (`max height ratio`), {dev:.2g} apart (relative). ")
+    if dev > tol:
+        return o + (f"That is more than {tol:.2g}, the angle's own second-order term (its square in radians): the "
+                    "angle does not follow the transferred detail linearly, so part of it is not the coating's own "
+                    "slope.\n")
+    return o + (f"That is within {tol:.2g}, the angle's own second-order term (its square in radians): the angle "
+                "follows the transferred detail linearly, so it is the slope of the coating itself where it reaches "
+                "the region's boundary (the whole BS08 plane is mapped onto the region), not a crease of the solve. "
+                "The boundary vertices are fixed and the detail is transferred up to them; a coating that must meet "
+                "the boundary flat would need the detail faded towards it, which the method (Sorkine et al. 2004) "
+                "does not do.\n")
 
 
 def alternatives_table(rows):
@@ -82,7 +115,7 @@ def write(results):
          f"Generated by the report step (dbtools/reports/applications.py) from `applications.csv` (git "
          f"{p.get('git_sha')}, {p.get('blas')} {p.get('blas_core')}, {p.get('blas_threads')} BLAS threads); nothing "
          "here is measured again. `build/exp_applications` reruns the cases of data/experiments/applications.toml "
-         "(`--meshes results/meshes/applications` for the renders). Times are one run each on the shared machine.\n",
+         "(`--meshes results/meshes/applications` for the renders). " + runs_note(rows) + "\n",
          "## Cases\n"]
     for r in rows:
         render = cite_figure(results, f"render_app_{r['case']}.png", "dbtools/plots/applications.py")
