@@ -16,6 +16,7 @@
 #include "operators/energy_operator.h"
 #include "solvers/linear_solver.h"
 #include "systems/normal_system.h"
+#include "solvers/tests/worker_threads.h"
 #include "systems/vertex_ordering.h"
 #include "test_util.h"
 
@@ -138,10 +139,9 @@ TEST(Systems, MetisVertexOrderingIsDeterministicPerThreadCountAndKeepsTheFill) {
   const std::vector<const char*> threads = {"1", "2", "2", "4", "4"};
   std::vector<Unknowns> ordered;
   for (const char* t : threads) {
-    setenv("DEFORMBENCH_THREADS", t, 1);
+    const db::test::WorkerThreads scope(std::atoi(t));
     ordered.push_back(original);
     order_unknowns(adj, ordered.back(), "metis");
-    unsetenv("DEFORMBENCH_THREADS");
   }
   EXPECT_EQ(ordered[0].unknown_vertices, ordered[1].unknown_vertices);
   EXPECT_EQ(ordered[1].unknown_vertices, ordered[2].unknown_vertices);

@@ -17,6 +17,7 @@
 #include "solvers/least_squares.h"
 #include "solvers/linear_solver.h"
 #include "solvers/tests/exact_reference.h"
+#include "solvers/tests/worker_threads.h"
 
 namespace {
 
@@ -518,11 +519,8 @@ TEST(Cholmod, DifferentPatternNeedsAnalyze) {
   EXPECT_THROW(s->factorize(b), db::SolverError);
 }
 
-//! Sets DEFORMBENCH_THREADS for one scope (the multifrontal backend reads it at analyze()).
-struct ThreadsEnv {
-  explicit ThreadsEnv(int t) { setenv("DEFORMBENCH_THREADS", std::to_string(t).c_str(), 1); }
-  ~ThreadsEnv() { unsetenv("DEFORMBENCH_THREADS"); }
-};
+//! DEFORMBENCH_THREADS for one scope (the multifrontal backend reads it at analyze()), the caller's restored after.
+using ThreadsEnv = db::test::WorkerThreads;
 
 // Large enough that the assembly tree has top supernodes and several subtrees per thread; on every thread count,
 // as CHOLMOD, the answer must be the exact one up to the rounding the system's conditioning allows (the thread count

@@ -11,6 +11,7 @@
 #include "solvers/multifrontal/matrix_chunk.h"
 #include "solvers/multifrontal/symbolic.h"
 #include "solvers/tests/exact_reference.h"
+#include "solvers/tests/worker_threads.h"
 
 namespace {
 
@@ -102,7 +103,7 @@ TEST(MatrixChunk, MultifrontalIsExactOnSeveralRuns) {
   for (const char* ordering : {"natural", "metis"})
     for (int threads : {1, 2}) {
       SCOPED_TRACE(std::string(ordering) + " threads " + std::to_string(threads));
-      setenv("DEFORMBENCH_THREADS", std::to_string(threads).c_str(), 1);
+      const db::test::WorkerThreads scope(threads);
       db::SolverOptions o;
       o.ordering = ordering;
       o.block_size = 3;
@@ -112,7 +113,6 @@ TEST(MatrixChunk, MultifrontalIsExactOnSeveralRuns) {
       solver->solve(B, X);
       EXPECT_WITHIN(db::exact::rel(X, Xref), tol);
     }
-  unsetenv("DEFORMBENCH_THREADS");
 }
 
 }  // namespace

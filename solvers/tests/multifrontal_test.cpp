@@ -15,6 +15,7 @@
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
+#include "solvers/tests/worker_threads.h"
 
 namespace {
 
@@ -144,10 +145,8 @@ TEST(AnalyzeBlocks, SameOnAnyThreadCountWithAscendingRows) {
   const db::SpMat U = block_grid_upper(220, 3);
   ASSERT_GT(U.nonZeros(), 1 << 20);  // above the grain at which the loops take a second thread
   const auto analyze_on = [&](const char* threads) {
-    setenv("DEFORMBENCH_THREADS", threads, 1);
-    Symbolic S = analyze_blocks(U, 3, "amd");
-    unsetenv("DEFORMBENCH_THREADS");
-    return S;
+    const db::test::WorkerThreads scope(std::atoi(threads));
+    return analyze_blocks(U, 3, "amd");
   };
   const Symbolic one = analyze_on("1");
   ASSERT_GT(one.rows.size(), std::size_t(1) << 19);  // two threads expand its supernodes

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "solvers/base/error.h"
+#include "solvers/tests/worker_threads.h"
 #include "solvers/ordering/graph_ordering.h"
 #include "solvers/ordering/ordering_cache.h"
 
@@ -98,12 +99,13 @@ TEST(OrderingCache, DissectedOrderingsAreCachedPerLevelCount) {
   const db::GraphPattern g = grid.pattern();
   CacheDir tmp;
   const db::OrderingCache cache = db::OrderingCache::from_environment();
-  setenv("DEFORMBENCH_THREADS", "4", 1);
-  const Analysis four = analyze(g, "metis");
-  setenv("DEFORMBENCH_THREADS", "2", 1);
+  const auto analyze_on = [&](int threads) {
+    const db::test::WorkerThreads scope(threads);
+    return analyze(g, "metis");
+  };
+  const Analysis four = analyze_on(4);
   EXPECT_TRUE(cache.find(g, "metis").empty());
-  const Analysis two = analyze(g, "metis");
-  unsetenv("DEFORMBENCH_THREADS");
+  const Analysis two = analyze_on(2);
   EXPECT_EQ(cache.find(g, "metis2"), four.perm);
   EXPECT_EQ(cache.find(g, "metis"), two.perm);
   EXPECT_NE(two.perm, four.perm);
@@ -111,6 +113,7 @@ TEST(OrderingCache, DissectedOrderingsAreCachedPerLevelCount) {
 
 // order_graph (the permutation alone, a dissected one postordered part by part) shares analyze_graph's entries.
 TEST(OrderingCache, OrderGraphStoresAndFindsTheSameEntries) {
+  const db::test::WorkerThreads two(2);  // the entry "metis": one level of splits (more threads, more levels)
   const Grid grid(150);  // dissected
   const db::GraphPattern g = grid.pattern();
   const Analysis cold = analyze(g, "metis");
