@@ -56,7 +56,7 @@ expect "a failed cell" 5 "FAILED kind=deform model=cactus method=tf .*frames=100
 grep -q ",status,.*timed out" "$T/failed.csv" && ok "the failed cell's status row" || fail "no status row: $(cat "$T/failed.csv")"
 [ "$(cut -d, -f4 "$T/base.csv" | sort -u | grep -c /)" -eq 4 ] && ok "four cells in the history" || fail "cells: $(cut -d, -f4 "$T/base.csv" | sort -u)"
 # One repeat a side: these small cells' peak RSS moves a few percent between runs, near the gate's default 5%; this
-# part tests the exact measures' rule (the RSS rule's own power: results/records/2026-11-26-gate-false-alarms).
+# part tests the exact measures' rule (the RSS rule on real runs: results/records/2026-11-26-gate-false-alarms).
 TRACK=(env DEFORMBENCH_BUILD_DIR="$BIN" /usr/bin/python3 -m dbtools.track --no-build --no-plots
   --config "$T/small.toml" --history-dir "$T/history" --report "$T/track.md" --baseline-file "$T/base.csv"
   --rss-threshold 20)
