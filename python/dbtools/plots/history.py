@@ -30,6 +30,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from .bars import spread_bars  # noqa: E402
 from .cli import out_dir, parser  # noqa: E402
 from .styles import styles  # noqa: E402
 
@@ -171,9 +172,7 @@ def figure(runs, meds, measure, ylabel, scale, path):
 
 def spread(ax, x, stats, scale, **style):
     """A line through the medians, each point's bar from its min to its max."""
-    med, lo, hi = ([v[i] * scale for v in stats] for i in range(3))
-    ax.errorbar(x, med, yerr=[[m - a for m, a in zip(med, lo)], [b - m for m, b in zip(med, hi)]], capsize=3,
-                **style)
+    spread_bars(ax, x, *([v[i] * scale for v in stats] for i in range(3)), capsize=3, **style)
 
 
 def rates_panel(ax, x, meds):

@@ -22,6 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from ..reports.kernel_sets import kernel_sets  # noqa: E402
+from .bars import spread_bars  # noqa: E402
 from .styles import styles  # noqa: E402
 
 SYSTEMS = ["lap", "tf"]  # a panel per system that has cells (systems_in)
@@ -114,8 +115,7 @@ def plot_scaling(cells, meta, out):
                 if not pts:
                     continue
                 n, lo, hi = zip(*pts)  # the bar: from the minimum (the point) up to the largest repetition
-                ax.errorbar(n, lo, yerr=[[0] * len(lo), [h - v for v, h in zip(lo, hi)]], capsize=2,
-                            linestyle=style(meta, b), label=b, **st[b])
+                spread_bars(ax, n, lo, lo, hi, linestyle=style(meta, b), label=b, **st[b])
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_ylabel(label)

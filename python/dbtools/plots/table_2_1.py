@@ -24,6 +24,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from .bars import spread_bars  # noqa: E402
 from .styles import styles  # noqa: E402
 
 MIB = 1024.0 * 1024.0
@@ -204,8 +205,7 @@ def plot_scaling(results, out):
                     if pts:
                         xs, ys, lo, hi = zip(*pts)
                         face = {} if storage == "memory" else {"markerfacecolor": "none"}
-                        ax.errorbar(xs, ys, yerr=[[y - a for y, a in zip(ys, lo)], [b - y for y, b in zip(ys, hi)]],
-                                    linestyle="none", alpha=0.75, capsize=2, **face, **st[f"{system} {s}"],
+                        spread_bars(ax, xs, ys, lo, hi, linestyle="none", alpha=0.75, **face, **st[f"{system} {s}"],
                                     label=f"{system.upper()} {s}" + (" (factor on disk)" if storage == "disk" else ""))
             draw_fit(ax, fit.get(("all", system, measure)), scale, system, st[f"{system} fit"])
         ax.set_xscale("log")

@@ -6,7 +6,8 @@ CSV's own numbers).
 import math
 import os
 
-from .common import cite_figure, fmt, isnan, number, provenance, read_rows, spread_name, spread_text, write_atomically
+from .common import (cite_figure, fmt, isnan, number, provenance, read_rows, repeated_spread, spread_name,
+                     write_atomically)
 
 SIZES = [("source_patch_vertices", "source patch V"), ("patch_vertices", "target region V"),
          ("target_vertices", "target V"), ("result_vertices", "result V"), ("band_faces", "band faces"),
@@ -34,10 +35,7 @@ def spec(column):
 def value_cell(r, k):
     """A column's value; a timing that is a median of several runs with its spread (least - largest, n)."""
     get = lambda name: number(r.get(name, ""))  # noqa: E731
-    text = fmt(get(k), spec(k))
-    if k.endswith("_s") and get(spread_name(k, "reps")) > 1:
-        text += " " + spread_text(get, k, lambda x: f"{x:.4g}")
-    return text
+    return fmt(get(k), spec(k)) + (repeated_spread(get, k, lambda x: f"{x:.4g}") if k.endswith("_s") else "")
 
 
 def table(rows, columns):

@@ -155,6 +155,12 @@ def spread_text(get, measure, form=lambda x: f"{x:.3g}"):
     return f"({form(lo)} - {form(hi)}, n={n:.0f}){mark(get, measure)}"
 
 
+def repeated_spread(get, measure, form=lambda x: f"{x:.3g}"):
+    """" (0.29 - 3.97, n=5)" after a timing that is a median of several repetitions; "" for one run or none."""
+    n = spread(get, measure)[2]
+    return " " + spread_text(get, measure, form) if not isnan(n) and n > 1 and not isnan(get(measure)) else ""
+
+
 def count_flagged(items, measures):
     """How many (item, measure) pairs of `items` (getters) are flagged."""
     return sum(flagged(get, m) for get in items for m in measures)

@@ -7,7 +7,8 @@ import math
 import os
 import re
 
-from .common import cite_figure, isnan, number, provenance, read_rows, settings, spread_text, write_atomically
+from .common import (cite_figure, geomean, isnan, number, provenance, read_rows, repeated_spread, settings,
+                     write_atomically)
 from .frames import NEAR_COLLAPSE, ROUND_OFF
 
 MEASURES = [("ideal_rms", "RMS to ideal"), ("edge_distortion", "edge-length distortion"),
@@ -190,8 +191,7 @@ def polar_label(by_config):
 def time_cell(r, m):
     """A timing with its spread (least - largest, n) where it is a median of several repetitions."""
     get = lambda k: number(r.get(k, ""))  # noqa: E731
-    reps = get("init_reps" if m == "init_s" else "frame_reps")
-    return fmt(get(m)) + (" " + spread_text(get, m, fmt) if reps > 1 and not isnan(get(m)) else "")
+    return fmt(get(m)) + repeated_spread(get, m, fmt)
 
 
 def metrics_table(by_config, configs):
@@ -220,7 +220,7 @@ def comparison(fig, cases):
             ratios.append(x / y)
     if not parts:
         return "", ratios
-    g = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
+    g = geomean(ratios)
     better = sum(r < 1 for r in ratios)
     return (f"{LABELS.get(a, a)} against {LABELS.get(b, b)}, {dict(MEASURES)[m]}: " + "; ".join(parts) +
             f". Over these {len(ratios)} cases: geometric mean ratio {g:.3f} ({100 * (g - 1):+.1f}%), closer in "
@@ -235,7 +235,7 @@ def improvement(fig, ratios):
     a, b, m = fig["compare"]
     n = len(ratios)
     closer, farther = sum(r < 1 - TIE for r in ratios), sum(r > 1 + TIE for r in ratios)
-    g = math.exp(sum(math.log(r) for r in ratios) / n)
+    g = geomean(ratios)
     counts = (f"{short(fig, a)} is closer than {short(fig, b)} by more than "
               f"{100 * TIE:g}% ({dict(MEASURES)[m]}) in {closer} of {n} cases, farther in {farther}, within "
               f"{100 * TIE:g}% in {n - closer - farther}; geometric mean ratio {g:.3f}")

@@ -4,8 +4,8 @@ import math
 import os
 import statistics
 
-from .common import (NAN, SPREAD_NOTE, count_flagged, fmt, isnan, number, provenance, read_rows, settings, spread_text,
-                    write_atomically)
+from .common import (NAN, SPREAD_NOTE, count_flagged, fmt, isnan, number, provenance, read_rows, repeated_spread,
+                     settings, spread_text, write_atomically)
 
 # Regular cases: every solved frame kept some rank (sigma_min >= 1e-3). Where a frame collapses the rotation it is
 # orthonormalized to is decided by round-off, so strategies can differ there even with polar.
@@ -392,8 +392,8 @@ def timings(rows, st):
          "the frame). One child process per cell on a shared machine: compare orders of magnitude.\n",
          "| case | configuration | init ms | frame ms |", "|---|---|---:|---:|"]
     for r, get in getters:
-        init_spread = " " + spread_text(get, "init_s", ms) if get("init_reps") > 1 else ""
-        o.append(f"| {r['case']} | {r['config']} | {fmt(get('init_s') * 1e3, '{:.3g}')}{init_spread} | "
+        o.append(f"| {r['case']} | {r['config']} | {fmt(get('init_s') * 1e3, '{:.3g}')}"
+                 f"{repeated_spread(get, 'init_s', ms)} | "
                  f"{fmt(get('frame_s') * 1e3, '{:.3g}')} {spread_text(get, 'frame_s', ms)} |")
     o.append(f"\n{SPREAD_NOTE} Flagged here: {count_flagged([g for _, g in getters], ['frame_s'])} frame(s), "
              f"{count_flagged([g for _, g in getters], ['init_s'])} init(s).\n")

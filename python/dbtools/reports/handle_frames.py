@@ -6,7 +6,7 @@ import math
 import os
 import statistics
 
-from .common import FLAG, NAN, SPREAD_NOTE, read_rows, spread_name, spread_text, write_atomically
+from .common import FLAG, NAN, SPREAD_NOTE, read_rows, repeated_spread, spread_name, write_atomically
 
 METHODS = ["lap", "tf", "lri"]  # the driver's methods, in the order the table lists them
 
@@ -86,7 +86,7 @@ def timed(vals, m, scale=1e3, spec="{:.3f}"):
         lo, hi, n = min(v), max(v), len(v)
     d = {m: statistics.median(v), spread_name(m, "min"): lo, spread_name(m, "max"): hi, spread_name(m, "reps"): n}
     form = lambda x: spec.format(x * scale)  # noqa: E731
-    return form(d[m]) + (" " + spread_text(lambda k: d.get(k, NAN), m, form) if n > 1 else "")
+    return form(d[m]) + repeated_spread(lambda k: d.get(k, NAN), m, form)
 
 
 def ranged(v, form, unit=""):
