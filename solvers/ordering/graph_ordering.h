@@ -20,8 +20,9 @@ struct GraphPattern {
 //! CHOLMOD's analysis of `g` under `method` ("amd" | "metis" | "nesdis" | "natural"), postordered; simplicial
 //! or supernodal (and its amalgamation) as the caller set `cc`. METIS on 20000 vertices or more is dissected
 //! here: a METIS separator splits the graph into nearly equal sides, and with more than two worker threads one
-//! more level of separators splits each part per doubling of the threads; the parts are ordered at once on the
-//! threads (METIS's random draws kept per thread: metis_random.h). The result is the same for one and two
+//! more level of separators splits each part per doubling of the threads, and then every part larger than their
+//! mean once more; the parts are ordered at once on the threads, the largest first (METIS's random draws kept per
+//! thread: metis_random.h). The result is the same for one and two
 //! threads, and for a given thread count on every run. With DEFORMBENCH_ORDERING_CACHE set, the ordering comes
 //! from (or goes to) that cache (ordering_cache.h), per level count. The caller frees the factor.
 //! `guide` (optional, g.n vertices): a sparser graph on g's vertices, such as the 1-ring graph of a 2-ring
