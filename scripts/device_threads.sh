@@ -17,8 +17,10 @@
 # (METIS for TF: one more dissection level per doubling of the threads beyond two) unless `ordering` says ringnd.
 # Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
 # rounds and splits the analysis phase at 8 and 16 threads; mode `factor` (DEADLINE=420, timeout_s 480) checks a
-# change of the factorization the same way (the init and its top phase, 104k and 416k); `report-solves FILES_AT DIR`
-# tabulates either; mode `team` (DEADLINE=430, timeout_s 500) both at once with the 16-core targets. Every row
+# change of the factorization the same way (the init and its top phase, 104k and 416k); mode `ordering`
+# (DEADLINE=170, timeout_s 200) a change of the vertex ordering (the TF inits at 16 and 8 threads);
+# `report-solves FILES_AT DIR` tabulates any of them; mode `team` (DEADLINE=430, timeout_s 500) checks the
+# solves and the factorization at once with the 16-core targets. Every row
 # carries the whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY
 # a build before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
 # DIAG_BINARY at prepare (a build of e372c48, whose ordering the head keeps, with
@@ -137,6 +139,18 @@ team)
     [ "$r" != 1 ] || [ $((SECONDS + 40)) -gt $deadline ] || DEFORMBENCH_THREADS=16 OPENBLAS_NUM_THREADS=16 \
       "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit --system tf --orderings metis,ringnd --rounds 2 \
       --csv "$O/analysis_16.csv" >> "$O/machine.txt" 2>&1 || true
+    [ "$r" != 1 ] || timeline 16
+  done
+  cat "$O/failed.csv" ;;
+ordering)
+  # A change of the vertex ordering checked against BASE_BINARY in interleaved rounds (the order of the two
+  # binaries alternating): the 104k and 416k TF inits (3 frames) at 16 and 8 threads, up to four rounds; after the
+  # first, the diagnostic build's analysis timeline at 16 threads. DEADLINE=170, timeout_s 200.
+  setup
+  rates before 16
+  for r in 1 2 3 4; do
+    pair="deformbench_base deformbench"; [ $((r % 2)) = 1 ] || pair="deformbench deformbench_base"
+    for k in 1 2; do for T in 16 8; do for B in $pair; do one $B $k $r tf multifrontal $T default 3 $((k * 5)); done; done; done
     [ "$r" != 1 ] || timeline 16
   done
   cat "$O/failed.csv" ;;
