@@ -10,6 +10,7 @@
 #   run tool: carry [".device"], timeout_s 600, command
 #       bash .device/device_threads.sh run       # there: $OUT/threads.csv, rates.csv, failed.csv, machine.txt
 #   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: those files, table.md, threads.png
+# The device tool returns at most eight files a call: run one mode a call (each writes four to six).
 # The device run starts a run only when its estimated length fits before DEADLINE seconds (default 520), most
 # needed first: round 1 (104k, 416k multifrontal, 416k CHOLMOD at 16, 8 and 2 threads, TF under the ringnd ordering
 # at 8 and 16), then more rounds of the 104k runs for their spread, then 416k CHOLMOD at 4 and 1. A run not started
