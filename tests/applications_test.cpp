@@ -11,12 +11,14 @@
 #include <CGAL/Surface_mesh_parameterization/Discrete_conformal_map_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/Mean_value_coordinates_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/parameterize.h>
+#include <Eigen/SVD>
 #include <Eigen/SparseLU>
 
 #include <algorithm>
 #include <array>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
@@ -127,10 +129,22 @@ UV cgal_disk_map(const DiskPatch& p) {
   return uv;
 }
 
+// How far two direct solves of the map's system may differ when each computes the weights and solves with its own
+// rounding: a relative perturbation of the matrix and the right-hand side of some tens of unit roundoffs (each
+// weight is a few trigonometric and arithmetic operations, each solve's backward error a few more), amplified by
+// the system's condition number (measured: singular values of the dense interior system), on coordinates of at
+// most 1 (the unit disk).
+double rounding_bound(const DiskPatch& p, DiskMap weights) {
+  const DenseMat K(disk_map_system(p, weights));
+  const Eigen::VectorXd sigma = Eigen::JacobiSVD<DenseMat>(K).singularValues();
+  const double condition = sigma(0) / sigma(sigma.size() - 1);
+  constexpr double kRoundoffs = 64;
+  return kRoundoffs * condition * std::numeric_limits<double>::epsilon();
+}
+
 // The hand-written mean-value and cotangent maps are CGAL's mean-value coordinates and discrete conformal map
-// (same border): an independent implementation of the same weights. Both are direct solves of systems whose
-// condition number grows as the square of the patch's radius in rings (about 10 here), so they agree to rounding
-// times that; a wrong weight moves vertices by a visible fraction of the disk.
+// (same border): an independent implementation of the same weights, so they agree to rounding times the system's
+// condition number (rounding_bound); a wrong weight moves vertices by a visible fraction of the disk.
 TEST(DiskParameterization, GeometricWeightsAreCgalsMaps) {
   const Mesh m = bumpy();
   const DiskPatch p = extract_disk_patch(m, select_sphere(m, Vec3(0.1, -0.2, 0), 0.7), "source");
@@ -138,9 +152,12 @@ TEST(DiskParameterization, GeometricWeightsAreCgalsMaps) {
   using Dcm = smp::Discrete_conformal_map_parameterizer_3<CgalMesh, CgalBorder, CgalLu>;
   const double mvc = (disk_parameterization(p, DiskMap::MeanValue) - cgal_disk_map<Mvc>(p)).cwiseAbs().maxCoeff();
   const double cot = (disk_parameterization(p, DiskMap::Cotangent) - cgal_disk_map<Dcm>(p)).cwiseAbs().maxCoeff();
-  std::cout << "largest difference from CGAL: mean value " << mvc << ", cotangent " << cot << "\n";
-  EXPECT_LT(mvc, 1e-10);
-  EXPECT_LT(cot, 1e-10);
+  const double mvc_bound = rounding_bound(p, DiskMap::MeanValue), cot_bound = rounding_bound(p, DiskMap::Cotangent);
+  std::cout << "largest difference from CGAL: mean value " << mvc << " (bound " << mvc_bound << "), cotangent " << cot
+            << " (bound " << cot_bound << ")\n";
+  EXPECT_LT(mvc, mvc_bound);
+  EXPECT_LT(cot, cot_bound);
+  EXPECT_LT(std::max(mvc_bound, cot_bound), 1e-3);  // still far below a wrong weight's visible displacement
 }
 
 // The test: the surface's own coating onto its own smooth version gives the surface back.

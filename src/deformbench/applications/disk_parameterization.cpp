@@ -131,15 +131,29 @@ DenseMat solve_unsymmetric(const Adjacency& adj, const std::vector<double>& w, c
   return xu;
 }
 
+// The interior vertices as the unknowns, the boundary loop's as the fixed ones.
+Unknowns interior_unknowns(const DiskPatch& patch) {
+  std::vector<Constraint> kinds(static_cast<std::size_t>(patch.num_vertices()), Constraint::Free);
+  for (int v : patch.boundary) kinds[static_cast<std::size_t>(v)] = Constraint::Hard;
+  return make_unknowns(kinds, 1.0);
+}
+
 }  // namespace
 
+Eigen::SparseMatrix<double> disk_map_system(const DiskPatch& patch, DiskMap weights) {
+  const Unknowns unk = interior_unknowns(patch);
+  const Adjacency adj = vertex_adjacency(patch.mesh);
+  std::vector<Trip> k, c;
+  weighted_rows(adj, edge_weights(patch.mesh, adj, weights), unk, /*upper=*/false, k, c);
+  Eigen::SparseMatrix<double> K(unk.num_unknowns(), unk.num_unknowns());
+  K.setFromTriplets(k.begin(), k.end());
+  return K;
+}
+
 UV disk_parameterization(const DiskPatch& patch, DiskMap weights, SystemReport* report) {
-  const int n = patch.num_vertices();
-  UV uv = UV::Zero(n, 2);
+  UV uv = UV::Zero(patch.num_vertices(), 2);
   place_boundary(patch, uv);
-  std::vector<Constraint> kinds(static_cast<std::size_t>(n), Constraint::Free);
-  for (int v : patch.boundary) kinds[static_cast<std::size_t>(v)] = Constraint::Hard;
-  const Unknowns unk = make_unknowns(kinds, 1.0);
+  const Unknowns unk = interior_unknowns(patch);
   if (unk.num_unknowns() == 0) return uv;  // every vertex on the boundary: nothing to solve
   const Adjacency adj = vertex_adjacency(patch.mesh);
   const std::vector<double> w = edge_weights(patch.mesh, adj, weights);

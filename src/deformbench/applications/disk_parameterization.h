@@ -40,6 +40,10 @@ const EnumText<DiskMap>& enum_text(DiskMap);  //!< "uniform" | "mean-value" | "c
 //! are not finite (a degenerate triangle), SolverError from the factorization.
 UV disk_parameterization(const DiskPatch& patch, DiskMap weights, SystemReport* report = nullptr);
 
+//! The map's system over the interior vertices (in the patch's order): row i is sum_j w_ij (u_i - u_j), the
+//! boundary's columns left out. What tests need for its condition number. \throw as disk_parameterization.
+Eigen::SparseMatrix<double> disk_map_system(const DiskPatch& patch, DiskMap weights);
+
 //! The Tutte embedding of `patch` (uniform weights).
 inline UV tutte_parameterization(const DiskPatch& patch, SystemReport* report = nullptr) {
   return disk_parameterization(patch, DiskMap::Uniform, report);
