@@ -393,9 +393,10 @@ OrderingPlan plan_ordering(const GraphPattern& g, const std::string& method, con
   if (!takes_guide(g.n, method)) guide = nullptr;
   const int threads = worker_threads(), levels = dissection_levels(threads);
   // A dissected ordering depends on its levels and on its guide: the cache keeps one per level count ("metis"
-  // for one level) and marks the guided ones.
+  // for one level) and marks the guided ones, and the ones with evened parts ("-even", split_rule: entries
+  // written before it hold other orders).
   const std::string base = guide ? "metis-guided" : "metis";
-  std::string key = dissected ? (levels > 1 ? fmt::format("{}{}", base, levels) : base) : method;
+  std::string key = dissected ? (levels > 1 ? fmt::format("{}{}-even", base, levels) : base) : method;
   return {std::move(cache), cacheable, dissected, std::move(key), guide, threads};
 }
 
