@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
-"""Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build:
-results/records/2026-11-27-guided-splits/timeline.patch on e372c48, whose ordering the head keeps; the
-analysis-timeline record's for the builds before 5baf35e), one run per block that starts with a "# LABEL" line.
-Per run: each step with its start (from the run's first step), its wall time and its thread; then the analysis
+"""Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build: from 30cb971 on,
+results/records/2026-11-28-threads/timeline.patch, or tuning/timeline_usage.patch there, whose lines also carry the
+thread's CPU seconds and minor page faults during each step; before, the timeline.patch of
+2026-11-27-parallel-postorder, 2026-11-27-guided-splits or 2026-11-27-analysis-timeline), one run per block that
+starts with a "# LABEL" line.
+Per run: each step with its start (from the run's first step), its wall time and its thread (and, where the lines
+carry them, its thread's user + system seconds and minor faults); then the analysis
 split: the 2-ring pattern for the ordering, the 1-ring guide (where the build has one), the ordering, the
 postordering analysis, the multifrontal symbolic analysis; and a bound on the ordering's longest chain of steps:
 each dissection level's slowest split and slowest side extraction, then the slowest part's METIS_NodeND (the
@@ -22,7 +25,9 @@ def runs(path):
             label, steps = line[2:].strip(), []
         elif line.startswith("TIMELINE "):
             what, level, n, start, end, tid = line.split()[1:7]
-            steps.append((what, int(level), int(n), float(start), float(end), tid))
+            usage = line.split()[7:10]  # user s, system s, minor faults: timeline_usage.patch's lines only
+            cpu, faults = (float(usage[0]) + float(usage[1]), int(usage[2])) if len(usage) == 3 else (None, None)
+            steps.append((what, int(level), int(n), float(start), float(end), tid, cpu, faults))
     if steps:
         yield label, steps
 
@@ -31,14 +36,16 @@ def table(label, steps):
     t0 = min(s[3] for s in steps)
     threads = {tid: k for k, tid in enumerate(dict.fromkeys(s[5] for s in steps))}
     print(f"### {label}\n")
-    print("| step | level | vertices | start s | wall s | thread |")
-    print("|---|---|---|---|---|---|")
-    for what, level, n, start, end, tid in sorted(steps, key=lambda s: s[3]):
+    usage = any(s[6] is not None for s in steps)
+    print("| step | level | vertices | start s | wall s | thread |" + (" CPU s | minor faults |" if usage else ""))
+    print("|---|---|---|---|---|---|" + ("---|---|" if usage else ""))
+    for what, level, n, start, end, tid, cpu, faults in sorted(steps, key=lambda s: s[3]):
         lvl = "" if level <= 0 else str(level)
-        print(f"| {what} | {lvl} | {n or ''} | {start - t0:.3f} | {end - start:.3f} | {threads[tid]} |")
+        extra = (f" {cpu:.3f} | {faults} |" if cpu is not None else " | |") if usage else ""
+        print(f"| {what} | {lvl} | {n or ''} | {start - t0:.3f} | {end - start:.3f} | {threads[tid]} |{extra}")
     wall = collections.defaultdict(float)
     split, induced = collections.defaultdict(float), collections.defaultdict(float)
-    for what, level, n, start, end, tid in steps:
+    for what, level, n, start, end, *_ in steps:
         wall[what] += end - start
         if what in ("split", "induced"):
             longest = split if what == "split" else induced

@@ -24,10 +24,11 @@
 # solves and the factorization at once with the 16-core targets. Every row
 # carries the whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY
 # a build before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
-# DIAG_BINARY at prepare (a build of e372c48, whose ordering the head keeps, with
-# results/records/2026-11-27-guided-splits/timeline.patch; before 5baf35e the analysis-timeline record's), `team`
-# also runs it once on the 104k and 416k TF edits at 16 threads, time allowing, into timeline.txt: the analysis
-# step by step, which `report-solves` tabulates (timeline.md).
+# DIAG_BINARY at prepare (a build of the head with results/records/2026-11-28-threads/timeline.patch, or with
+# tuning/timeline_usage.patch there for each step's CPU time and page faults too; scripts/analysis_timeline.py
+# names the patches for older builds), `team` and `ordering` also run it once on the 104k and 416k TF edits at 16
+# threads, time allowing, into timeline.txt: the analysis step by step, which `report-solves` tabulates
+# (timeline.md).
 set -euo pipefail
 mode=${1:-}
 setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
