@@ -74,6 +74,23 @@ def provenance(runs):
             f"threads, {r['compiler']}")
 
 
+def plot_series(ax, runs, s, col, scale, style):
+    """One series of a panel: `col` (times `scale`) per T, its median barred from the least to the largest round;
+    col None: the init efficiency from the medians (drawn only where the series has T = 1)."""
+    Ts = sorted(k[4] for k in runs if k[:4] == s)
+    c, m = style
+    label = f"{TIERS[s[0]]} {s[1]} {s[2]} {s[3]}"
+    if col is None:
+        if 1 in Ts:
+            t1 = med(runs[(*s, 1)], "init_s")
+            ax.plot(Ts, [t1 / (T * med(runs[(*s, T)], "init_s")) for T in Ts], color=c, marker=m, label=label)
+        return
+    values = [[scale * float(r[col]) for r in runs[(*s, T)]] for T in Ts]
+    ys = [scale * med(runs[(*s, T)], col) for T in Ts]
+    spread = [[y - min(v) for y, v in zip(ys, values)], [max(v) - y for y, v in zip(ys, values)]]
+    ax.errorbar(Ts, ys, yerr=spread, color=c, marker=m, capsize=3, label=label)
+
+
 def figure(runs, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -83,7 +100,6 @@ def figure(runs, path):
     colours = plt.get_cmap("tab10").colors
     markers = "osD^vP*Xh<>p"
     style = {s: (colours[i % 10], markers[i % len(markers)]) for i, s in enumerate(series)}
-    # A time panel draws each point's median over its rounds, barred from the least to the largest round.
     panels = [("init s (build + analyze + factorize)", "init_s", 1, True),
               ("analysis s (ordering + symbolic)", "analyze_s", 1, True),
               ("full frame ms (median of 5 a run)", "frame_s", 1e3, True),
@@ -91,19 +107,7 @@ def figure(runs, path):
     fig, axes = plt.subplots(2, 2, figsize=(13, 11))
     for ax, (title, col, scale, logy) in zip(axes.flat, panels):
         for s in series:
-            Ts = sorted(k[4] for k in runs if k[:4] == s)
-            c, m = style[s]
-            label = f"{TIERS[s[0]]} {s[1]} {s[2]} {s[3]}"
-            if col is None:
-                if 1 not in Ts:
-                    continue
-                t1 = med(runs[(*s, 1)], "init_s")
-                ax.plot(Ts, [t1 / (T * med(runs[(*s, T)], "init_s")) for T in Ts], color=c, marker=m, label=label)
-                continue
-            values = [[scale * float(r[col]) for r in runs[(*s, T)]] for T in Ts]
-            ys = [scale * med(runs[(*s, T)], col) for T in Ts]
-            spread = [[y - min(v) for y, v in zip(ys, values)], [max(v) - y for y, v in zip(ys, values)]]
-            ax.errorbar(Ts, ys, yerr=spread, color=c, marker=m, capsize=3, label=label)
+            plot_series(ax, runs, s, col, scale, style[s])
         ax.set_xscale("log", base=2)
         ax.set_xticks([1, 2, 4, 8, 16], ["1", "2", "4", "8", "16"])
         if logy:
