@@ -4,14 +4,17 @@
 // process's CPU time in it, all threads (order_cpu_s), and its children's (order_children_cpu_s: builds before
 // the per-thread METIS draws of solvers/ordering/metis_random.h ordered one side of a split in a forked child;
 // 0 since), the
-// multifrontal backend's symbolic analysis of the ordered system (mf_analyze_s; with the natural ordering, as
-// the deformation hands it the ordered matrix), their sum (analysis_s, the deformation's "analyze" phase) and
-// the factor's nnz(L) and flops. Soft constraints, as the solver study's systems.
+// multifrontal backend's symbolic analysis of the ordered system (mf_analyze_s; with the natural ordering and the
+// ordering's elimination tree where it found one, as the deformation hands them), their sum (analysis_s, the
+// deformation's "analyze" phase) and the factor's nnz(L) and flops. Where the ordering handed a tree
+// (tree_given 1), the same analysis without it (mf_own_tree_s: CHOLMOD's own pass over the graph) is timed too,
+// before or after the other in alternate rounds. Soft constraints, as the solver study's systems.
 //
 //   build/exp_analysis --edit data/edits/armadillo_loop1_whole.edit --system tf --orderings metis,ringnd
 //       --rounds 5 --csv results/analysis.csv
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -81,14 +84,22 @@ db::CsvTable::Row measure(const Case& c, const std::string& system, const std::s
   db::order_unknowns(c.adj, unk, ordering);
   const double order_s = t.seconds(), order_cpu_s = cpu.seconds(), children_s = children_cpu_seconds() - children0;
   const db::SpMat K = db::expand_upper(db::interaction_pattern(c.adj, unk), b);  // the ordered system's pattern
-  db::SolverOptions so;
-  so.ordering = "natural";
-  so.block_size = b;
-  const auto solver = db::make_solver("multifrontal", so);
-  t.reset();
-  solver->analyze(K);
-  const double analyze_s = t.seconds();
-  const db::FactorStats st = solver->stats();
+  const auto analyze = [&](std::shared_ptr<const db::EliminationTree> tree, db::FactorStats* st) {
+    db::SolverOptions so;
+    so.ordering = "natural";
+    so.block_size = b;
+    so.elimination_tree = std::move(tree);
+    const auto solver = db::make_solver("multifrontal", so);
+    db::Timer at;
+    solver->analyze(K);
+    const double s = at.seconds();
+    if (st) *st = solver->stats();
+    return s;
+  };
+  db::FactorStats st;
+  const double own_first = unk.tree && round % 2 == 1 ? analyze(nullptr, nullptr) : 0;
+  const double analyze_s = analyze(unk.tree, &st);
+  const double own_s = !unk.tree ? analyze_s : round % 2 == 1 ? own_first : analyze(nullptr, nullptr);
   return {{"edit", c.edit.edit.name},
           {"vertices", std::to_string(c.edit.mesh.V.rows())},
           {"system", system},
@@ -98,6 +109,8 @@ db::CsvTable::Row measure(const Case& c, const std::string& system, const std::s
           {"order_cpu_s", db::num(order_cpu_s)},
           {"order_children_cpu_s", db::num(children_s)},
           {"mf_analyze_s", db::num(analyze_s)},
+          {"tree_given", unk.tree ? "1" : "0"},
+          {"mf_own_tree_s", db::num(own_s)},
           {"analysis_s", db::num(order_s + analyze_s)},
           {"nnz_L", std::to_string(st.nnz_factor)},
           {"gflop", db::num(st.flops / 1e9)},

@@ -145,14 +145,18 @@ team)
   done
   cat "$O/failed.csv" ;;
 ordering)
-  # A change of the vertex ordering checked against BASE_BINARY in interleaved rounds (the order of the two
-  # binaries alternating): the 104k and 416k TF inits (3 frames) at 16 and 8 threads, up to four rounds; after the
-  # first, the diagnostic build's analysis timeline at 16 threads. DEADLINE=170, timeout_s 200.
+  # A change of the vertex ordering or the analysis checked against BASE_BINARY in interleaved rounds (the order of
+  # the two binaries alternating): the 104k and 416k TF inits (3 frames) at 16 and 8 threads, up to four rounds;
+  # after the first, the analysis split at 16 threads (exp_analysis: with and without the ordering's tree, paired)
+  # and the diagnostic build's analysis timeline at 16 threads. DEADLINE=170, timeout_s 200.
   setup
   rates before 16
   for r in 1 2 3 4; do
     pair="deformbench_base deformbench"; [ $((r % 2)) = 1 ] || pair="deformbench deformbench_base"
     for k in 1 2; do for T in 16 8; do for B in $pair; do one $B $k $r tf multifrontal $T default 3 $((k * 5)); done; done; done
+    [ "$r" != 1 ] || [ $((SECONDS + 20)) -gt $deadline ] || DEFORMBENCH_THREADS=16 OPENBLAS_NUM_THREADS=16 \
+      "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit --system tf --orderings metis --rounds 2 \
+      --csv "$O/analysis_16.csv" >> "$O/machine.txt" 2>&1 || true
     [ "$r" != 1 ] || timeline 16
   done
   cat "$O/failed.csv" ;;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "solvers/base/elimination_tree.h"
 #include "solvers/base/types.h"
 
 namespace db {
@@ -43,6 +44,13 @@ struct SolverOptions {
   //! starts and throws BudgetError before allocating if that plus its factor and workspace would pass the
   //! budget. The others ignore it: their callers predict the peak instead (methods/run_prediction.h).
   std::size_t memory_budget = 0;
+  //! The elimination tree and column counts of the block graph (blocks of block_size) of the matrix analyze() will
+  //! get, in its order, where the caller knows them: the structured builds' dissected vertex orderings find them on
+  //! the worker threads. A backend that analyzes the matrix as ordered (ordering "natural") takes them instead of
+  //! finding them again on one thread (the multifrontal backends); the others ignore them. They must be that graph's:
+  //! the backend checks their shape against the pattern (analyze() throws SolverError where it does not fit), not
+  //! every count.
+  std::shared_ptr<const EliminationTree> elimination_tree;
 };
 
 //! 10 n eps: the smallest d_k / A_kk the pivot test accepts. On singular bi-Laplacians (no constraints) the last

@@ -140,7 +140,7 @@ void MultifrontalSolver::analyze(const SpMat& upper_in) {
   values_.reset();
   base_.resize(0, 0);
   threads_ = std::clamp(worker_threads(), 1, 64);  // owner[] holds a thread index in a signed char
-  S_ = analyze_blocks(upper, b, options_.ordering);
+  S_ = analyze_blocks(upper, b, options_.ordering, options_.elimination_tree.get());
   std::vector<double> flops(std::size_t(S_.nsuper()));
   entries_.assign(std::size_t(S_.nsuper()), 0.0);
   for (int s = 0; s < S_.nsuper(); ++s) {

@@ -11,6 +11,7 @@
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
 #include "solvers/multifrontal/storage.h"
+#include "solvers/ordering/cholmod_views.h"
 #include "solvers/ordering/graph_ordering.h"
 
 namespace db::multifrontal {
@@ -155,11 +156,81 @@ void link_tree(Symbolic& S) {
   for (int s = 0; s < ns; ++s) S.flops += supernode_flops(S, s);
 }
 
+//! CHOLMOD's supernodal analysis of G in its own order from its elimination tree and column counts: a simplicial
+//! symbolic factor holding the counts, handed to cholmod_super_symbolic with the tree, as cholmod_analyze does after
+//! its own pass.
+FactorPtr super_symbolic_given(const GraphPattern& G, const EliminationTree& tree, cholmod_common& cc) {
+  FactorPtr L(cholmod_allocate_factor(std::size_t(G.n), &cc), FactorFree{&cc});
+  if (!L || cc.status < CHOLMOD_OK)
+    throw SolverError(fmt::format("multifrontal: no symbolic factor of {} columns, CHOLMOD status {}", G.n, cc.status));
+  std::copy(tree.count.begin(), tree.count.end(), static_cast<int*>(L->ColCount));
+  std::vector<int> parent = tree.parent;  // CHOLMOD takes it as int*
+  cholmod_sparse A = cholmod_upper_view(std::size_t(G.n), G.colptr, G.rows, nullptr);
+  if (!cholmod_super_symbolic(&A, nullptr, parent.data(), L.get(), &cc) || cc.status < CHOLMOD_OK)
+    throw SolverError(fmt::format("multifrontal: CHOLMOD's supernodal analysis of the given tree failed, status {}",
+                                  cc.status));
+  return L;
+}
+
+//! A tree's first descendant of each node (itself at a leaf), from a forest whose parents are later than their
+//! children. \throw SolverError at a parent that is not, or at a subtree that is not contiguous.
+std::vector<int> first_descendants(const std::vector<int>& parent) {
+  const int n = int(parent.size());
+  std::vector<int> first(static_cast<std::size_t>(n)), size(static_cast<std::size_t>(n), 1);
+  std::iota(first.begin(), first.end(), 0);
+  for (int j = 0; j < n; ++j) {
+    if (j - first[std::size_t(j)] + 1 != size[std::size_t(j)])
+      throw SolverError(fmt::format("multifrontal: the given elimination tree is not postordered at node {}", j));
+    const int p = parent[std::size_t(j)];
+    if (p < 0) continue;
+    if (p <= j || p >= n)
+      throw SolverError(
+          fmt::format("multifrontal: the given elimination tree has parent {} for node {} of {}", p, j, n));
+    first[std::size_t(p)] = std::min(first[std::size_t(p)], first[std::size_t(j)]);
+    size[std::size_t(p)] += size[std::size_t(j)];
+  }
+  return first;
+}
+
+//! Checks each count of `tree` against its place in the tree (check_tree). \throw SolverError at the first misfit.
+void check_counts(const EliminationTree& tree) {
+  const int n = int(tree.parent.size());
+  for (int j = 0; j < n; ++j) {
+    const int c = tree.count[std::size_t(j)], p = tree.parent[std::size_t(j)];
+    const bool fits = p < 0 ? c == 1 : c >= 2 && c <= n - j && c - 1 <= tree.count[std::size_t(p)];
+    if (!fits)
+      throw SolverError(
+          fmt::format("multifrontal: the given column count {} of column {} does not fit its tree", c, j));
+  }
+}
+
 }  // namespace
 
-Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
+void check_tree(const EliminationTree& tree, int n, const int* colptr, const int* rows) {
+  if (int(tree.parent.size()) != n || int(tree.count.size()) != n || tree.upper_entries != std::size_t(colptr[n]))
+    throw SolverError(fmt::format("multifrontal: the given elimination tree ({} nodes, {} graph entries) is not of "
+                                  "this matrix's {}-vertex graph of {} entries",
+                                  tree.parent.size(), tree.upper_entries, n, colptr[n]));
+  const std::vector<int> first = first_descendants(tree.parent);
+  check_counts(tree);
+  const int T = loop_threads(std::size_t(colptr[n]));
+  std::vector<int> misfit(static_cast<std::size_t>(T), -1);  // a column per range whose edge leaves its subtree
+  run_tasks(T, [&](int t) {
+    const int lo = int(std::int64_t(n) * t / T), hi = int(std::int64_t(n) * (t + 1) / T);
+    for (int j = lo; j < hi && misfit[std::size_t(t)] < 0; ++j)
+      if (colptr[j + 1] > colptr[j] && rows[colptr[j]] < first[std::size_t(j)]) misfit[std::size_t(t)] = j;
+  });
+  for (const int j : misfit)
+    if (j >= 0)
+      throw SolverError(fmt::format("multifrontal: column {} of the matrix has an entry outside its subtree in the "
+                                    "given elimination tree", j));
+}
+
+Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method, const EliminationTree* tree) {
   std::vector<int> Up, Ui;
   const GraphPattern G = block_pattern(upper, b, Up, Ui);
+  const bool given = tree && method == "natural";
+  if (given) check_tree(*tree, G.n, G.colptr, G.rows);
   cholmod_common cc;
   cholmod_start(&cc);
   std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> finish(&cc, cholmod_finish);
@@ -168,7 +239,9 @@ Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method) {
   // CHOLMOD's amalgamation thresholds count columns; a block column is b scalar columns.
   for (int k = 0; k < 3; ++k) cc.nrelax[k] = std::max<std::size_t>(1, (cc.nrelax[k] + std::size_t(b) - 1) / std::size_t(b));
   // The shared graph analysis: METIS on large graphs runs dissected on two threads (solvers/ordering).
-  FactorPtr L(analyze_graph(G, method == "default" ? default_ordering(b) : method, cc), FactorFree{&cc});
+  FactorPtr L = given ? super_symbolic_given(G, *tree, cc)
+                      : FactorPtr(analyze_graph(G, method == "default" ? default_ordering(b) : method, cc),
+                                  FactorFree{&cc});
   if (!L->is_super)
     throw SolverError(fmt::format("multifrontal: the symbolic analysis of the {0}x{0} block graph is not supernodal",
                                   G.n));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "solvers/base/elimination_tree.h"
 #include "solvers/base/types.h"
 
 namespace db::multifrontal {
@@ -42,7 +43,19 @@ const char* default_ordering(int b);
 
 //! CHOLMOD's supernodal symbolic analysis of the block graph of `upper` (the upper triangle, compressed; blocks of
 //! b unknowns) under ordering `method` ("default" or one CHOLMOD takes), postordered, with relaxed supernodes,
-//! expanded to b x b blocks. \throw SolverError when CHOLMOD fails or its tree is not as expected.
-Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method);
+//! expanded to b x b blocks. `tree` (optional, taken only with method "natural"): the block graph's elimination tree
+//! and column counts, postordered; CHOLMOD's supernodal analysis then starts from them rather than from its own pass
+//! over the graph (its transposes, tree, postorder and counts, on one thread): the same Symbolic where they are the
+//! graph's. \throw SolverError when CHOLMOD fails, its tree is not as expected, or `tree` does not fit the graph
+//! (check_tree).
+Symbolic analyze_blocks(const SpMat& upper, int b, const std::string& method, const EliminationTree* tree = nullptr);
+
+//! Checks that `tree` may be the elimination tree and column counts of the graph `g` (its upper triangle with the
+//! diagonal, rows ascending) in g's order, postordered: its size and g's upper entries; every parent later than its
+//! child and every subtree the contiguous positions before its root; every edge (i, j), i < j, joining j to a
+//! descendant; a root's count 1, any other count at least 2, at most the positions from it on, and at most one more
+//! than its parent's. Necessary, not sufficient: a wrong count that keeps these is not seen. Why not recompute: that
+//! is the serial pass the tree is handed on to save. \throw SolverError naming the first misfit.
+void check_tree(const EliminationTree& tree, int n, const int* colptr, const int* rows);
 
 }  // namespace db::multifrontal

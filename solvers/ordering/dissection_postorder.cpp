@@ -178,10 +178,26 @@ void locate(Dissection& d, const std::vector<PositionRange>& parts) {
   }
 }
 
+//! The tree and counts of `d` in the postorder `post` (post[new] = old position), as CHOLMOD relabels its own after
+//! postordering them; the graph's upper entries from its adjacency lists (each edge listed both ways).
+void relabel(const Dissection& d, const std::vector<int>& post, EliminationTree& tree) {
+  const std::size_t n = post.size();
+  std::vector<int> at(n);
+  for (std::size_t k = 0; k < n; ++k) at[std::size_t(post[k])] = int(k);
+  tree.parent.resize(n);
+  tree.count.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const int up = d.parent[std::size_t(post[k])];
+    tree.parent[k] = up < 0 ? -1 : at[std::size_t(up)];
+    tree.count[k] = d.count[std::size_t(post[k])];
+  }
+  tree.upper_entries = std::size_t(d.adjacency.colptr[d.adjacency.n]) / 2 + n;
+}
+
 }  // namespace
 
 std::vector<int> postorder_dissection(const GraphPattern& adjacency, const std::vector<int>& order,
-                                      const std::vector<PositionRange>& parts, int threads) {
+                                      const std::vector<PositionRange>& parts, int threads, EliminationTree* tree) {
   const int n = adjacency.n;
   if (int(order.size()) != n)
     throw SolverError(
@@ -205,6 +221,7 @@ std::vector<int> postorder_dissection(const GraphPattern& adjacency, const std::
     throw SolverError(fmt::format("postorder of a dissection: CHOLMOD's postorder failed, status {}", c.cc.status));
   std::vector<int> result(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) result[std::size_t(k)] = order[std::size_t(post[std::size_t(k)])];
+  if (tree) relabel(d, post, *tree);
   return result;
 }
 

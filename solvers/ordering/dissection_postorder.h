@@ -11,6 +11,7 @@
 //! and the counts are the whole graph's, exactly; the postorder is cholmod_postorder's, as in CHOLMOD's analysis.
 #include <vector>
 
+#include "solvers/base/elimination_tree.h"
 #include "solvers/ordering/graph_ordering.h"
 
 namespace db {
@@ -25,8 +26,11 @@ struct PositionRange {
 //! disjoint ranges of positions such that every edge from a part's vertex leads into the part or to a separator
 //! vertex (in no part) at a later position: a nested dissection's parts, each separator after the parts it
 //! separates. The parts are analyzed on up to `threads` threads; the result does not depend on `threads`.
+//! `tree` (optional): the graph's elimination tree and column counts in the postordered order, as CHOLMOD's analysis
+//! of the graph in that order finds them.
 //! \throw SolverError when CHOLMOD fails or `parts` are not such ranges.
 std::vector<int> postorder_dissection(const GraphPattern& adjacency, const std::vector<int>& order,
-                                      const std::vector<PositionRange>& parts, int threads);
+                                      const std::vector<PositionRange>& parts, int threads,
+                                      EliminationTree* tree = nullptr);
 
 }  // namespace db

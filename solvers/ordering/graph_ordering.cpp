@@ -318,7 +318,7 @@ SplitRule split_rule(idx_t n, int threads) {
 //! `postorder`, the order comes postordered as CHOLMOD's analysis postorders it, the parts' elimination trees found
 //! on the threads (dissection_postorder.h); the whole graph's lists are then kept for it while the parts are ordered.
 std::vector<int> dissected_metis_order(const GraphPattern& pat, int threads, const GraphPattern* guide = nullptr,
-                                       bool postorder = false) {
+                                       bool postorder = false, EliminationTree* tree = nullptr) {
   const idx_t n = pat.n;
   MetisGraph whole = full_graph(pat, guide);
   Dissected d = dissect(whole, split_rule(n, threads), threads, postorder);
@@ -330,7 +330,7 @@ std::vector<int> dissected_metis_order(const GraphPattern& pat, int threads, con
   if (idx_t(d.order.size()) != n)
     throw SolverError("METIS ordering: the dissected ordering is incomplete");
   if (!postorder) return std::move(d.order);
-  return postorder_dissection({pat.n, whole.xadj.data(), whole.adjncy.data()}, d.order, d.parts, threads);
+  return postorder_dissection({pat.n, whole.xadj.data(), whole.adjncy.data()}, d.order, d.parts, threads, tree);
 }
 
 }  // namespace
@@ -420,12 +420,14 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
   return L;
 }
 
-std::vector<int> order_graph(const GraphPattern& g, const std::string& method, const GraphPattern* guide) {
+std::vector<int> order_graph(const GraphPattern& g, const std::string& method, const GraphPattern* guide,
+                             EliminationTree* tree) {
+  if (tree) *tree = EliminationTree{};
   const OrderingPlan plan = plan_ordering(g, method, guide);
   std::vector<int> perm = plan.cached(g);
   if (!perm.empty()) return perm;
   if (plan.dissected && plan.threads > 1) {
-    perm = dissected_metis_order(g, plan.threads, plan.guide, true);
+    perm = dissected_metis_order(g, plan.threads, plan.guide, true, tree);
   } else {
     // On one thread CHOLMOD's analysis of the whole graph gives the same permutation a little sooner than the parts
     // analyzed one after the other (results/records/2026-11-27-parallel-postorder).

@@ -7,6 +7,8 @@
 
 #include <cholmod.h>
 
+#include "solvers/base/elimination_tree.h"
+
 namespace db {
 
 //! A symmetric n x n pattern as sorted CSC, of which only the upper triangle is read (the upper triangle with
@@ -36,8 +38,10 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
 //! The postordered fill-reducing order of `g` under `method` (perm[new] = old): the Perm of analyze_graph's factor
 //! (the same cache, dissection and guide), without the rest of its analysis. A dissected METIS order is postordered
 //! part by part on the worker threads (dissection_postorder.h) rather than by CHOLMOD's analysis of the whole graph,
-//! which runs on one thread. \throw as analyze_graph.
-std::vector<int> order_graph(const GraphPattern& g, const std::string& method, const GraphPattern* guide = nullptr);
+//! which runs on one thread. `tree` (optional): where the order was postordered part by part, the graph's elimination
+//! tree and column counts in the order (EliminationTree), else left empty. \throw as analyze_graph.
+std::vector<int> order_graph(const GraphPattern& g, const std::string& method, const GraphPattern* guide = nullptr,
+                             EliminationTree* tree = nullptr);
 //! Whether analyze_graph uses a guide for an n-vertex graph under `method` at the present worker threads, so that
 //! a caller builds one only then.
 bool takes_guide(int n, const std::string& method);

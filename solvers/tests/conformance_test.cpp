@@ -727,7 +727,8 @@ TEST(MemoryBudget, CheckingBackendsRefuseBeforeFactoringAndFactorWithinIt) {
     DenseMat X;
     EXPECT_THROW(refused->factorize(upper), db::BudgetError) << name;
     EXPECT_THROW(refused->solve(B, X), db::Error) << name << ": nothing is factored";
-    std::vector<db::SolverOptions> fits = {options(ample, false)};
+    std::vector<db::SolverOptions> fits;
+    fits.push_back(options(ample, false));
     if (info.out_of_core) fits.push_back(options(tight, true));
     for (const db::SolverOptions& o : fits) {
       auto s = db::make_solver(name, o);

@@ -1,8 +1,9 @@
 // The postorder of a dissected order found part by part (solvers/ordering/dissection_postorder.h) against its
 // exact reference, CHOLMOD's postordered analysis of the whole graph under the same order: the same permutation on
 // random dissection-shaped graphs (parts of several connected pieces, pieces with no separator neighbour,
-// separators between and after the parts) at any thread count; parts that touch refused. And order_graph, which
-// uses it for METIS's dissected orders, against analyze_graph's permutation on a grid at 1-16 worker threads.
+// separators between and after the parts) at any thread count, with the elimination tree and column counts of the
+// graph in that permutation (what the symbolic analysis may be handed); parts that touch refused. And order_graph,
+// which uses it for METIS's dissected orders, against analyze_graph's permutation on a grid at 1-16 worker threads.
 #include <algorithm>
 #include <memory>
 #include <numeric>
@@ -15,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "solvers/base/error.h"
+#include "solvers/ordering/cholmod_views.h"
 #include "solvers/ordering/dissection_postorder.h"
 #include "solvers/ordering/graph_ordering.h"
 #include "solvers/tests/worker_threads.h"
@@ -66,6 +68,31 @@ std::vector<int> cholmod_postordered(const Graph& g, std::vector<int> order) {
   return perm;
 }
 
+//! CHOLMOD's elimination tree and column counts of g in the order `order` (order[new] = old), from its analysis of
+//! the graph renumbered, in natural order.
+db::EliminationTree cholmod_tree(const Graph& g, const std::vector<int>& order) {
+  std::vector<int> at(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) at[std::size_t(order[k])] = int(k);
+  Graph renumbered;
+  renumbered.n = g.n;
+  for (const auto& [a, b] : g.edges)
+    renumbered.edges.emplace_back(std::min(at[std::size_t(a)], at[std::size_t(b)]),
+                                  std::max(at[std::size_t(a)], at[std::size_t(b)]));
+  renumbered.finish();
+  cholmod_common cc;
+  cholmod_start(&cc);
+  const std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> guard(&cc, cholmod_finish);
+  cc.print = 0;
+  const auto n = std::size_t(g.n);
+  db::EliminationTree tree{std::vector<int>(n), std::vector<int>(n), renumbered.rows.size()};
+  std::vector<int> natural(n), post(n), first(n), level(n);
+  std::iota(natural.begin(), natural.end(), 0);
+  cholmod_sparse A = db::cholmod_upper_view(n, renumbered.colptr.data(), renumbered.rows.data(), nullptr);
+  EXPECT_TRUE(n == 0 || cholmod_analyze_ordering(&A, CHOLMOD_NATURAL, natural.data(), nullptr, 0, tree.parent.data(),
+                                                 post.data(), tree.count.data(), first.data(), level.data(), &cc));
+  return tree;
+}
+
 //! A random graph shaped by a nested dissection: blocks of positions, each a part or a separator; edges within a
 //! part (sparse, so that parts fall into several pieces, some isolated), from a part to later separators, and
 //! between separators. The vertices are numbered at random (order maps positions to them).
@@ -113,10 +140,16 @@ TEST(DissectionPostorder, SameAsCholmodsPostorderedAnalysisOnRandomDissections) 
   for (unsigned seed = 1; seed <= 200; ++seed) {
     const RandomDissection d(seed);
     const std::vector<int> reference = cholmod_postordered(d.g, d.order);
-    for (int threads : {1, 3})
-      ASSERT_EQ(db::postorder_dissection(d.g.adjacency(), d.order, d.parts, threads), reference)
+    const db::EliminationTree reference_tree = cholmod_tree(d.g, reference);
+    for (int threads : {1, 3}) {
+      db::EliminationTree tree;
+      ASSERT_EQ(db::postorder_dissection(d.g.adjacency(), d.order, d.parts, threads, &tree), reference)
           << "seed " << seed << ", " << threads << " threads, " << d.g.n << " vertices, " << d.parts.size()
           << " parts";
+      ASSERT_EQ(tree.parent, reference_tree.parent) << "seed " << seed << ", " << threads << " threads";
+      ASSERT_EQ(tree.count, reference_tree.count) << "seed " << seed << ", " << threads << " threads";
+      ASSERT_EQ(tree.upper_entries, reference_tree.upper_entries) << "seed " << seed;
+    }
   }
 }
 

@@ -5,16 +5,19 @@
 #include <cstdint>
 #include <cstdlib>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "solvers/base/error.h"
 #include "solvers/base/team.h"
 #include "solvers/multifrontal/front.h"
 #include "solvers/multifrontal/matrix_chunk.h"
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
+#include "solvers/ordering/graph_ordering.h"
 #include "solvers/tests/worker_threads.h"
 
 namespace {
@@ -121,9 +124,8 @@ std::vector<double> entry_costs(const db::multifrontal::Symbolic& S) {
   return cost;
 }
 
-//! grid_upper(g, g) with each entry a dense b x b block: the pattern of a block (vertex) system such as TF's.
-db::SpMat block_grid_upper(int g, int b) {
-  const db::SpMat U = grid_upper(g, g);
+//! `U` (an upper triangle) with each entry a dense b x b block: the pattern of a block (vertex) system such as TF's.
+db::SpMat blocks_of(const db::SpMat& U, int b) {
   std::vector<Eigen::Triplet<double>> t;
   for (int j = 0; j < U.outerSize(); ++j)
     for (db::SpMat::InnerIterator it(U, j); it; ++it)
@@ -133,6 +135,37 @@ db::SpMat block_grid_upper(int g, int b) {
   db::SpMat B(b * U.rows(), b * U.cols());
   B.setFromTriplets(t.begin(), t.end());
   return B;
+}
+
+//! grid_upper(g, g) in 3x3 or other b x b blocks.
+db::SpMat block_grid_upper(int g, int b) { return blocks_of(grid_upper(g, g), b); }
+
+//! The upper triangle of the symmetric matrix whose upper triangle is `U`, in the order `perm` (perm[new] = old).
+db::SpMat permuted_upper(const db::SpMat& U, const std::vector<int>& perm) {
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> to_new(int(perm.size()));
+  for (std::size_t k = 0; k < perm.size(); ++k) to_new.indices()[perm[k]] = int(k);
+  db::SpMat full;
+  full = U.selfadjointView<Eigen::Upper>().twistedBy(to_new);
+  db::SpMat upper = full.triangularView<Eigen::Upper>();
+  upper.makeCompressed();
+  return upper;
+}
+
+//! Whether two symbolic analyses are the same in every array.
+void expect_same_symbolic(const db::multifrontal::Symbolic& a, const db::multifrontal::Symbolic& b,
+                          const std::string& what) {
+  EXPECT_EQ(a.n, b.n) << what;
+  EXPECT_EQ(a.perm, b.perm) << what;
+  EXPECT_EQ(a.col0, b.col0) << what;
+  EXPECT_EQ(a.rptr, b.rptr) << what;
+  EXPECT_EQ(a.rows, b.rows) << what;
+  EXPECT_EQ(a.xptr, b.xptr) << what;
+  EXPECT_EQ(a.parent, b.parent) << what;
+  EXPECT_EQ(a.first, b.first) << what;
+  EXPECT_EQ(a.cptr, b.cptr) << what;
+  EXPECT_EQ(a.child, b.child) << what;
+  EXPECT_EQ(a.nnz, b.nnz) << what;
+  EXPECT_EQ(a.flops, b.flops) << what;
 }
 
 }  // namespace
@@ -166,6 +199,53 @@ TEST(AnalyzeBlocks, SameOnAnyThreadCountWithAscendingRows) {
     EXPECT_TRUE(std::is_sorted(R, R + one.nrows(s))) << s;
     for (int k = 0; k < one.ncols(s); ++k) ASSERT_EQ(R[k], one.col0[std::size_t(s)] + k) << s;  // own columns first
   }
+}
+
+// A METIS ordering dissected on two threads or more finds the graph's elimination tree and column counts part by
+// part (solvers/ordering/dissection_postorder.h); handed to the symbolic analysis (SolverOptions::elimination_tree)
+// they must give exactly what CHOLMOD's own pass over the ordered graph gives, for scalar and 3x3-block systems. On
+// one thread the ordering hands none.
+TEST(AnalyzeBlocks, TheOrderingsTreeGivesCholmodsOwnAnalysis) {
+  using namespace db::multifrontal;
+  const db::SpMat U = grid_upper(150, 150);  // 22500 vertices: METIS dissects it
+  const db::GraphPattern g{int(U.cols()), U.outerIndexPtr(), U.innerIndexPtr()};
+  for (const char* threads : {"1", "2", "4", "16"}) {
+    const db::test::WorkerThreads scope(std::atoi(threads));
+    db::EliminationTree tree;
+    const db::SpMat P = permuted_upper(U, db::order_graph(g, "metis", nullptr, &tree));
+    if (std::atoi(threads) == 1) {
+      EXPECT_TRUE(tree.parent.empty());
+      continue;
+    }
+    ASSERT_EQ(tree.parent.size(), std::size_t(U.cols())) << threads;
+    for (int b : {1, 3}) {
+      const db::SpMat Pb = b == 1 ? P : blocks_of(P, b);
+      expect_same_symbolic(analyze_blocks(Pb, b, "natural", &tree), analyze_blocks(Pb, b, "natural"),
+                           std::string(threads) + " threads, blocks of " + std::to_string(b));
+    }
+  }
+}
+
+// A given tree that cannot be the graph's is refused before CHOLMOD reads it (check_tree): another graph's size or
+// entries, a parent before its child, a subtree out of order, an edge leaving a subtree, a count out of place. The
+// graph: the path 0 - 1 - 2 - 3 in natural order, whose tree is the path and whose counts are 2, 2, 2, 1.
+TEST(AnalyzeBlocks, RefusesAGivenTreeThatDoesNotFit) {
+  using namespace db::multifrontal;
+  const db::SpMat path = grid_upper(1, 4);
+  const db::EliminationTree right{{1, 2, 3, -1}, {2, 2, 2, 1}, 7};
+  expect_same_symbolic(analyze_blocks(path, 1, "natural", &right), analyze_blocks(path, 1, "natural"), "the path");
+  const auto refused = [&](db::EliminationTree t, const char* what) {
+    EXPECT_THROW(analyze_blocks(path, 1, "natural", &t), db::SolverError) << what;
+  };
+  refused({{1, 2, -1}, {2, 2, 1}, 5}, "another graph's size");
+  refused({{1, 2, 3, -1}, {2, 2, 2, 1}, 8}, "another graph's entries");
+  refused({{1, 0, 3, -1}, {2, 2, 2, 1}, 7}, "a parent before its child");
+  refused({{2, 2, 3, -1}, {2, 2, 2, 1}, 7}, "edge (0, 1) leaves node 1's subtree");
+  refused({{2, 3, 3, -1}, {2, 2, 2, 1}, 7}, "node 2's subtree, 0 and 2, is not contiguous");
+  refused({{1, 2, 3, -1}, {2, 2, 2, 2}, 7}, "a root's count above 1");
+  refused({{1, 2, 3, -1}, {2, 2, 3, 1}, 7}, "a count beyond the columns left");
+  refused({{1, 2, 3, -1}, {3, 1, 2, 1}, 7}, "a count below 2 off the root, or more than one above its parent's");
+  EXPECT_NO_THROW(analyze_blocks(path, 1, "amd", &right)) << "taken only for the natural order";
 }
 
 // The solves' plan (schedule.h): never a longer critical path than the plan for the most threads allowed, the

@@ -47,6 +47,7 @@ void MinQuadWithFixed::analyze(NormalSystem sys, const Unknowns& unk, const std:
   report_.matrix_bytes = sparse_bytes(sys_.K);
   SolverOptions so = options;
   so.rank_shares = sys_.parts;  // a share goes to a backend that sums the ranks' (mumps on as many ranks)
+  so.elimination_tree = sys_.tree;
   solver_ = make_solver(backend, so);
   Timer t;
   solver_->analyze(sys_.K);

@@ -156,6 +156,7 @@ NormalSystem& NormalSystem::operator=(NormalSystem&& o) noexcept {
   parts = o.parts;
   own_begin = o.own_begin;
   own_end = o.own_end;
+  tree = std::move(o.tree);
   return *this;
 }
 

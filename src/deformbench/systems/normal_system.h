@@ -14,11 +14,13 @@
 //! LRI's edge energies give systems of the same form (systems/lri_system.h); systems/min_quad_with_fixed.h
 //! factors any of them and solves it per frame.
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/enum_text.h"
+#include "solvers/base/elimination_tree.h"
 #include "solvers/base/types.h"
 #include "mesh/mesh.h"
 #include "operators/energy_operator.h"
@@ -38,6 +40,9 @@ struct Unknowns {
   std::vector<int> unknown_vertices, hard_vertices;
   std::vector<int> soft_vertices;  //!< subset of unknowns with a soft (weighted) target
   double soft_weight = 1.0;
+  //! The elimination tree and column counts of the unknowns' 2-ring interaction graph in their numbering, where
+  //! the vertex ordering that numbered them found it (a METIS ordering dissected on two threads or more); else null.
+  std::shared_ptr<const EliminationTree> tree;
 
   int num_unknowns() const { return static_cast<int>(unknown_vertices.size()); }
   int num_hard() const { return static_cast<int>(hard_vertices.size()); }
@@ -76,6 +81,9 @@ struct NormalSystem {
   //! One of `parts` > 1 rank shares (build_structured_share): K holds the block columns, C and g0 the rows of the
   //! unknowns [own_begin, own_end) only, and the parts' K, C and g0 sum to the whole system's. 1: the whole system.
   int parts = 1, own_begin = 0, own_end = 0;
+  //! The structured LAP / TF builds of the whole system: Unknowns::tree, the elimination tree of K's block graph
+  //! (which is the 2-ring interaction graph), when the vertex ordering found it; else null.
+  std::shared_ptr<const EliminationTree> tree;
 
   //! Unknowns (scalar): g0's rows, which outlive K when a solver consumed it, or K's order when g0 is empty.
   std::size_t n() const { return static_cast<std::size_t>(g0.rows() > 0 ? g0.rows() : K.rows()); }

@@ -156,6 +156,7 @@ NormalSystem build_structured_blocks(const EnergyOperator& op, const Unknowns& u
   for (int t = 1; t < T; ++t) ctrip[0].insert(ctrip[0].end(), ctrip[t].begin(), ctrip[t].end());
   sys.C.resize(static_cast<Eigen::Index>(b) * nu, static_cast<Eigen::Index>(b) * unk.num_hard());
   sys.C.setFromTriplets(ctrip[0].begin(), ctrip[0].end());
+  if (first == 0 && last == nu) sys.tree = unk.tree;  // K's block graph is the 2-ring graph the tree is of
   sys.held_bytes = {{"K_upper", sparse_bytes(sys.K)}, {"C", sparse_bytes(sys.C)},
                     {"g0", static_cast<std::size_t>(sys.g0.size()) * sizeof(double)}};
   return sys;

@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <exception>
+#include <memory>
 #include <thread>
 
 #include "solvers/base/error.h"
@@ -17,6 +18,7 @@ namespace {
 
 //! Renumbers unk's unknowns by perm (perm[new] = old).
 void renumber(const int* perm, Unknowns& unk) {
+  unk.tree.reset();  // of the former numbering
   const std::vector<int> old = unk.unknown_vertices;
   for (int p = 0; p < unk.num_unknowns(); ++p) {
     unk.unknown_vertices[p] = old[perm[p]];
@@ -68,7 +70,10 @@ void order_unknowns(const InteractionPattern& pat, Unknowns& unk, const std::str
   const bool guided = adj && takes_guide(n, method);
   const InteractionPattern one_ring = guided ? interaction_pattern(*adj, unk, 1) : InteractionPattern{};
   const GraphPattern guide{n, one_ring.colptr.data(), one_ring.rows.data()};
-  renumber(order_graph({n, pat.colptr.data(), pat.rows.data()}, method, guided ? &guide : nullptr).data(), unk);
+  auto tree = std::make_shared<EliminationTree>();
+  renumber(order_graph({n, pat.colptr.data(), pat.rows.data()}, method, guided ? &guide : nullptr, tree.get()).data(),
+           unk);
+  if (!tree->parent.empty()) unk.tree = std::move(tree);
 }
 
 NormalSystem build_structured_while_ordering(const EnergyOperator& op, Unknowns& unk, const std::string& method,
