@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build: from 30cb971 on,
+"""Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build: from e92e762 on,
+results/records/2026-11-28-given-tree/timeline_usage.patch (with the symbolic analysis's steps); from 30cb971 on,
 results/records/2026-11-28-threads/timeline.patch, or tuning/timeline_usage.patch there, whose lines also carry the
 thread's CPU seconds and minor page faults during each step; before, the timeline.patch of
 2026-11-27-parallel-postorder, 2026-11-27-guided-splits or 2026-11-27-analysis-timeline), one run per block that
@@ -56,11 +57,15 @@ def table(label, steps):
     phases = ("ordering_pattern", "ordering_guide", "ordering", "postorder_analysis", "symbolic")
     analysis = sum(wall[w] for w in phases)
     guide = f" + guide {wall['ordering_guide']:.3f}" if "ordering_guide" in wall else ""
+    # Builds from e92e762 on time CHOLMOD's step of the symbolic analysis by its kind: from the ordering's tree or
+    # from its own pass over the graph; before, as one step.
+    cholmod = wall["cholmod_analysis"] + wall["symbolic_from_tree"] + wall["symbolic_cholmod_pass"]
+    cholmod_step = "supernodal step from the given tree" if wall["symbolic_from_tree"] else "supernodal analysis"
     print()
     print(f"analysis {analysis:.3f} s = pattern {wall['ordering_pattern']:.3f}{guide} "
           f"+ ordering {wall['ordering']:.3f} "
           f"+ postorder analysis {wall['postorder_analysis']:.3f} + symbolic {wall['symbolic']:.3f} "
-          f"(of it CHOLMOD's supernodal analysis {wall['cholmod_analysis']:.3f}); "
+          f"(of it CHOLMOD's {cholmod_step} {cholmod:.3f}); "
           f"the ordering's longest chain {chain:.3f} s: splits by level "
           + ", ".join(f"{splits[k]:.3f}" for k in sorted(splits, reverse=True))
           + (f", then the slowest of {len(parts)} parts {max(parts):.3f}" if parts else "") + "\n")

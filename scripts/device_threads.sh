@@ -19,16 +19,15 @@
 # Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
 # rounds and splits the analysis phase at 8 and 16 threads; mode `factor` (DEADLINE=420, timeout_s 480) checks a
 # change of the factorization the same way (the init and its top phase, 104k and 416k); mode `ordering`
-# (DEADLINE=170, timeout_s 200) a change of the vertex ordering (the TF inits at 16 and 8 threads);
-# `report-solves FILES_AT DIR` tabulates any of them; mode `team` (DEADLINE=430, timeout_s 500) checks the
-# solves and the factorization at once with the 16-core targets. Every row
-# carries the whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY
-# a build before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
-# DIAG_BINARY at prepare (a build of the head with results/records/2026-11-28-threads/timeline.patch, or with
-# tuning/timeline_usage.patch there for each step's CPU time and page faults too; scripts/analysis_timeline.py
-# names the patches for older builds), `team` and `ordering` also run it once on the 104k and 416k TF edits at 16
-# threads, time allowing, into timeline.txt: the analysis step by step, which `report-solves` tabulates
-# (timeline.md).
+# (DEADLINE=170, timeout_s 200) a change of the vertex ordering or the analysis (the TF inits at 16 and 8 threads,
+# the analysis split at 16); `report-solves FILES_AT DIR` tabulates any of them; mode `team` (DEADLINE=430,
+# timeout_s 500) checks the solves and the factorization at once with the 16-core targets. Every row carries the
+# whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY a build
+# before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
+# DIAG_BINARY at prepare (a build of the head with results/records/2026-11-28-given-tree/timeline_usage.patch:
+# each step's wall and CPU time and page faults; scripts/analysis_timeline.py names the patches for older
+# builds), `team` and `ordering` also run it once on the 104k and 416k TF edits at 16 threads, time allowing, into
+# timeline.txt: the analysis step by step, which `report-solves` tabulates (timeline.md).
 set -euo pipefail
 mode=${1:-}
 setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
@@ -179,5 +178,5 @@ report-solves)
     /usr/bin/python3 "$(dirname "$0")/analysis_timeline.py" "$dest/timeline.txt" > "$dest/timeline.md"
   fi
   /usr/bin/python3 "$(dirname "$0")/device_threads_report.py" --solves "$dest" ;;
-*) sed -n 2,26p "$0"; exit 1 ;;
+*) sed -n 2,30p "$0"; exit 1 ;;
 esac
