@@ -10,6 +10,7 @@
 
 #include "solvers/base/error.h"
 #include "solvers/base/resources.h"
+#include "solvers/ordering/adjacency_lists.h"
 #include "solvers/ordering/cholmod_views.h"
 #include "solvers/ordering/dissection_postorder.h"
 #include "solvers/ordering/metis_random.h"
@@ -21,10 +22,8 @@ namespace {
 
 static_assert(sizeof(idx_t) == sizeof(int), "METIS built with 32-bit indices (Debian's), as CHOLMOD's int interface");
 
-//! Full adjacency lists as METIS reads them: each edge both ways, no self loops, ascending.
-struct Adjacency {
-  std::vector<idx_t> xadj{0}, adjncy;
-};
+//! Full adjacency lists as METIS reads them: each edge both ways, no self loops, ascending (idx_t is int).
+using Adjacency = AdjacencyLists;
 
 //! A graph as METIS reads it and the index of each of its vertices in the graph it was taken from; optionally a
 //! guide: a sparser graph on the same vertices whose separators, widened, separate this one (the 1-ring graph
@@ -36,26 +35,9 @@ struct MetisGraph : Adjacency {
   bool guided() const { return guide.xadj.size() > 1; }
 };
 
-//! The adjacency lists of g (its upper triangle read; the diagonal dropped): what cholmod_metis hands METIS.
-Adjacency full_adjacency(const GraphPattern& g) {
-  Adjacency h;
-  std::vector<idx_t> degree(std::size_t(g.n), 0);
-  for (int j = 0; j < g.n; ++j)
-    for (int q = g.colptr[j]; q < g.colptr[j + 1]; ++q)
-      if (const int r = g.rows[q]; r < j) ++degree[std::size_t(r)], ++degree[std::size_t(j)];
-  h.xadj.resize(std::size_t(g.n) + 1);
-  for (int j = 0; j < g.n; ++j) h.xadj[std::size_t(j) + 1] = h.xadj[std::size_t(j)] + degree[std::size_t(j)];
-  h.adjncy.resize(std::size_t(h.xadj.back()));
-  std::vector<idx_t> next(h.xadj.begin(), h.xadj.end() - 1);
-  // Column j appends its rows r < j to j's list and j to each r's list: every list comes out ascending.
-  for (int j = 0; j < g.n; ++j)
-    for (int q = g.colptr[j]; q < g.colptr[j + 1]; ++q)
-      if (const int r = g.rows[q]; r < j) {
-        h.adjncy[std::size_t(next[std::size_t(j)]++)] = r;
-        h.adjncy[std::size_t(next[std::size_t(r)]++)] = j;
-      }
-  return h;
-}
+//! The adjacency lists of g (its upper triangle read; the diagonal dropped): what cholmod_metis hands METIS; on the
+//! worker threads where the graph is large.
+Adjacency full_adjacency(const GraphPattern& g) { return adjacency_lists(g, adjacency_ranges(g.colptr[g.n])); }
 
 //! The METIS graph of g, guided by `guide` when it is given (a graph on the same vertices).
 MetisGraph full_graph(const GraphPattern& g, const GraphPattern* guide = nullptr) {
