@@ -8,7 +8,8 @@
 // ordering's elimination tree where it found one, as the deformation hands them), their sum (analysis_s, the
 // deformation's "analyze" phase) and the factor's nnz(L) and flops. Where the ordering handed a tree
 // (tree_given 1), the same analysis without it (mf_own_tree_s: CHOLMOD's own pass over the graph) is timed too,
-// before or after the other in alternate rounds. Soft constraints, as the solver study's systems.
+// before or after the other in alternate rounds; without a tree (tree_given 0: one thread, or an ordering that is
+// not a dissected METIS one) mf_own_tree_s repeats mf_analyze_s. Soft constraints, as the solver study's systems.
 //
 //   build/exp_analysis --edit data/edits/armadillo_loop1_whole.edit --system tf --orderings metis,ringnd
 //       --rounds 5 --csv results/analysis.csv
