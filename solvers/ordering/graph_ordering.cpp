@@ -408,19 +408,18 @@ std::vector<int> order_graph(const GraphPattern& g, const std::string& method, c
   const OrderingPlan plan = plan_ordering(g, method, guide);
   std::vector<int> perm = plan.cached(g);
   if (!perm.empty()) return perm;
-  if (plan.dissected && plan.threads > 1) {
+  if (plan.dissected) {
+    // On one thread too: the parts analyzed one after the other take about the time of CHOLMOD's analysis of the
+    // whole graph (results/records/2026-11-27-parallel-postorder), and they give the elimination tree that spares
+    // a symbolic analysis of the ordered graph its own pass (results/records/2026-11-28-given-tree).
     perm = dissected_metis_order(g, plan.threads, plan.guide, true, tree);
   } else {
-    // On one thread CHOLMOD's analysis of the whole graph gives the same permutation a little sooner than the parts
-    // analyzed one after the other (results/records/2026-11-27-parallel-postorder).
-    const std::vector<int> given =
-        plan.dissected ? dissected_metis_order(g, plan.threads, plan.guide) : std::vector<int>{};
     cholmod_common cc;
     cholmod_start(&cc);
     const std::unique_ptr<cholmod_common, int (*)(cholmod_common*)> finish(&cc, cholmod_finish);
     cc.print = 0;
     cc.supernodal = CHOLMOD_SIMPLICIAL;  // only the permutation is wanted
-    cholmod_factor* L = analyze_with(g, given, method, cc);
+    cholmod_factor* L = analyze_with(g, {}, method, cc);
     const int* p = static_cast<const int*>(L->Perm);
     perm.assign(p, p + g.n);
     cholmod_free_factor(&L, &cc);

@@ -38,8 +38,9 @@ cholmod_factor* analyze_graph(const GraphPattern& g, const std::string& method, 
 //! The postordered fill-reducing order of `g` under `method` (perm[new] = old): the Perm of analyze_graph's factor
 //! (the same cache, dissection and guide), without the rest of its analysis. A dissected METIS order is postordered
 //! part by part on the worker threads (dissection_postorder.h) rather than by CHOLMOD's analysis of the whole graph,
-//! which runs on one thread. `tree` (optional): where the order was postordered part by part, the graph's elimination
-//! tree and column counts in the order (EliminationTree), else left empty. \throw as analyze_graph.
+//! which runs on one thread (on one thread too: the parts one after the other). `tree` (optional): where the order
+//! was postordered part by part (a dissected METIS order), the graph's elimination tree and column counts in the
+//! order (EliminationTree), else left empty. \throw as analyze_graph.
 std::vector<int> order_graph(const GraphPattern& g, const std::string& method, const GraphPattern* guide = nullptr,
                              EliminationTree* tree = nullptr);
 //! Whether analyze_graph uses a guide for an n-vertex graph under `method` at the present worker threads, so that

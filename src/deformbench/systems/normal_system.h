@@ -41,7 +41,7 @@ struct Unknowns {
   std::vector<int> soft_vertices;  //!< subset of unknowns with a soft (weighted) target
   double soft_weight = 1.0;
   //! The elimination tree and column counts of the unknowns' 2-ring interaction graph in their numbering, where
-  //! the vertex ordering that numbered them found it (a METIS ordering dissected on two threads or more); else null.
+  //! the vertex ordering that numbered them found it (a dissected METIS ordering: 20000 unknowns or more); else null.
   std::shared_ptr<const EliminationTree> tree;
 
   int num_unknowns() const { return static_cast<int>(unknown_vertices.size()); }
