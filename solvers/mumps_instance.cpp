@@ -101,6 +101,10 @@ Instance::Instance(MPI_Comm comm, const SolverOptions& options, const std::strin
     : comm_(comm), options_(options), who_(who), distributed_(distributed_input) {
   if (!options.factor_dir.empty()) check_ooc_dir(options.factor_dir, who);
   mpi::ensure_initialized();
+  if (options.ordering == "ptscotch" && !mpi::threads_multiple())
+    throw SolverError(fmt::format("{}: the ptscotch ordering needs MPI at MPI_THREAD_MULTIPLE (PT-Scotch calls MPI "
+                                  "from several threads at once); this process's MPI runs at a lower level",
+                                  who));
   id_.comm_fortran = MUMPS_INT(MPI_Comm_c2f(comm));
   id_.par = 1;  // the host works too
   id_.sym = 1;  // symmetric positive definite

@@ -48,9 +48,18 @@ void ensure_initialized() {
   MPI_Initialized(&initialized);
   if (initialized) return;
   if (!launched()) setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);  // 0: an explicit setting wins
+  // MULTIPLE, not the SERIALIZED this file's own calls need: Debian's PT-Scotch (MUMPS's "ptscotch" ordering) runs
+  // MPI collectives from several of its threads at once, and under SERIALIZED Open MPI crashed in them now and then.
   int provided = 0;
-  check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided), "MPI_Init_thread");
+  check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_MULTIPLE, &provided), "MPI_Init_thread");
   std::atexit(finalize_at_exit);
+}
+
+bool threads_multiple() {
+  ensure_initialized();
+  int provided = 0;
+  MPI_Query_thread(&provided);
+  return provided >= MPI_THREAD_MULTIPLE;
 }
 
 int rank() {

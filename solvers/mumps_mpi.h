@@ -1,8 +1,9 @@
 #pragma once
 //! MPI for the MUMPS backends, without MPI types in the interface (callers above solvers/ need no mpi.h).
 //!
-//! Initialization on first use: a process that never called MPI_Init gets MPI_Init_thread(SERIALIZED) the first
-//! time a MUMPS backend (or anything here) needs MPI, and MPI_Finalize at exit. Started without mpirun it is an
+//! Initialization on first use: a process that never called MPI_Init gets MPI_Init_thread(MULTIPLE) the first
+//! time a MUMPS backend (or anything here) needs MPI, and MPI_Finalize at exit. MULTIPLE because Debian's PT-Scotch,
+//! MUMPS's parallel ordering, calls MPI from several threads at once (threads_multiple). Started without mpirun it is an
 //! MPI singleton (one rank); then OMPI_MCA_ess_singleton_isolated=1 is set unless the environment sets it, so
 //! Open MPI does not start its runtime daemon (a forked process and a noticeable start-up for every test binary).
 //! Running as root needs nothing for a singleton; mpirun itself refuses root without --allow-run-as-root (or
@@ -17,6 +18,9 @@ void ensure_initialized();
 //! Whether a launcher (mpirun, srun) started this process: its environment names a world of ranks. Does not
 //! initialize MPI.
 bool launched();
+//! Whether MPI runs at MPI_THREAD_MULTIPLE, which PT-Scotch's threads need (initializes MPI). False only where the
+//! caller initialized MPI at a lower level, or the MPI library offers none higher.
+bool threads_multiple();
 //! Rank and size of MPI_COMM_WORLD (initializes MPI).
 int rank();
 int size();

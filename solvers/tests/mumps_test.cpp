@@ -194,6 +194,10 @@ TEST(Mumps, OutOfCoreFactorLivesInItsDirectory) {
   }
 }
 
+// MPI runs at MPI_THREAD_MULTIPLE (solvers/mumps_mpi.h): PT-Scotch's parallel ordering calls MPI from several threads
+// at once, and under the SERIALIZED level it crashed now and then in DistributedMumps' ptscotch cases.
+TEST(Mumps, MpiRunsAtThreadMultiple) { EXPECT_TRUE(db::mpi::threads_multiple()); }
+
 // Failures say what MUMPS found: negative pivots (indefinite), a pivot at rounding level (singular), and MUMPS's
 // own error codes in words.
 TEST(Mumps, FailuresAreExplained) {
