@@ -194,9 +194,10 @@ def solves(dest):
     lines += init_rows(base, new)
     files = sorted(dest.glob("analysis_*.csv"), key=lambda p: int(p.stem.split("_")[1]))
     if files:
-        lines += ["", "Medians of the rounds. Symbolic s: the multifrontal analysis as the deformation runs it (from the "
-                  "ordering's elimination tree where it hands one); without it: the same analysis from CHOLMOD's own "
-                  "pass over the graph, timed in the same rounds (exp_analysis builds since e92e762).", "",
+        lines += ["", "Medians of the rounds. Symbolic s: the multifrontal analysis as the deformation runs it "
+                  "(from the ordering's elimination tree where it hands one); without it: the same analysis from "
+                  "CHOLMOD's own pass over the graph, timed in the same rounds (exp_analysis builds since e92e762).",
+                  "",
                   "| T | vertices | ordering | rounds | order s | symbolic s | symbolic s without the tree | "
                   "analysis s | nnz(L) |",
                   "|---|---|---|---|---|---|---|---|---|"]

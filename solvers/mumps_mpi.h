@@ -1,13 +1,13 @@
 #pragma once
 //! MPI for the MUMPS backends, without MPI types in the interface (callers above solvers/ need no mpi.h).
 //!
-//! Initialization on first use: a process that never called MPI_Init gets MPI_Init_thread(MULTIPLE) the first
-//! time a MUMPS backend (or anything here) needs MPI, and MPI_Finalize at exit. MULTIPLE because Debian's PT-Scotch,
-//! MUMPS's parallel ordering, calls MPI from several threads at once (threads_multiple). Started without mpirun it is an
-//! MPI singleton (one rank); then OMPI_MCA_ess_singleton_isolated=1 is set unless the environment sets it, so
-//! Open MPI does not start its runtime daemon (a forked process and a noticeable start-up for every test binary).
-//! Running as root needs nothing for a singleton; mpirun itself refuses root without --allow-run-as-root (or
-//! OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1), which scripts/mpirun.sh adds.
+//! Initialization on first use: a process that never called MPI_Init gets MPI_Init_thread(MULTIPLE) the first time a
+//! MUMPS backend (or anything here) needs MPI, and MPI_Finalize at exit. MULTIPLE because Debian's PT-Scotch, MUMPS's
+//! parallel ordering, calls MPI from several threads at once (threads_multiple). Started without mpirun it is an MPI
+//! singleton (one rank); then OMPI_MCA_ess_singleton_isolated=1 is set unless the environment sets it, so Open MPI does
+//! not start its runtime daemon (a forked process and a noticeable start-up for every test binary). Running as root
+//! needs nothing for a singleton; mpirun itself refuses root without --allow-run-as-root (or OMPI_ALLOW_RUN_AS_ROOT=1
+//! OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1), which scripts/mpirun.sh adds.
 #include <cstddef>
 #include <vector>
 
