@@ -38,6 +38,7 @@
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
+#include "solvers/multifrontal/top_phase.h"
 #include "solvers/multifrontal/triangular_solve.h"
 #include "solvers/solver_util.h"
 
@@ -111,6 +112,7 @@ class MultifrontalSolver final : public LinearSolver {
 
   Plan factor_plan_;
   std::vector<int> claim_order_;  // factor_plan_'s subtree roots in the order the threads claim them
+  TopTree top_tree_;              // factor_plan_'s top supernodes as a tree, with their subtrees' flops
   std::map<int, Plan> solve_plans_;  //!< by the most threads the work is worth
   std::vector<double> entries_;      //!< per supernode: factor entries, the solves' cost
   int threads_ = 1;
@@ -149,6 +151,7 @@ void MultifrontalSolver::analyze(const SpMat& upper_in) {
   }
   factor_plan_ = schedule(S_, threads_, flops);
   claim_order_ = claim_order(S_, factor_plan_, flops);
+  top_tree_ = top_tree(S_, factor_plan_, flops);
   solve_plans_.clear();
   guard_.remember(upper);
   stats_ = FactorStats{};
@@ -276,23 +279,23 @@ bool MultifrontalSolver::factor_tree(const SpMat& A, bool may_release, FrontFact
   if (!ok) return false;
   fronts.close_pool();
   const auto top_start = std::chrono::steady_clock::now();
-  Workspace ws(S_.n);
-  MatrixChunk chunk;
-  ColumnRelease release(A, may_release);
-  // The top fronts' tiles on a team of as many threads as their work is worth, each tile a one-thread BLAS call;
-  // no more than the cores this process may run on, since each step waits for its claimed tiles and a thread
-  // sharing a core is descheduled mid-tile (the tiles, and so the factor, do not depend on the team's size).
+  // The top fronts' tiles on teams of as many threads in all as their work is worth, each tile a one-thread BLAS
+  // call; no more than the cores this process may run on, since each step waits for its claimed tiles and a
+  // thread sharing a core is descheduled mid-tile (the tiles, and so the factor, do not depend on the teams).
   const BlasOnOneThread one_thread;
-  Team team(std::min(threads_worth(stats_.top_flops, Work::Dense, threads_), available_cores()));
-  for (int s : factor_plan_.top) {
-    release.start(S_.col0[std::size_t(s)]);
-    chunk.load(A, counts, S_, s, s);
-    if (!fronts.factor_supernode(chunk, s, ws, &team)) return false;
-    release_block(s);
-    release.dead_before(S_.col0[std::size_t(s) + 1], true);
-  }
+  const bool done = run_top_phase(
+      top_tree_, std::min(threads_worth(stats_.top_flops, Work::Dense, threads_), available_cores()),
+      [&] { return std::make_unique<TopScratch>(S_.n, A, may_release); },
+      [&](int s, Team& team, TopScratch& t) {
+        t.release.start(S_.col0[std::size_t(s)]);
+        t.chunk.load(A, counts, S_, s, s);
+        if (!fronts.factor_supernode(t.chunk, s, t.ws, &team)) return false;
+        release_block(s);
+        t.release.dead_before(S_.col0[std::size_t(s) + 1], true);
+        return true;
+      });
   stats_.top_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - top_start).count();
-  return true;
+  return done;
 }
 
 void MultifrontalSolver::solve(const DenseMat& B, DenseMat& X) {

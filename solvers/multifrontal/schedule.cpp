@@ -119,6 +119,60 @@ PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<do
   return c;
 }
 
+TopTree top_tree(const Symbolic& S, const Plan& plan, const std::vector<double>& cost) {
+  TopTree t;
+  t.children.assign(std::size_t(S.nsuper()), {});
+  t.work.assign(std::size_t(S.nsuper()), 0.0);
+  std::vector<char> is_top(std::size_t(S.nsuper()), 0);
+  for (int s : plan.top) is_top[std::size_t(s)] = 1;
+  for (int s : plan.top) {  // ascending: a child before its parent
+    t.work[std::size_t(s)] += cost[std::size_t(s)];
+    const int p = S.parent[std::size_t(s)];
+    if (p >= 0 && is_top[std::size_t(p)]) {
+      t.children[std::size_t(p)].push_back(s);
+      t.work[std::size_t(p)] += t.work[std::size_t(s)];
+    } else {
+      t.roots.push_back(s);
+    }
+  }
+  return t;
+}
+
+TopShares top_shares(const std::vector<int>& subtrees, const std::vector<double>& work, int threads) {
+  TopShares sh;
+  const std::size_t nb = std::min(subtrees.size(), std::size_t(std::max(threads, 1)));
+  sh.bins.assign(nb, {});
+  std::vector<double> load(nb, 0.0);
+  std::vector<int> order = subtrees;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return work[std::size_t(a)] > work[std::size_t(b)]; });
+  for (int r : order) {
+    const std::size_t b = std::size_t(std::min_element(load.begin(), load.end()) - load.begin());
+    sh.bins[b].push_back(r);
+    load[b] += work[std::size_t(r)];
+  }
+  for (auto& bin : sh.bins) std::sort(bin.begin(), bin.end());
+  // One thread each, then the rest by largest remainder of the proportional shares (ties: the lower bin).
+  const double total = std::accumulate(load.begin(), load.end(), 0.0);
+  const int spare = std::max(threads, 1) - int(nb);
+  sh.threads.assign(nb, 1);
+  std::vector<double> want(nb);
+  int given = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    want[b] = total > 0 ? double(spare) * load[b] / total : double(spare) / double(nb);
+    const int whole = int(std::floor(want[b]));
+    sh.threads[b] += whole;
+    given += whole;
+    want[b] -= whole;
+  }
+  std::vector<std::size_t> by_rest(nb);
+  std::iota(by_rest.begin(), by_rest.end(), std::size_t(0));
+  std::stable_sort(by_rest.begin(), by_rest.end(), [&](std::size_t a, std::size_t b) { return want[a] > want[b]; });
+  for (std::size_t k = 0; given < spare && k < nb; ++k, ++given) ++sh.threads[by_rest[k]];
+  for (std::size_t b = 0; b < nb; ++b) sh.threads[b] = threads_worth(load[b], Work::Dense, sh.threads[b]);
+  return sh;
+}
+
 SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& cost) {
   std::vector<SolvePlan> plans;
   std::vector<double> paths;
@@ -179,28 +233,46 @@ double subtree_peaks(const Symbolic& S, const Plan& plan) {
   return std::accumulate(peaks.begin(), peaks.begin() + std::ptrdiff_t(k), waiting);
 }
 
-}  // namespace
-
-double update_peak(const Symbolic& S, const Plan& plan) {
-  std::vector<char> is_top(std::size_t(S.nsuper()), 0);
-  for (int s : plan.top) is_top[std::size_t(s)] = 1;
-  const double subtrees = subtree_peaks(S, plan);
-  double early = 0;  // top matrices begun by subtree roots
-  std::vector<char> begun(std::size_t(S.nsuper()), 0);
+//! The top supernodes whose update matrix a subtree root begins in the subtree phase (Handover), and their bytes.
+double begun_by_roots(const Symbolic& S, const Plan& plan, std::vector<char>& begun) {
+  double early = 0;
+  begun.assign(std::size_t(S.nsuper()), 0);
   for (const auto& roots : plan.subtrees)
     for (int root : roots)
       if (const int p = S.parent[std::size_t(root)]; p >= 0 && !begun[std::size_t(p)]) {
         begun[std::size_t(p)] = 1;
         early += update_bytes(S, p);
       }
-  double live = early, top = early;
-  for (int s : plan.top) {
-    if (!begun[std::size_t(s)]) live += update_bytes(S, s);
-    top = std::max(top, live);
+  return early;
+}
+
+}  // namespace
+
+double top_phase_peak(const Symbolic& S, const Plan& plan) {
+  std::vector<char> is_top(std::size_t(S.nsuper()), 0), begun;
+  for (int s : plan.top) is_top[std::size_t(s)] = 1;
+  const double early = begun_by_roots(S, plan, begun);
+  // While a top supernode's children run (all at once, at most), their subtrees' peaks add up; then their
+  // matrices live beside its own, born before theirs die. Begun matrices are counted in `early` throughout.
+  std::vector<double> peak(std::size_t(S.nsuper()), 0.0);
+  double roots = 0;
+  for (int s : plan.top) {  // ascending: children first
+    const double own = begun[std::size_t(s)] ? 0.0 : update_bytes(S, s);
+    double kids_peak = 0, kids_live = 0;
     for (int q = S.cptr[std::size_t(s)]; q < S.cptr[std::size_t(s) + 1]; ++q)
-      if (const int c = S.child[std::size_t(q)]; is_top[std::size_t(c)]) live -= update_bytes(S, c);  // roots' died at handover
+      if (const int c = S.child[std::size_t(q)]; is_top[std::size_t(c)]) {
+        kids_peak += peak[std::size_t(c)];
+        kids_live += begun[std::size_t(c)] ? 0.0 : update_bytes(S, c);
+      }
+    peak[std::size_t(s)] = std::max(kids_peak, kids_live + own);
+    if (const int p = S.parent[std::size_t(s)]; p < 0 || !is_top[std::size_t(p)]) roots += peak[std::size_t(s)];
   }
-  return std::max(subtrees + early, top);
+  return early + roots;
+}
+
+double update_peak(const Symbolic& S, const Plan& plan) {
+  std::vector<char> begun;
+  return std::max(subtree_peaks(S, plan) + begun_by_roots(S, plan, begun), top_phase_peak(S, plan));
 }
 
 std::vector<int> claim_order(const Symbolic& S, const Plan& plan, const std::vector<double>& cost) {

@@ -1,7 +1,8 @@
 #pragma once
 //! Scheduling of the multifrontal backend: independent subtrees of the assembly tree run on separate threads
 //! with a single-threaded BLAS (the factorization's threads claim them one at a time, the solves' take a group
-//! each), the few top supernodes after them one at a time, each shared by a team of threads in tiles (front.h).
+//! each), the few top supernodes after them, each shared by a team of threads in tiles (front.h): the solves'
+//! one at a time, the factorization's independent top subtrees at once on teams of their own (top_phase.h).
 //!
 //! Determinism: the plan depends only on the tree and the thread count, and every floating-point sum is taken in
 //! an order the plan fixes (the subtree roots' hand-over to their parents in child order, the solves' per-thread
@@ -17,7 +18,7 @@
 namespace db::multifrontal {
 
 //! How the assembly tree is shared among threads: subtrees per thread (processed in parallel), then the top
-//! supernodes (ascending, serial).
+//! supernodes (ascending: each after its children).
 struct Plan {
   std::vector<std::vector<int>> subtrees;  //!< per thread: the roots of its subtrees, ascending
   std::vector<int> top;
@@ -44,10 +45,11 @@ struct SolvePlan {
 SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& cost);
 
 //! What a plan leaves to each phase, in the costs it was made with (flops for the factorization's plan): the
-//! largest and the mean group of the subtree phase, and the top phase, which runs its supernodes one after
-//! another (each shared by the team's threads in tiles), so that only parallelism inside those fronts speeds it
-//! up. Why: the top phase's share grows with the thread count (more subtrees opened to balance more groups), and
-//! whether it or the subtrees limit a factorization on many cores can be counted on any machine.
+//! largest and the mean group of the subtree phase, and the top phase: its supernodes, each shared by a team's
+//! threads in tiles, and its costliest chain, which the factorization's independent top subtrees running at once
+//! (top_phase.h) cannot shorten. Why: the top phase's share grows with the thread count (more subtrees opened to
+//! balance more groups), and whether it or the subtrees limit a factorization on many cores can be counted on
+//! any machine.
 struct PlanCounts {
   double group_max = 0, group_mean = 0;  //!< cost of the subtree phase's groups
   double top = 0;                        //!< cost of the top supernodes
@@ -56,6 +58,27 @@ struct PlanCounts {
   int top_rows_median = 0, top_rows_max = 0;  //!< rows of the top supernodes' fronts
 };
 PlanCounts plan_counts(const Symbolic& S, const Plan& plan, const std::vector<double>& cost);
+
+//! The top supernodes as a tree: each one's top children (ascending) and the cost of its top subtree (itself and
+//! the top supernodes below it), and the top supernodes without a top parent (ascending). Independent top
+//! subtrees (siblings, or roots) can be factored at once (top_phase.h).
+struct TopTree {
+  std::vector<std::vector<int>> children;  //!< per supernode; empty unless top
+  std::vector<double> work;                //!< per supernode: its top subtree's cost; 0 unless top
+  std::vector<int> roots;
+};
+TopTree top_tree(const Symbolic& S, const Plan& plan, const std::vector<double>& cost);
+
+//! How independent top subtrees (`subtrees`, their flops in `work`) share `threads`: at most `threads` bins of
+//! them (costliest first, each to the lightest bin, ties to the lower bin), each bin run one subtree after another
+//! by its own threads, their number in proportion to the bin's flops (largest remainders; at least one each) and
+//! no more than those are worth (threads_worth), in all at most `threads`. Depends only on the flops and
+//! `threads`, so the teams do too (the bytes do not depend on them anyway).
+struct TopShares {
+  std::vector<std::vector<int>> bins;
+  std::vector<int> threads;
+};
+TopShares top_shares(const std::vector<int>& subtrees, const std::vector<double>& work, int threads);
 
 //! The factorization's subtree phase: the roots of all the plan's subtrees, costliest first (ties: ascending),
 //! the order in which its threads claim them one at a time. Why not each thread its group: on 16 cores the
@@ -70,8 +93,11 @@ std::vector<int> claim_order(const Symbolic& S, const Plan& plan, const std::vec
 //! supernode's matrix is born while its children's still live; theirs die after it) summed as if they coincided,
 //! plus every root that may wait for an earlier sibling's hand-over (Handover), plus the matrices of the top
 //! supernodes that receive a subtree root's (born during the subtree phase); or the top phase's own peak, when
-//! larger.
+//! larger, counted as if all independent top subtrees ran at once: a bound for any way top_phase.h runs them.
 double update_peak(const Symbolic& S, const Plan& plan);
+//! update_peak's top phase part: the matrices begun in the subtree phase, plus the top's own, independent top
+//! subtrees' peaks added as if they coincided.
+double top_phase_peak(const Symbolic& S, const Plan& plan);
 
 //! The subtree phase's hand-over of each subtree root's update matrix to its (top) parent, early rather than when
 //! the top phase reaches the parent (else every root's update would be resident at once), in a fixed order: a

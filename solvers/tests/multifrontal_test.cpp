@@ -1,9 +1,13 @@
 // The multifrontal backend's parts below the LinearSolver interface: the update matrices' pool, the thread choice,
-// the top phase's tiles.
+// the top phase's tiles and teams.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -17,6 +21,7 @@
 #include "solvers/multifrontal/schedule.h"
 #include "solvers/multifrontal/storage.h"
 #include "solvers/multifrontal/symbolic.h"
+#include "solvers/multifrontal/top_phase.h"
 #include "solvers/ordering/graph_ordering.h"
 #include "solvers/tests/worker_threads.h"
 
@@ -351,6 +356,204 @@ TEST(UpdatePeak, BoundsTheSubtreePhaseForAnyInterleaving) {
         if (s == in[std::size_t(t)]) hand_over(s), in[std::size_t(t)] = -1;
       }
       EXPECT_LE(peak, bound) << "threads " << T << " seed " << seed;
+    }
+  }
+}
+
+// top_tree (schedule.h): every top supernode once, as a root or as a top child of its parent, children ascending,
+// each subtree's cost its own plus its children's.
+TEST(TopTree, EveryTopSupernodeOnceWithItsSubtreesCost) {
+  using namespace db::multifrontal;
+  const Symbolic S = analyze_blocks(grid_upper(60, 60), 1, "metis");
+  const std::vector<double> cost = entry_costs(S);
+  const Plan plan = schedule(S, 16, cost);
+  ASSERT_GT(plan.top.size(), 4u);
+  const TopTree tree = top_tree(S, plan, cost);
+  std::vector<int> seen = tree.roots;
+  for (int s : plan.top) {
+    const auto& kids = tree.children[std::size_t(s)];
+    EXPECT_TRUE(std::is_sorted(kids.begin(), kids.end()));
+    double w = cost[std::size_t(s)];
+    for (int c : kids) {
+      EXPECT_EQ(S.parent[std::size_t(c)], s);
+      w += tree.work[std::size_t(c)];
+    }
+    EXPECT_DOUBLE_EQ(tree.work[std::size_t(s)], w);
+    seen.insert(seen.end(), kids.begin(), kids.end());
+  }
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(seen, plan.top);
+  // Siblings in the top, which the top phase runs at once.
+  EXPECT_TRUE(std::any_of(plan.top.begin(), plan.top.end(),
+                          [&](int s) { return tree.children[std::size_t(s)].size() > 1; }));
+}
+
+// top_shares: every subtree in one bin, at most `threads` bins, each with at least one thread. Where the bins'
+// flops are worth their threads, all the threads are handed out, each bin's share within one thread of its
+// proportional share; where they are not (a few thousand flops), one thread each.
+TEST(TopShares, EverySubtreeOnceAndTheThreadsInProportion) {
+  using namespace db::multifrontal;
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int k = 1 + int(rng() % 12), threads = 1 + int(rng() % 20);
+    const bool small = trial % 3 == 0;
+    std::vector<double> work(40, 0.0);
+    std::vector<int> subtrees;
+    for (int i = 0; i < k; ++i) {
+      subtrees.push_back(3 * i + 1);
+      work[std::size_t(3 * i + 1)] = (trial % 7 == 0 ? 1.0 : double(1 + rng() % 1000)) * (small ? 1.0 : 1e9);
+    }
+    const TopShares sh = top_shares(subtrees, work, threads);
+    const std::size_t nb = std::min<std::size_t>(std::size_t(k), std::size_t(threads));
+    ASSERT_EQ(sh.bins.size(), nb);
+    ASSERT_EQ(sh.threads.size(), nb);
+    std::vector<int> all;
+    std::vector<double> load;
+    for (const auto& bin : sh.bins) {
+      EXPECT_FALSE(bin.empty());
+      all.insert(all.end(), bin.begin(), bin.end());
+      load.push_back(0);
+      for (int r : bin) load.back() += work[std::size_t(r)];
+    }
+    std::sort(all.begin(), all.end());
+    EXPECT_EQ(all, subtrees);
+    const double total = std::accumulate(load.begin(), load.end(), 0.0);
+    for (std::size_t b = 0; b < nb; ++b) {
+      if (small) {
+        EXPECT_EQ(sh.threads[b], 1) << trial;
+        continue;
+      }
+      EXPECT_GE(sh.threads[b], 1);
+      EXPECT_LT(std::abs(sh.threads[b] - 1 - double(threads - int(nb)) * load[b] / total), 1.0) << trial;
+    }
+    if (!small) {
+      EXPECT_EQ(std::accumulate(sh.threads.begin(), sh.threads.end(), 0), threads) << trial;
+    }
+  }
+}
+
+// run_top_phase (top_phase.h): each top supernode runs once, after all its top children, and the teams of the
+// fronts running at once never hold more threads than it was given; a front that fails stops its ancestors. The
+// costs are scaled to flops worth many threads (threads_worth), so that the teams are not cut to one thread.
+TEST(TopPhase, EachFrontOnceAfterItsChildrenWithinTheThreads) {
+  using namespace db::multifrontal;
+  const Symbolic S = analyze_blocks(grid_upper(60, 60), 1, "metis");
+  std::vector<double> cost = entry_costs(S);
+  for (double& c : cost) c *= 1e9;
+  const Plan plan = schedule(S, 16, cost);
+  const TopTree tree = top_tree(S, plan, cost);
+  const db::SpMat A = grid_upper(4, 4);
+  const auto scratch = [&] { return std::make_unique<TopScratch>(4, A, false); };
+  for (int threads : {1, 2, 3, 5, 16}) {
+    std::mutex m;
+    std::vector<int> runs(std::size_t(S.nsuper()), 0), team_of(std::size_t(S.nsuper()), 0);
+    int busy = 0, most = 0;
+    bool ordered = true;
+    const bool ok = run_top_phase(tree, threads, scratch, [&](int s, db::Team& team, TopScratch&) {
+      {
+        const std::lock_guard<std::mutex> lock(m);
+        team_of[std::size_t(s)] = team.size();
+        for (int c : tree.children[std::size_t(s)]) ordered = ordered && runs[std::size_t(c)] == 1;
+        busy += team.size();
+        most = std::max(most, busy);
+      }
+      volatile double x = 0;  // some work, for fronts to overlap
+      for (int i = 0; i < 20000; ++i) x = x + std::sqrt(double(i));
+      const std::lock_guard<std::mutex> lock(m);
+      busy -= team.size();
+      ++runs[std::size_t(s)];
+      return true;
+    });
+    EXPECT_TRUE(ok);
+    EXPECT_TRUE(ordered) << threads;
+    EXPECT_LE(most, threads);
+    for (int s = 0; s < S.nsuper(); ++s)
+      EXPECT_EQ(runs[std::size_t(s)], std::binary_search(plan.top.begin(), plan.top.end(), s) ? 1 : 0) << s;
+    // The teams: a bin's share of top_shares for independent subtrees, the parent's team for an only child (or
+    // for all the children of a team of one).
+    std::function<void(int, int)> subtree;
+    const auto at_once = [&](const std::vector<int>& subtrees, int t) {
+      const TopShares sh = top_shares(subtrees, tree.work, t);
+      for (std::size_t b = 0; b < sh.bins.size(); ++b)
+        for (int r : sh.bins[b]) subtree(r, sh.threads[b]);
+    };
+    subtree = [&](int s, int t) {
+      EXPECT_EQ(team_of[std::size_t(s)], t) << s << " of the top on " << threads << " threads";
+      const auto& kids = tree.children[std::size_t(s)];
+      if (kids.size() > 1 && t > 1) return at_once(kids, t);
+      for (int c : kids) subtree(c, t);
+    };
+    at_once(tree.roots, threads);
+  }
+  // A failed front: its ancestors do not run, and the phase says so.
+  int failing = -1;
+  for (int s : plan.top)
+    if (!tree.children[std::size_t(s)].empty()) failing = tree.children[std::size_t(s)].front();
+  ASSERT_GE(failing, 0);
+  std::mutex m;
+  std::vector<char> ran(std::size_t(S.nsuper()), 0);
+  const bool ok = run_top_phase(tree, 3, scratch, [&](int s, db::Team&, TopScratch&) {
+    const std::lock_guard<std::mutex> lock(m);
+    ran[std::size_t(s)] = 1;
+    return s != failing;
+  });
+  EXPECT_FALSE(ok);
+  EXPECT_TRUE(ran[std::size_t(failing)]);
+  for (int p = S.parent[std::size_t(failing)]; p >= 0; p = S.parent[std::size_t(p)]) EXPECT_FALSE(ran[std::size_t(p)]) << p;
+}
+
+// update_peak's top part (top_phase_peak) bounds the top phase however its independent subtrees interleave: the phase simulated
+// event by event in random orders, and in orders that start every front they can first (a front's update matrix is born while its top children's live, and theirs die
+// when it is done), starting from the matrices the subtree phase begun, never passes the bound. The plans' tops
+// are deep (every supernode over a few others below it), so that many top matrices are not begun by subtree roots.
+TEST(UpdatePeak, BoundsTheTopPhaseForAnyInterleaving) {
+  using namespace db::multifrontal;
+  const Symbolic S = analyze_blocks(grid_upper(60, 60), 1, "metis");
+  const std::vector<double> cost = entry_costs(S);
+  const auto bytes = [&](int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); };
+  std::vector<int> below(std::size_t(S.nsuper()), 1);  // supernodes in each one's subtree
+  for (int s = 0; s < S.nsuper(); ++s)
+    if (const int p = S.parent[std::size_t(s)]; p >= 0) below[std::size_t(p)] += below[std::size_t(s)];
+  for (int least : {3, 8, 32}) {
+    Plan plan;  // the top: every supernode with `least` or more in its subtree (closed upwards); the rest, one group
+    plan.subtrees.assign(1, {});
+    std::vector<char> is_top(std::size_t(S.nsuper()), 0), begun(std::size_t(S.nsuper()), 0);
+    for (int s = 0; s < S.nsuper(); ++s)
+      if (below[std::size_t(s)] >= least) is_top[std::size_t(s)] = 1, plan.top.push_back(s);
+    for (int s = 0; s < S.nsuper(); ++s)
+      if (const int p = S.parent[std::size_t(s)]; !is_top[std::size_t(s)] && (p < 0 || is_top[std::size_t(p)]))
+        plan.subtrees[0].push_back(s);
+    const TopTree tree = top_tree(S, plan, cost);
+    const double bound = top_phase_peak(S, plan);
+    EXPECT_LE(bound, update_peak(S, plan));
+    double early = 0;
+    for (int r : plan.subtrees[0])
+      if (const int p = S.parent[std::size_t(r)]; p >= 0 && !begun[std::size_t(p)]) begun[std::size_t(p)] = 1, early += bytes(p);
+    double most = early;
+    for (unsigned seed = 1; seed <= 30; ++seed) {
+      std::mt19937 random(seed);
+      std::vector<int> state(std::size_t(S.nsuper()), 0);  // 0: waiting, 1: started (own matrix born), 2: done
+      double live = early;
+      for (std::size_t events = 0; events < 2 * plan.top.size(); ++events) {
+        std::vector<int> start, can;
+        for (int s : plan.top) {
+          bool kids_done = true;
+          for (int c : tree.children[std::size_t(s)]) kids_done = kids_done && state[std::size_t(c)] == 2;
+          if (state[std::size_t(s)] == 0 && kids_done) start.push_back(s), can.push_back(s);
+          if (state[std::size_t(s)] == 1) can.push_back(s);
+        }
+        ASSERT_FALSE(can.empty());
+        // Seeds past 15 start every front they can before any ends: the most matrices alive at once.
+        const std::vector<int>& from = seed > 15 && !start.empty() ? start : can;
+        const int s = from[random() % from.size()];
+        if (state[std::size_t(s)]++ == 0) {
+          if (!begun[std::size_t(s)]) live += bytes(s);
+          most = std::max(most, live);
+        } else {
+          for (int c : tree.children[std::size_t(s)]) live -= bytes(c);
+        }
+      }
+      EXPECT_LE(most, bound) << "subtrees of " << least << " seed " << seed;
     }
   }
 }
