@@ -7,14 +7,16 @@
 # bytes. The thread count fixes the plan (its top set); the teams are no larger than the cores (on 2 cores the top
 # phase runs on at most 2 threads whatever T is), so at T = 16 and 8 here the top's branches run on one thread each
 # against the base's team of two, and at T = 2, whose top is one chain, both run the same way: the control.
-# Writes deform.csv (each deform row tagged with binary, round, threads), rates.csv (dgemm and memory rates at
-# 2 threads before and after), table.md and run.log here.
+# EDIT (default data/edits/armadillo_loop1_whole.edit) takes another edit. Writes deform.csv (each deform row tagged
+# with binary, round, threads), rates.csv (dgemm and memory rates at 2 threads before and after), table.md and
+# run.log in OUT (default: here).
 # usage: results/records/2026-11-28-top-branches/run.sh ROUNDS BASE/deformbench   (from the repository root, after
 #        cmake --build build --target deformbench exp_machine_rates)
 set -euo pipefail
 rounds=${1:?ROUNDS} base=${2:?BASE deformbench}
-here=$(cd "$(dirname "$0")" && pwd)
-threads=${THREADS:-16 8 2}
+here=${OUT:-$(cd "$(dirname "$0")" && pwd)}
+mkdir -p "$here"
+threads=${THREADS:-16 8 2} edit=${EDIT:-data/edits/armadillo_loop1_whole.edit}
 t=$(mktemp -d); trap 'rm -rf "$t"' EXIT
 log() { echo "$(date -u +%H:%M:%S) load $(cut -d' ' -f1-3 /proc/loadavg): $*" | tee -a "$here/run.log"; }
 : > "$here/run.log"
@@ -32,7 +34,7 @@ for ((r = 1; r <= rounds; r++)); do
       DEFORMBENCH_THREADS=2 OPENBLAS_NUM_THREADS=2 build/exp_machine_rates --gemm-size 64 --first-touch-mb 2048 \
         > /dev/null
       log "round $r threads $T $b"
-      DEFORMBENCH_THREADS=$T OPENBLAS_NUM_THREADS=$T "$bin" deform data/edits/armadillo_loop1_whole.edit --method tf \
+      DEFORMBENCH_THREADS=$T OPENBLAS_NUM_THREADS=$T "$bin" deform "$edit" --method tf \
         --constraints soft --frames 1 --out "$t/$b.ply" --csv "$t/one.csv" > /dev/null
       scripts/append_rows.py "$t/one.csv" "$here/deform.csv" binary="$b" round="$r" threads="$T"
     done
@@ -50,7 +52,7 @@ rows = list(csv.DictReader(open(f"{here}/deform.csv")))
 cell = collections.defaultdict(lambda: collections.defaultdict(dict))
 for r in rows:
     cell[int(r["threads"])][r["binary"]][int(r["round"])] = r
-print("104k TF deformation, base and new alternating: median (min-max) over the rounds; new / base per round.\n")
+print(f"{rows[0]['vertices']}-vertex TF deformation, base and new alternating: median (min-max) over the rounds; new / base per round.\n")
 print("| T | top supernodes' GFlop | phase | base s | new s | new / base per round |")
 print("|---|---|---|---|---|---|")
 for T in sorted(cell, reverse=True):
