@@ -65,6 +65,28 @@ void mark_owners(const Symbolic& S, const std::vector<char>& is_top, Plan& P) {
     for (int j = S.col0[std::size_t(s)]; j < S.col0[std::size_t(s) + 1]; ++j) P.top_columns.push_back(j);
 }
 
+//! `threads` (at least one per bin) over the bins in proportion to their `load`: one each, then the rest by the
+//! largest remainders of the proportional shares (ties: the lower bin).
+std::vector<int> proportional_threads(const std::vector<double>& load, int threads) {
+  const std::size_t nb = load.size();
+  const double total = std::accumulate(load.begin(), load.end(), 0.0);
+  const int spare = threads - int(nb);
+  std::vector<int> share(nb, 1);
+  std::vector<double> rest(nb);
+  int given = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const double want = total > 0 ? double(spare) * load[b] / total : double(spare) / double(nb);
+    share[b] += int(std::floor(want));
+    given += int(std::floor(want));
+    rest[b] = want - std::floor(want);
+  }
+  std::vector<std::size_t> by_rest(nb);
+  std::iota(by_rest.begin(), by_rest.end(), std::size_t(0));
+  std::stable_sort(by_rest.begin(), by_rest.end(), [&](std::size_t a, std::size_t b) { return rest[a] > rest[b]; });
+  for (std::size_t k = 0; given < spare && k < nb; ++k, ++given) ++share[by_rest[k]];
+  return share;
+}
+
 }  // namespace
 
 Plan schedule(const Symbolic& S, int threads, const std::vector<double>& cost) {
@@ -152,23 +174,7 @@ TopShares top_shares(const std::vector<int>& subtrees, const std::vector<double>
     load[b] += work[std::size_t(r)];
   }
   for (auto& bin : sh.bins) std::sort(bin.begin(), bin.end());
-  // One thread each, then the rest by largest remainder of the proportional shares (ties: the lower bin).
-  const double total = std::accumulate(load.begin(), load.end(), 0.0);
-  const int spare = std::max(threads, 1) - int(nb);
-  sh.threads.assign(nb, 1);
-  std::vector<double> want(nb);
-  int given = 0;
-  for (std::size_t b = 0; b < nb; ++b) {
-    want[b] = total > 0 ? double(spare) * load[b] / total : double(spare) / double(nb);
-    const int whole = int(std::floor(want[b]));
-    sh.threads[b] += whole;
-    given += whole;
-    want[b] -= whole;
-  }
-  std::vector<std::size_t> by_rest(nb);
-  std::iota(by_rest.begin(), by_rest.end(), std::size_t(0));
-  std::stable_sort(by_rest.begin(), by_rest.end(), [&](std::size_t a, std::size_t b) { return want[a] > want[b]; });
-  for (std::size_t k = 0; given < spare && k < nb; ++k, ++given) ++sh.threads[by_rest[k]];
+  sh.threads = proportional_threads(load, std::max(threads, 1));
   for (std::size_t b = 0; b < nb; ++b) sh.threads[b] = threads_worth(load[b], Work::Dense, sh.threads[b]);
   return sh;
 }
