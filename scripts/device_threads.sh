@@ -24,9 +24,9 @@
 # timeout_s 500) checks the solves and the factorization at once with the 16-core targets. Every row carries the
 # whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY a build
 # before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
-# DIAG_BINARY at prepare (a build of the head with results/records/2026-11-28-given-tree/timeline_usage.patch:
-# each step's wall and CPU time and page faults; scripts/analysis_timeline.py names the patches for older
-# builds), `team` and `ordering` also run it once on the 104k and 416k TF edits at 16 threads, time allowing, into
+# DIAG_BINARY at prepare (a build of the head with results/records/2026-11-28-top-branches/top_timeline.patch:
+# each step's wall and CPU time and page faults, and the factorization's top fronts with their teams;
+# scripts/analysis_timeline.py names the patches for older builds), `team` and `ordering` also run it once on the 104k and 416k TF edits at 16 threads, time allowing, into
 # timeline.txt: the analysis step by step, which `report-solves` tabulates (timeline.md).
 set -euo pipefail
 mode=${1:-}
