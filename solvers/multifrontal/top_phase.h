@@ -9,8 +9,9 @@
 //! costliest chain only part of those (counted by exp_tree_parallelism; results/records/2026-11-26-tree-parallelism).
 //! One front after another on one team of all the threads, each front's serial steps (a panel's dpotrf, the matrix
 //! entries) left the others waiting and its tiles were shared too many ways: the top phase ran longer on 16 threads
-//! than on 8 (results/records/2026-11-28-given-tree). On 2 cores too, independent top subtrees on a thread each
-//! beat one team of two on the top of a 16-thread plan (results/records/2026-11-28-top-branches).
+//! than on 8 (results/records/2026-11-28-given-tree). On 2 cores, independent top subtrees on a thread each beat
+//! one team of two on the 104k TF top of a 16-thread plan, and were even on the 416k one, whose fronts are large
+//! (results/records/2026-11-28-top-branches).
 //!
 //! The bytes do not depend on the teams or on which runs first: a front's tiles depend only on the front (Tiles,
 //! team.h), and a supernode starts only once its top children are done, assembling them in child order.
