@@ -254,10 +254,12 @@ double begun_by_roots(const Symbolic& S, const Plan& plan, std::vector<char>& be
 
 }  // namespace
 
-double top_phase_peak(const Symbolic& S, const Plan& plan) {
-  std::vector<char> is_top(std::size_t(S.nsuper()), 0), begun;
+namespace {
+
+//! top_phase_peak from the begun matrices (begun_by_roots) and their bytes.
+double top_peak(const Symbolic& S, const Plan& plan, const std::vector<char>& begun, double early) {
+  std::vector<char> is_top(std::size_t(S.nsuper()), 0);
   for (int s : plan.top) is_top[std::size_t(s)] = 1;
-  const double early = begun_by_roots(S, plan, begun);
   // While a top supernode's children run (all at once, at most), their subtrees' peaks add up; then their
   // matrices live beside its own, born before theirs die. Begun matrices are counted in `early` throughout.
   std::vector<double> peak(std::size_t(S.nsuper()), 0.0);
@@ -276,9 +278,18 @@ double top_phase_peak(const Symbolic& S, const Plan& plan) {
   return early + roots;
 }
 
+}  // namespace
+
+double top_phase_peak(const Symbolic& S, const Plan& plan) {
+  std::vector<char> begun;
+  const double early = begun_by_roots(S, plan, begun);
+  return top_peak(S, plan, begun, early);
+}
+
 double update_peak(const Symbolic& S, const Plan& plan) {
   std::vector<char> begun;
-  return std::max(subtree_peaks(S, plan) + begun_by_roots(S, plan, begun), top_phase_peak(S, plan));
+  const double early = begun_by_roots(S, plan, begun);
+  return std::max(subtree_peaks(S, plan) + early, top_peak(S, plan, begun, early));
 }
 
 std::vector<int> claim_order(const Symbolic& S, const Plan& plan, const std::vector<double>& cost) {

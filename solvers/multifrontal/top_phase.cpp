@@ -1,6 +1,9 @@
 #include "solvers/multifrontal/top_phase.h"
 
 #include <atomic>
+#include <mutex>
+#include <utility>
+#include <vector>
 
 #include "solvers/base/resources.h"
 
@@ -18,8 +21,9 @@ class TopRun {
     const TopShares shares = top_shares(subtrees, tree_.work, threads);
     run_tasks(int(shares.bins.size()), [&](int b) {
       Team team(shares.threads[std::size_t(b)]);
-      const std::unique_ptr<TopScratch> scratch = scratch_();
+      std::unique_ptr<TopScratch> scratch = take_scratch();
       for (int s : shares.bins[std::size_t(b)]) subtree(s, team, *scratch);
+      give_scratch(std::move(scratch));
     });
   }
 
@@ -37,10 +41,30 @@ class TopRun {
     if (ok_.load() && !front_(s, team, scratch)) ok_.store(false);
   }
 
+  //! A scratch no bin holds, made only when none is free: no more are made than bins run at once, each a map over
+  //! all the unknowns that would otherwise be allocated and filled anew for every bin.
+  std::unique_ptr<TopScratch> take_scratch() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (!free_.empty()) {
+        std::unique_ptr<TopScratch> s = std::move(free_.back());
+        free_.pop_back();
+        return s;
+      }
+    }
+    return scratch_();
+  }
+  void give_scratch(std::unique_ptr<TopScratch> s) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    free_.push_back(std::move(s));
+  }
+
   const TopTree& tree_;
   const std::function<std::unique_ptr<TopScratch>()>& scratch_;
   const TopFront& front_;
   std::atomic<bool> ok_{true};
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<TopScratch>> free_;
 };
 
 }  // namespace
