@@ -121,6 +121,17 @@ void run_tasks(int tasks, const std::function<void(int)>& fn) {
   if (job->error) std::rethrow_exception(job->error);
 }
 
+std::vector<int> balanced_columns(const int* colptr, int first, int last, int parts) {
+  std::vector<int> at(std::size_t(std::max(parts, 1)) + 1, last);
+  at[0] = first;
+  const std::int64_t base = colptr[first], entries = std::int64_t(colptr[last]) - base;
+  for (std::size_t t = 1; t + 1 < at.size(); ++t) {
+    const std::int64_t want = base + entries * std::int64_t(t) / std::int64_t(at.size() - 1);
+    at[t] = std::max(at[t - 1], int(std::lower_bound(colptr + first, colptr + last, want) - colptr));
+  }
+  return at;
+}
+
 void advise_huge_pages(void* p, std::size_t bytes) {
 #ifdef MADV_HUGEPAGE
   constexpr std::uintptr_t kHuge = std::uintptr_t(2) << 20;

@@ -2,6 +2,7 @@
 //! Process resource readings (Linux /proc).
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace db {
 
@@ -33,6 +34,10 @@ void run_on_threads(int threads, const std::function<void(int)>& fn);
 //! whichever thread runs it (then the results do not depend on thread timing). The first exception a task
 //! throws is rethrown; tasks not yet claimed then do not run.
 void run_tasks(int tasks, const std::function<void(int)>& fn);
+
+//! Columns [first, last) of a compressed-column pattern (`colptr`) cut into `parts` ranges of about equal entries,
+//! for threads that each take one: parts + 1 ascending column boundaries from first to last.
+std::vector<int> balanced_columns(const int* colptr, int first, int last, int parts);
 
 //! Asks the kernel to back the whole 2 MB pages inside [p, p + bytes) with transparent huge pages before they
 //! are first touched (no-op where unsupported). Why: first-touch faults on 4 KB pages of a 100 MB matrix cost

@@ -7,22 +7,6 @@
 #include "solvers/base/resources.h"
 
 namespace db {
-namespace {
-
-//! Column boundaries of `ranges` ranges of about equal entries: ranges + 1 ascending columns from 0 to n.
-std::vector<int> column_ranges(const GraphPattern& g, int ranges) {
-  std::vector<int> at(std::size_t(ranges) + 1, g.n);
-  at[0] = 0;
-  const std::int64_t total = g.colptr[g.n];
-  for (int t = 1; t < ranges; ++t) {
-    const std::int64_t want = total * t / ranges;
-    at[std::size_t(t)] = int(std::lower_bound(g.colptr, g.colptr + g.n, want) - g.colptr);
-    at[std::size_t(t)] = std::max(at[std::size_t(t)], at[std::size_t(t) - 1]);
-  }
-  return at;
-}
-
-}  // namespace
 
 int adjacency_ranges(long entries) {
   constexpr long kGrain = 1L << 18;
@@ -32,7 +16,7 @@ int adjacency_ranges(long entries) {
 AdjacencyLists adjacency_lists(const GraphPattern& g, int ranges) {
   const int n = g.n;
   const int T = std::max(1, std::min(ranges, std::max(n, 1)));
-  const std::vector<int> at = column_ranges(g, T);
+  const std::vector<int> at = balanced_columns(g.colptr, 0, n, T);
   // below[t][r]: entries (r, j), r < j, of range t's columns j: r's list entries from that range. own[j]: column
   // j's entries above the diagonal, the first entries of j's list.
   std::vector<std::vector<int>> below(static_cast<std::size_t>(T));
