@@ -51,16 +51,7 @@ cholmod_sparse sparse_view(const SpMat& upper) {
 }
 
 cholmod_dense dense_view(const DenseMat& B) {
-  cholmod_dense D{};
-  D.nrow = std::size_t(B.rows());
-  D.ncol = std::size_t(B.cols());
-  D.nzmax = D.nrow * D.ncol;
-  D.d = D.nrow;
-  D.x = const_cast<double*>(B.data());
-  D.z = nullptr;
-  D.xtype = CHOLMOD_REAL;
-  D.dtype = CHOLMOD_DOUBLE;
-  return D;
+  return cholmod_dense_view(std::size_t(B.rows()), std::size_t(B.cols()), B.data());
 }
 
 //! Fill-reducing ordering ("amd", "metis", "nesdis") of the block graph, expanded to the unknowns

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
+#include "solvers/ordering/cholmod_views.h"
 #include "solvers/solver_util.h"
 
 namespace db {
@@ -112,14 +113,7 @@ void SpqrLeastSquares::solve(const DenseMat& B, DenseMat& X) {
   Impl& d = *impl_;
   if (!d.qr) throw SolverError("spqr: solve() before a successful factorize()");
   if (B.rows() != d.m) throw SolverError(fmt::format("spqr: right-hand side has {} rows, A has {}", B.rows(), d.m));
-  cholmod_dense Bv{};
-  Bv.nrow = std::size_t(B.rows());
-  Bv.ncol = std::size_t(B.cols());
-  Bv.nzmax = Bv.nrow * Bv.ncol;
-  Bv.d = Bv.nrow;
-  Bv.x = const_cast<double*>(B.data());
-  Bv.xtype = CHOLMOD_REAL;
-  Bv.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense Bv = cholmod_dense_view(std::size_t(B.rows()), std::size_t(B.cols()), B.data());
   // x = E (R \ (Q^T b)): the least-squares solution of a full-rank A.
   cholmod_dense* Y = SuiteSparseQR_qmult<double>(SPQR_QTX, d.qr, &Bv, &d.cc);
   if (!Y) throw SolverError(fmt::format("spqr: Q^T B failed (CHOLMOD status {})", d.cc.status));

@@ -25,6 +25,20 @@ inline cholmod_sparse cholmod_upper_view(std::size_t n, const int* colptr, const
   return A;
 }
 
+//! Dense CHOLMOD matrix over a column-major array of nrow x ncol doubles, leading dimension nrow (an Eigen
+//! DenseMat's data()).
+inline cholmod_dense cholmod_dense_view(std::size_t nrow, std::size_t ncol, const double* values) {
+  cholmod_dense D{};
+  D.nrow = nrow;
+  D.ncol = ncol;
+  D.nzmax = nrow * ncol;
+  D.d = nrow;
+  D.x = const_cast<double*>(values);
+  D.xtype = CHOLMOD_REAL;
+  D.dtype = CHOLMOD_DOUBLE;
+  return D;
+}
+
 //! CHOLMOD's code for an ordering name: "amd", "metis", "nesdis"; anything else is natural.
 inline int cholmod_ordering_code(const std::string& name) {
   return name == "amd" ? CHOLMOD_AMD : name == "metis" ? CHOLMOD_METIS : name == "nesdis" ? CHOLMOD_NESDIS : CHOLMOD_NATURAL;

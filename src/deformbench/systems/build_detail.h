@@ -14,6 +14,30 @@ inline bool row_active(const std::vector<int>& cols, const Unknowns& unk) {
   return false;
 }
 
+//! Walks A itself, for the builds that store it: each row block touching an unknown puts its target in
+//! `target` (b n x r, zero elsewhere) and hands each of its coefficients to entry(row, col, value, unknown),
+//! col counting the unknowns' columns where `unknown`, else the hard vertices'.
+template <class Entry>
+void walk_A(const EnergyOperator& op, const Unknowns& unk, DenseMat& target, Entry&& entry) {
+  const int n = op.num_vertices(), b = op.block(), r = op.rhs_cols(), b2 = b * b;
+  target = DenseMat::Zero(static_cast<Eigen::Index>(b) * n, r);
+  std::vector<int> cols;
+  std::vector<double> coeffs;
+  double tgt[3];
+  for (int i = 0; i < n; ++i) {
+    op.row(i, cols, coeffs);
+    if (!row_active(cols, unk)) continue;
+    op.target(i, tgt);
+    for (int rr = 0; rr < b; ++rr)
+      for (int col = 0; col < r; ++col) target(b * i + rr, col) = tgt[rr * r + col];
+    for (std::size_t a = 0; a < cols.size(); ++a) {
+      const int ku = unk.unknown_of[cols[a]], k = ku >= 0 ? ku : unk.hard_of[cols[a]];
+      for (int rr = 0; rr < b; ++rr)
+        for (int c = 0; c < b; ++c) entry(b * i + rr, b * k + c, coeffs[b2 * a + rr * b + c], ku >= 0);
+    }
+  }
+}
+
 //! out(c1, c2) = sum_r X(r, c1) Y(r, c2) for B x B row-major blocks.
 template <int B>
 inline void block_AtB(const double* X, const double* Y, double* out) {

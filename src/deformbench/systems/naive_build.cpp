@@ -7,30 +7,13 @@
 namespace db::detail {
 
 NormalSystem build_naive(const EnergyOperator& op, const Unknowns& unk) {
-  const int n = op.num_vertices(), b = op.block(), r = op.rhs_cols(), b2 = b * b;
-  const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
+  const int b = op.block();
+  const Eigen::Index rows = static_cast<Eigen::Index>(b) * op.num_vertices();
   using Trip = Eigen::Triplet<double, int>;
   std::vector<Trip> tu, th;
-  DenseMat target = DenseMat::Zero(rows, r);
-  std::vector<int> cols;
-  std::vector<double> coeffs;
-  double tgt[3];
-  for (int i = 0; i < n; ++i) {
-    op.row(i, cols, coeffs);
-    if (!row_active(cols, unk)) continue;
-    op.target(i, tgt);
-    for (int rr = 0; rr < b; ++rr)
-      for (int col = 0; col < r; ++col) target(b * i + rr, col) = tgt[rr * r + col];
-    for (std::size_t a = 0; a < cols.size(); ++a) {
-      const int ku = unk.unknown_of[cols[a]], kh = unk.hard_of[cols[a]];
-      for (int rr = 0; rr < b; ++rr)
-        for (int c = 0; c < b; ++c) {
-          const double v = coeffs[b2 * a + rr * b + c];
-          if (ku >= 0) tu.emplace_back(b * i + rr, b * ku + c, v);
-          else th.emplace_back(b * i + rr, b * kh + c, v);
-        }
-    }
-  }
+  DenseMat target;
+  walk_A(op, unk, target,
+         [&](int row, int col, double v, bool unknown) { (unknown ? tu : th).emplace_back(row, col, v); });
   SpMat Au(rows, static_cast<Eigen::Index>(b) * unk.num_unknowns());
   SpMat Ah(rows, static_cast<Eigen::Index>(b) * unk.num_hard());
   Au.setFromTriplets(tu.begin(), tu.end());
