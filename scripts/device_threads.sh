@@ -3,10 +3,13 @@
 # TF and LAP edits; multifrontal and CHOLMOD (supernodal); one process per run, each deform row kept whole (its
 # provenance, the init split, the frame median, the factorization's flops and serial top phase); the machine's
 # dgemm and memory read rates at each T before and after the runs (exp_machine_rates). Three steps:
-#   DEVICE_BUNDLE=PATH/device-bundle.sh [BASE_BINARY=OLD/deformbench] [DIAG_BINARY=DIAG/deformbench] \
+#   DEVICE_BUNDLE=PATH/device-bundle.sh [BASE_REV=REV] [DIAG_PATCH=scripts/device_timeline.patch] \
 #     scripts/device_threads.sh prepare
 #                                                # here: bundle build/ with the device tool's bundler (not part of
-#                                                # the project) and the 104k mesh into .device/ (git-ignored)
+#                                                # the project) and the 104k mesh into .device/ (git-ignored);
+#                                                # BASE_REV: a base build of commit REV, DIAG_PATCH: the diagnostic
+#                                                # build, the head with the patch, each built in a scratch worktree
+#                                                # (BASE_BINARY, DIAG_BINARY: such builds made by hand instead)
 #   run tool: carry [".device"], timeout_s 600, command
 #       bash .device/device_threads.sh run       # there: $OUT/threads.csv, rates.csv, failed.csv, machine.txt
 #   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: those files, table.md, threads.png
@@ -24,10 +27,11 @@
 # timeout_s 500) checks the solves and the factorization at once with the 16-core targets. Every row carries the
 # whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY a build
 # before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
-# DIAG_BINARY at prepare (a build of the head with results/records/2026-11-28-top-branches/top_timeline.patch:
+# DIAG_PATCH at prepare (scripts/device_timeline.patch, kept applying to the head by tests/device_patch_test.sh:
 # each step's wall and CPU time and page faults, and the factorization's top fronts with their teams;
-# scripts/analysis_timeline.py names the patches for older builds), `team` and `ordering` also run it once on the 104k and 416k TF edits at 16 threads, time allowing, into
-# timeline.txt: the analysis step by step, which `report-solves` tabulates (timeline.md).
+# scripts/analysis_timeline.py names the patches for older builds), `team` and `ordering` also run it once on
+# the 104k and 416k TF edits at 16 threads, time allowing, into timeline.txt: the analysis step by step, which
+# `report-solves` tabulates (timeline.md).
 set -euo pipefail
 mode=${1:-}
 setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
@@ -78,6 +82,20 @@ timeline() {  # T: the diagnostic build's analysis timeline of the 104k and 416k
 tier1() {  # round solvers...: the 104k runs
   for T in 1 2 4 8 16; do for S in "${@:2}"; do for M in tf lap; do one deformbench 1 "$1" $M "$S" $T default 5 15; done; done; done
 }
+build_at() {  # REV PATCH DEST: deformbench built at the commit REV (PATCH applied, if not empty) in a scratch
+              # worktree, removed afterwards, and copied to DEST
+  local w ok=0; w=$(mktemp -d)
+  git worktree add -q --detach "$w" "$1" || { rmdir "$w"; echo "no commit $1 to build" >&2; exit 1; }
+  { [ -z "$2" ] || git -C "$w" apply "$PWD/$2"; } &&
+    cmake -S "$w" -B "$w/build" -DCMAKE_BUILD_TYPE=Release -DDEFORMBENCH_BUILD_TESTS=OFF \
+      -DDEFORMBENCH_BUILD_BENCH=OFF > "$w.log" 2>&1 &&
+    cmake --build "$w/build" -j "$(nproc)" --target deformbench >> "$w.log" 2>&1 &&
+    cp "$w/build/deformbench" "$3" || ok=$?
+  git worktree remove --force "$w"
+  [ ! -s "$w.log" ] || [ $ok -eq 0 ] || tail -20 "$w.log"
+  rm -f "$w.log"
+  [ $ok -eq 0 ] || { echo "building $1 ${2:+with $2 }failed" >&2; exit 1; }
+}
 case $mode in
 prepare)
   "${DEVICE_BUNDLE:?DEVICE_BUNDLE names the device-bundle.sh of the device tool library}" build .device deformbench meshtool \
@@ -85,6 +103,8 @@ prepare)
   # The reference BLAS and LAPACK sonames are Debian's OpenBLAS too: set aside, used there only where the machine
   # has none, so that one OpenBLAS (the machine's) serves every library.
   mkdir -p .device/fallback; mv .device/lib/libblas.so.3 .device/lib/liblapack.so.3 .device/fallback/ 2>/dev/null || true
+  [ -z "${BASE_REV:-}" ] || build_at "$BASE_REV" "" .device/bin/deformbench_base
+  [ -z "${DIAG_PATCH:-}" ] || build_at HEAD "$DIAG_PATCH" .device/bin/deformbench_diag
   [ -z "${BASE_BINARY:-}" ] || cp "$BASE_BINARY" .device/bin/deformbench_base
   [ -z "${DIAG_BINARY:-}" ] || cp "$DIAG_BINARY" .device/bin/deformbench_diag
   gzip -c data/generated/armadillo_loop1.off > .device/armadillo_loop1.off.gz
@@ -178,5 +198,5 @@ report-solves)
     /usr/bin/python3 "$(dirname "$0")/analysis_timeline.py" "$dest/timeline.txt" > "$dest/timeline.md"
   fi
   /usr/bin/python3 "$(dirname "$0")/device_threads_report.py" --solves "$dest" ;;
-*) sed -n 2,30p "$0"; exit 1 ;;
+*) sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 1 ;;
 esac
