@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "core/timer.h"
 #include "solvers/base/error.h"
 #include "methods/laplacian_deformer.h"
 #include "methods/lri.h"
@@ -138,6 +139,19 @@ std::unique_ptr<Deformer> make_deformer(const Mesh& mesh, const Edit& edit, cons
       return make_lri_deformer(mesh, edit, o);
   }
   throw Error("make_deformer: a method outside the table");
+}
+
+EditSetup setup_edit(const Mesh& mesh, const Edit& edit, const DeformOptions& options, bool tf_anchoring) {
+  EditSetup s;
+  s.norm = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
+  s.Vn = s.norm.apply(mesh.V);
+  Timer t;
+  s.adj = vertex_adjacency(mesh);
+  const auto kinds = classify(edit, options.constraints);
+  check_every_component_anchored(s.adj, kinds, tf_anchoring ? &s.Vn : nullptr);
+  s.unk = make_unknowns(kinds, options.soft_weight);
+  s.seconds = t.seconds();
+  return s;
 }
 
 }  // namespace db

@@ -10,6 +10,7 @@
 #include "solvers/base/types.h"
 #include "edit/edit.h"
 #include "methods/deform_options.h"
+#include "methods/normalization.h"
 #include "mesh/mesh.h"
 #include "operators/laplacian.h"
 #include "solvers/linear_solver.h"
@@ -82,5 +83,20 @@ std::vector<Constraint> classify(const Edit& edit, ConstraintMode mode);
 //! in place while rotating about that line.
 void check_every_component_anchored(const Adjacency& adj, const std::vector<Constraint>& kind,
                                     const Points* positions = nullptr);
+
+//! What every system of an edit starts from (the deformers' and edit_systems'): the rest positions normalized
+//! (DeformOptions::normalize), the mesh's 1-ring graph and the unknowns of the edit's constraints.
+struct EditSetup {
+  Normalization norm;
+  Points Vn;  //!< normalized rest positions
+  Adjacency adj;
+  Unknowns unk;
+  double seconds = 0;  //!< the graph, the constraints' check and the unknowns (the normalization not counted)
+};
+
+//! The edit's setup, its constraints checked to anchor every component (check_every_component_anchored; with
+//! `tf_anchoring`, TF's check on the normalized positions). \param options resolved (resolve_options).
+//! \throw InputError a bad scale (Normalization::fit) or a component left free.
+EditSetup setup_edit(const Mesh& mesh, const Edit& edit, const DeformOptions& options, bool tf_anchoring);
 
 }  // namespace db

@@ -19,25 +19,16 @@ namespace {
 // TF interleaves them in one.
 inline double& at(DenseMat& M, int block, int u, int c) { return block == 1 ? M(u, c) : M(3 * u + c, 0); }
 
-// What every system of an edit shares: the normalized mesh, its graph, the unknowns.
-struct Setup {
+// The edit's setup (the deformers' own) under the resolved options.
+struct Setup : EditSetup {
   DeformOptions o;
-  Normalization norm;
-  Points Vn;
-  Adjacency adj;
-  Unknowns unk;
 };
 
 Setup setup(const Mesh& mesh, const Edit& edit, const DeformOptions& options) {
   Setup s;
   s.o = resolve_options(options);
   check_deform_input(mesh, edit, s.o);
-  s.norm = s.o.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
-  s.Vn = s.norm.apply(mesh.V);
-  s.adj = vertex_adjacency(mesh);
-  const auto kinds = classify(edit, s.o.constraints);
-  check_every_component_anchored(s.adj, kinds, s.o.method == Method::Tf ? &s.Vn : nullptr);
-  s.unk = make_unknowns(kinds, s.o.soft_weight);
+  static_cast<EditSetup&>(s) = setup_edit(mesh, edit, s.o, /*tf_anchoring=*/s.o.method == Method::Tf);
   return s;
 }
 

@@ -26,14 +26,8 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
       handle_limit_(options.handle_limit) {
   for (std::size_t k = 0; k < handle_vertices_.size(); ++k) handle_index_[handle_vertices_[k]] = static_cast<int>(k);
   const std::string& solver = options.solver;  // resolved by make_deformer (resolve_options)
-  norm_ = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
-  Vn_ = norm_.apply(mesh.V);
-  Timer t;
-  adj_ = vertex_adjacency(mesh);
-  const auto kinds = classify(edit, options.constraints);
-  check_every_component_anchored(adj_, kinds, kind == EnergyKind::Tf ? &Vn_ : nullptr);
-  unk_ = make_unknowns(kinds, options.soft_weight);
-  times_.build = t.seconds();
+  setup_ = setup_edit(mesh, edit, options, /*tf_anchoring=*/kind == EnergyKind::Tf);
+  times_.build = setup_.seconds;
 
   SolverOptions so = options.solver_options;
   so.block_size = op_block(kind);
@@ -41,18 +35,18 @@ LaplacianDeformer::LaplacianDeformer(const Mesh& mesh, const Edit& edit, EnergyK
   // singular input (10 n eps) would reject it at millions of unknowns, where TF's smallest pivot falls below
   // that bound. The smallest pivot is still reported.
   so.pivot_singularity_test = false;
-  t.reset();
+  Timer t;
   EnergyOptions eo;
   eo.weights = options.weights;
   eo.tf_translation = options.tf_translation;
-  const EnergyOperator op(Vn_, mesh.F, adj_, kind, eo);
+  const EnergyOperator op(setup_.Vn, mesh.F, setup_.adj, kind, eo);
   times_.build += t.seconds();
 
   std::string vertex_ordering;
   double ordering_seconds = 0;
   NormalSystem sys = build(op, options, solver, so, vertex_ordering, ordering_seconds);
   // Frames need only C and g0: the factor replaces K.
-  mqwf_.precompute(std::move(sys), unk_, to_string(kind), solver, so, /*consume_matrix=*/true);
+  mqwf_.precompute(std::move(sys), setup_.unk, to_string(kind), solver, so, /*consume_matrix=*/true);
   times_.analyze = ordering_seconds + mqwf_.analyze_seconds();
   times_.factorize = mqwf_.factorize_seconds();
   if (!vertex_ordering.empty()) mqwf_.report().factor.ordering_used = vertex_ordering + "-vertex-graph";
@@ -68,17 +62,18 @@ void LaplacianDeformer::precompute_rescale(const Faces& F, const DeformOptions& 
   EnergyOptions eo;
   eo.weights = options.weights;
   eo.tf_translation = options.tf_translation;
-  lap_op_ = std::make_unique<EnergyOperator>(Vn_, F, adj_, EnergyKind::Lap, eo);
+  lap_op_ = std::make_unique<EnergyOperator>(setup_.Vn, F, setup_.adj, EnergyKind::Lap, eo);
   // The unknowns keep TF's numbering (a vertex-graph order when the structured build ordered them; `so` then says
   // "natural"). The naive build's kept A^T cannot take the per-frame targets: the structured build, same K.
   const Build build = options.build == Build::Naive ? Build::Structured : options.build;
-  NormalSystem sys = rank_local(options) ? build_structured_share(*lap_op_, unk_, options.rank, options.ranks,
+  const Unknowns& unk = setup_.unk;
+  NormalSystem sys = rank_local(options) ? build_structured_share(*lap_op_, unk, options.rank, options.ranks,
                                                                   options.memory_budget)
-                                         : build_normal_system(*lap_op_, unk_, build, options.memory_budget);
+                                         : build_normal_system(*lap_op_, unk, build, options.memory_budget);
   times_.build += t.seconds();
   SolverOptions lap_so = so;
   lap_so.block_size = 1;
-  rescale_.precompute(std::move(sys), unk_, "lap (tf scale pass)", options.solver,
+  rescale_.precompute(std::move(sys), setup_.unk, "lap (tf scale pass)", options.solver,
                       lap_so, /*consume_matrix=*/true);
   times_.analyze += rescale_.analyze_seconds();
   times_.factorize += rescale_.factorize_seconds();
@@ -94,10 +89,10 @@ Points LaplacianDeformer::rescale(const Points& Vn1) {
     std::vector<double> coeffs;
     for (int i = 0; i < delta.rows(); ++i) {
       lap_op_->row(i, cols, coeffs);
-      if (std::none_of(cols.begin(), cols.end(), [&](int k) { return unk_.unknown_of[k] >= 0; })) continue;
+      if (std::none_of(cols.begin(), cols.end(), [&](int k) { return setup_.unk.unknown_of[k] >= 0; })) continue;
       const Eigen::RowVector3d target = (lap_op_->fitted_rotation(i, Vn1) * delta.row(i).transpose()).transpose();
       for (std::size_t k = 0; k < cols.size(); ++k)
-        if (const int u = unk_.unknown_of[cols[k]]; u >= 0) g.row(u) += coeffs[k] * target;
+        if (const int u = setup_.unk.unknown_of[cols[k]]; u >= 0) g.row(u) += coeffs[k] * target;
     }
   };
   // The constraint values of the first pass, in LAP's layout (one row per vertex, x y z columns).
@@ -115,10 +110,10 @@ Points LaplacianDeformer::rescale(const Points& Vn1) {
 }
 
 Points LaplacianDeformer::positions(const DenseMat& x, const DenseMat& xh, int block) const {
-  Points Vn(Vn_.rows(), 3);
+  Points Vn(setup_.Vn.rows(), 3);
   for (int v = 0; v < Vn.rows(); ++v) {
-    const int u = unk_.unknown_of[v];
-    for (int c = 0; c < 3; ++c) Vn(v, c) = u >= 0 ? at(x, block, u, c) : at(xh, block, unk_.hard_of[v], c);
+    const int u = setup_.unk.unknown_of[v];
+    for (int c = 0; c < 3; ++c) Vn(v, c) = u >= 0 ? at(x, block, u, c) : at(xh, block, setup_.unk.hard_of[v], c);
   }
   return Vn;
 }
@@ -140,16 +135,16 @@ NormalSystem LaplacianDeformer::build(const EnergyOperator& op, const DeformOpti
   if (vertex_ordering == "amd" && worker_threads() > 1) {
     // AMD runs on one core: the build takes the other meanwhile (METIS uses both cores itself). Of the wall
     // time, the ordering thread's own counts as analysis, the rest as build.
-    sys = build_structured_while_ordering(op, unk_, vertex_ordering, options.memory_budget, ordering_seconds);
+    sys = build_structured_while_ordering(op, setup_.unk, vertex_ordering, options.memory_budget, ordering_seconds);
     times_.build += std::max(0.0, t.seconds() - ordering_seconds);
     return sys;
   }
   if (!vertex_ordering.empty()) {
-    order_unknowns(op.adjacency(), unk_, vertex_ordering);
+    order_unknowns(op.adjacency(), setup_.unk, vertex_ordering);
     ordering_seconds = t.seconds();
   }
   t.reset();
-  sys = build_normal_system(op, unk_, options.build, options.memory_budget);
+  sys = build_normal_system(op, setup_.unk, options.build, options.memory_budget);
   times_.build += t.seconds();
   return sys;
 }
@@ -162,25 +157,25 @@ NormalSystem LaplacianDeformer::build_share(const EnergyOperator& op, const Defo
                                             const std::string& vertex_ordering, double& ordering_seconds) {
   Timer t;
   if (!vertex_ordering.empty()) {
-    order_unknowns(op.adjacency(), unk_, vertex_ordering);
+    order_unknowns(op.adjacency(), setup_.unk, vertex_ordering);
     ordering_seconds = t.seconds();
   }
   // The shares are sums over one numbering of the unknowns: a rank that ordered differently would mix two.
-  if (!mpi::same_on_every_rank(unk_.unknown_vertices.data(), unk_.unknown_vertices.size()))
+  if (!mpi::same_on_every_rank(setup_.unk.unknown_vertices.data(), setup_.unk.unknown_vertices.size()))
     throw SolverError("rank-local assembly: the ranks numbered the unknowns differently (each rank must read the same "
                       "input and order it alike)");
   t.reset();
-  NormalSystem sys = build_structured_share(op, unk_, options.rank, options.ranks, options.memory_budget);
+  NormalSystem sys = build_structured_share(op, setup_.unk, options.rank, options.ranks, options.memory_budget);
   times_.build += t.seconds();
   return sys;
 }
 
 void LaplacianDeformer::set_varying() {
   std::vector<int> hard, unknowns;
-  for (int v : unk_.soft_vertices)
-    if (edit_.roles[v] == Role::Handle) unknowns.push_back(unk_.unknown_of[v]);
-  for (int h = 0; h < unk_.num_hard(); ++h)
-    if (edit_.roles[unk_.hard_vertices[h]] == Role::Handle) hard.push_back(h);
+  for (int v : setup_.unk.soft_vertices)
+    if (edit_.roles[v] == Role::Handle) unknowns.push_back(setup_.unk.unknown_of[v]);
+  for (int h = 0; h < setup_.unk.num_hard(); ++h)
+    if (edit_.roles[setup_.unk.hard_vertices[h]] == Role::Handle) hard.push_back(h);
   mqwf_.set_varying(hard, unknowns);
 }
 
@@ -190,20 +185,20 @@ void LaplacianDeformer::constraint_values(const Mat4& T, const Points* targets) 
     M.resize(static_cast<Eigen::Index>(b) * static_cast<Eigen::Index>(vertices.size()), r);
     for (std::size_t k = 0; k < vertices.size(); ++k) {
       const int v = vertices[k];
-      const Vec3 p = Vn_.row(v).transpose();
+      const Vec3 p = setup_.Vn.row(v).transpose();
       Vec3 target = p;
       if (edit_.roles[v] == Role::Handle)
         target = targets ? Vec3(targets->row(handle_index_[v]).transpose()) : apply(T, p);
       for (int c = 0; c < 3; ++c) at(M, b, static_cast<int>(k), c) = target(c);
     }
   };
-  fill(unk_.hard_vertices, xh_);
-  fill(unk_.soft_vertices, soft_);
+  fill(setup_.unk.hard_vertices, xh_);
+  fill(setup_.unk.soft_vertices, soft_);
 }
 
 bool LaplacianDeformer::within_handle_limit(int m) {
   const int b = mqwf_.system().block;
-  const double rows = static_cast<double>(b) * static_cast<double>(Vn_.rows());
+  const double rows = static_cast<double>(b) * static_cast<double>(setup_.Vn.rows());
   const double bytes = rows * (m + (b == 1 ? 3 : 1)) * sizeof(double);
   const double factor = static_cast<double>(mqwf_.report().factor.factor_bytes);
   if (factor > 0 && bytes <= handle_limit_ * factor) return true;
@@ -238,22 +233,22 @@ void LaplacianDeformer::precompute_handle_frames() {
         for (int c = 0; c < b; ++c) M(row + c, b * handle_index_[v] + c) = 1.0;
         continue;
       }
-      const Eigen::Vector4d P(Vn_(v, 0), Vn_(v, 1), Vn_(v, 2), 1.0);
+      const Eigen::Vector4d P(setup_.Vn(v, 0), setup_.Vn(v, 1), setup_.Vn(v, 2), 1.0);
       for (int c = 0; c < b; ++c)
         for (int j = 0; j < 4; ++j) M(row + c, b == 1 ? j : 4 * c + j) = P(j);
     }
   };
   DenseMat xh_basis, soft_basis;
-  basis(unk_.hard_vertices, xh_basis);
-  basis(unk_.soft_vertices, soft_basis);
-  std::vector<int> source(Vn_.rows() * b);  // output row b v + c: vertex v's coordinate c (LAP: its row)
-  for (int v = 0; v < static_cast<int>(Vn_.rows()); ++v)
+  basis(setup_.unk.hard_vertices, xh_basis);
+  basis(setup_.unk.soft_vertices, soft_basis);
+  std::vector<int> source(setup_.Vn.rows() * b);  // output row b v + c: vertex v's coordinate c (LAP: its row)
+  for (int v = 0; v < static_cast<int>(setup_.Vn.rows()); ++v)
     for (int c = 0; c < b; ++c)
-      source[static_cast<std::size_t>(b * v + c)] = unk_.unknown_of[v] >= 0
-                                                        ? b * unk_.unknown_of[v] + c
-                                                        : -(b * unk_.hard_of[v] + c) - 1;
+      source[static_cast<std::size_t>(b * v + c)] = setup_.unk.unknown_of[v] >= 0
+                                                        ? b * setup_.unk.unknown_of[v] + c
+                                                        : -(b * setup_.unk.hard_of[v] + c) - 1;
   response_.precompute(mqwf_, xh_, soft_, xh_basis, soft_basis, source);
-  response_.scale_and_shift(1.0 / norm_.scale, norm_.center);  // frames write restored positions
+  response_.scale_and_shift(1.0 / setup_.norm.scale, setup_.norm.center);  // frames write restored positions
   times_.precompute = response_.seconds();
   response_bytes_ = response_.bytes();
   frame_mode_ = FrameMode::Handle;
@@ -261,7 +256,7 @@ void LaplacianDeformer::precompute_handle_frames() {
 
 Points LaplacianDeformer::stream(const DenseMat& theta) {
   Timer t;
-  Points out(Vn_.rows(), 3);
+  Points out(setup_.Vn.rows(), 3);
   if (!response_.evaluate(theta, out.data()))
     for (Eigen::Index v = 0; v < out.rows(); ++v)
       if (!out.row(v).allFinite())
@@ -275,7 +270,7 @@ Points LaplacianDeformer::stream(const DenseMat& theta) {
 Points LaplacianDeformer::deform_handle(const Mat4& handle_transform) {
   if (edit_.targets.rows() > 0) throw Error("handle-mode responses to per-vertex targets: frames are deform_targets");
   Timer t;
-  const Mat4 D = norm_.conjugate(handle_transform) - Mat4::Identity();
+  const Mat4 D = setup_.norm.conjugate(handle_transform) - Mat4::Identity();
   const bool lap = mqwf_.system().block == 1;
   DenseMat theta(lap ? 4 : 12, lap ? 3 : 1);
   for (int c = 0; c < 3; ++c)
@@ -292,7 +287,7 @@ Points LaplacianDeformer::deform_targets(const Points& targets) {
     throw InputError(fmt::format("per-vertex targets: expected {} finite positions (one per handle vertex), got {}",
                                  h, targets.rows()));
   if (frame_mode_ == FrameMode::Full) return deform_full([&] {
-    const Points tn = norm_.apply(targets);
+    const Points tn = setup_.norm.apply(targets);
     constraint_values(Mat4::Identity(), &tn);
   });
   if (edit_.targets.rows() == 0) throw Error("handle-mode responses to the affine map: frames are deform");
@@ -301,7 +296,8 @@ Points LaplacianDeformer::deform_targets(const Points& targets) {
   DenseMat theta(b * h, b == 1 ? 3 : 1);  // each handle vertex's displacement, normalized
   for (int k = 0; k < h; ++k)
     for (int c = 0; c < 3; ++c) {
-      const double d = (targets(k, c) - norm_.center(c)) * norm_.scale - Vn_(handle_vertices_[k], c);
+      const double d =
+          (targets(k, c) - setup_.norm.center(c)) * setup_.norm.scale - setup_.Vn(handle_vertices_[k], c);
       (b == 1 ? theta(k, c) : theta(3 * k + c, 0)) = d;
     }
   const double setup = t.seconds();
@@ -312,7 +308,7 @@ Points LaplacianDeformer::deform_targets(const Points& targets) {
 
 Points LaplacianDeformer::deform(const Mat4& handle_transform) {
   if (frame_mode_ == FrameMode::Handle) return deform_handle(handle_transform);
-  return deform_full([&] { constraint_values(norm_.conjugate(handle_transform)); });
+  return deform_full([&] { constraint_values(setup_.norm.conjugate(handle_transform)); });
 }
 
 Points LaplacianDeformer::deform_full(const std::function<void()>& set_values) {
@@ -346,7 +342,7 @@ Points LaplacianDeformer::deform_full(const std::function<void()>& set_values) {
     Vn = rescale(Vn);
     rescale_seconds = tr.seconds();
   }
-  Points out = norm_.restore(Vn);
+  Points out = setup_.norm.restore(Vn);
   times_.solve += rescale_seconds;  // the second pass's right-hand side and solve
   times_.write = t.seconds() - rescale_seconds;
   return out;

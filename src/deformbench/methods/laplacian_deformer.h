@@ -41,10 +41,7 @@ class LaplacianDeformer : public Deformer {
   std::vector<int> handle_vertices_;  // ascending: the order of per-vertex targets
   std::vector<int> handle_index_;     // per vertex: its row in a frame's targets, -1 off the handle
   double handle_limit_ = DeformOptions::kDefaultHandleLimit;
-  Adjacency adj_;
-  Normalization norm_;
-  Points Vn_;  // normalized rest positions
-  Unknowns unk_;
+  EditSetup setup_;
   MinQuadWithFixed mqwf_;
   HandleResponse response_;  // FrameMode::Handle: every vertex's restored position, affine in the handle map
   DenseMat xh_, soft_, x_;  // per-frame buffers, reused

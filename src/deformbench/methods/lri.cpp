@@ -15,34 +15,28 @@ LriDeformer::LriDeformer(const Mesh& mesh, const Edit& edit, const DeformOptions
   if (options.build == Build::Dense)
     throw InputError("LRI: the dense build is not offered (use --build structured or naive)");
   const std::string& solver = options.solver;  // resolved by make_deformer (resolve_options)
-  norm_ = options.normalize ? Normalization::fit(mesh.V) : Normalization::identity();
-  Vn_ = norm_.apply(mesh.V);
-
-  Timer t;
-  adj_ = vertex_adjacency(mesh);
-  const auto kinds = classify(edit, options.constraints);
   // Both systems couple exactly the 1-ring, so one anchoring check covers both.
-  check_every_component_anchored(adj_, kinds);
-  unk_ = make_unknowns(kinds, options.soft_weight);
+  setup_ = setup_edit(mesh, edit, options, /*tf_anchoring=*/false);
+  Timer t;
   if (options.memory_budget > 0) {
-    const std::size_t predicted = predict_edge_system_bytes(adj_, unk_, 3, options.build) +
-                                  predict_edge_system_bytes(adj_, unk_, 1, options.build);
+    const std::size_t predicted = predict_edge_system_bytes(setup_.adj, setup_.unk, 3, options.build) +
+                                  predict_edge_system_bytes(setup_.adj, setup_.unk, 1, options.build);
     if (predicted > options.memory_budget)
       throw BudgetError(fmt::format("{} build of the LRI systems needs about {:.1f} MB, over the budget of {:.1f} MB",
                                     to_string(options.build), predicted / 1e6, options.memory_budget / 1e6));
   }
-  const Points N = vertex_normals(Vn_, mesh.F);
-  frames_ = compute_frames(Vn_, adj_, N, strategy_, options.lri_seed);
-  forms_ = discrete_forms(Vn_, adj_, frames_.F);
-  NormalSystem fsys = build_edge_system(adj_, unk_, lri_frame_rows(frames_.F), options.build);
-  NormalSystem psys = build_edge_system(adj_, unk_, lri_position_rows(), options.build);
-  times_.build = t.seconds();
+  const Points N = vertex_normals(setup_.Vn, mesh.F);
+  frames_ = compute_frames(setup_.Vn, setup_.adj, N, strategy_, options.lri_seed);
+  forms_ = discrete_forms(setup_.Vn, setup_.adj, frames_.F);
+  NormalSystem fsys = build_edge_system(setup_.adj, setup_.unk, lri_frame_rows(frames_.F), options.build);
+  NormalSystem psys = build_edge_system(setup_.adj, setup_.unk, lri_position_rows(), options.build);
+  times_.build = setup_.seconds + t.seconds();
 
   SolverOptions fo = options.solver_options, po = options.solver_options;
   fo.block_size = 3;  // (b1, b2, N) components of one vertex share their pattern
   po.block_size = 1;
-  frames_mqwf_.analyze(std::move(fsys), unk_, "frames", solver, fo);
-  positions_mqwf_.analyze(std::move(psys), unk_, "positions", solver, po);
+  frames_mqwf_.analyze(std::move(fsys), setup_.unk, "frames", solver, fo);
+  positions_mqwf_.analyze(std::move(psys), setup_.unk, "positions", solver, po);
   frames_mqwf_.factorize(/*consume_matrix=*/false);  // K is kept (frame_system())
   positions_mqwf_.factorize(/*consume_matrix=*/false);
   times_.analyze = frames_mqwf_.analyze_seconds() + positions_mqwf_.analyze_seconds();
@@ -65,17 +59,17 @@ void LriDeformer::precompute_handle_frames() {
     }
   };
   DenseMat xh_basis, soft_basis;
-  basis(unk_.hard_vertices, xh_basis);
-  basis(unk_.soft_vertices, soft_basis);
-  std::vector<int> source(3 * Vn_.rows());
-  for (int v = 0; v < static_cast<int>(Vn_.rows()); ++v)
+  basis(setup_.unk.hard_vertices, xh_basis);
+  basis(setup_.unk.soft_vertices, soft_basis);
+  std::vector<int> source(3 * setup_.Vn.rows());
+  for (int v = 0; v < static_cast<int>(setup_.Vn.rows()); ++v)
     for (int k = 0; k < 3; ++k)
       source[static_cast<std::size_t>(3 * v + k)] =
-          unk_.unknown_of[v] >= 0 ? 3 * unk_.unknown_of[v] + k : -(3 * unk_.hard_of[v] + k) - 1;
+          setup_.unk.unknown_of[v] >= 0 ? 3 * setup_.unk.unknown_of[v] + k : -(3 * setup_.unk.hard_of[v] + k) - 1;
   frame_response_.precompute(frames_mqwf_, xhf_, softf_, xh_basis, soft_basis, source);
   times_.precompute = frame_response_.seconds();
   response_bytes_ = frame_response_.bytes();
-  xf_all_.resize(3 * Vn_.rows(), 3);
+  xf_all_.resize(3 * setup_.Vn.rows(), 3);
   frame_mode_ = FrameMode::Handle;
 }
 
@@ -111,45 +105,47 @@ double LriDeformer::frame_rhs(const Mat3& Rh) {
     }
   };
   Timer t;
-  fill(unk_.hard_vertices, xhf_);
-  fill(unk_.soft_vertices, softf_);
+  fill(setup_.unk.hard_vertices, xhf_);
+  fill(setup_.unk.soft_vertices, softf_);
   frames_mqwf_.form_rhs(xhf_, softf_);  // the frame energy has no constant target
   return t.seconds();
 }
 
 double LriDeformer::position_rhs(const Mat4& T) {
-  const int n = static_cast<int>(Vn_.rows());
+  const int n = static_cast<int>(setup_.Vn.rows());
   Timer t;
   // Orthonormalize, then the position targets F'_i d_ij of every directed edge.
   raw_.resize(n);
   solved_.resize(n);
   const bool handle = frame_mode_ == FrameMode::Handle;
   for (int v = 0; v < n; ++v) {
-    const int u = unk_.unknown_of[v];
+    const int u = setup_.unk.unknown_of[v];
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c)
-        raw_[v](c, k) = handle ? xf_all_(3 * v + k, c) : u >= 0 ? xf_(3 * u + k, c) : xhf_(3 * unk_.hard_of[v] + k, c);
+        raw_[v](c, k) = handle ? xf_all_(3 * v + k, c)
+                        : u >= 0 ? xf_(3 * u + k, c)
+                                 : xhf_(3 * setup_.unk.hard_of[v] + k, c);
     solved_[v] = u >= 0 ? orthonormalize(raw_[v], ortho_, v) : raw_[v];  // a hard frame is its target
   }
   times_.orthonormalize = t.seconds();
-  lri_position_targets(adj_, solved_, forms_, tpos_);
+  lri_position_targets(setup_.adj, solved_, forms_, tpos_);
   auto fill = [&](const std::vector<int>& vertices, DenseMat& M) {
     M.resize(static_cast<Eigen::Index>(vertices.size()), 3);
     for (std::size_t s = 0; s < vertices.size(); ++s) {
       const int v = vertices[s];
-      const Vec3 p = Vn_.row(v).transpose();
+      const Vec3 p = setup_.Vn.row(v).transpose();
       M.row(static_cast<Eigen::Index>(s)) = (edit_.roles[v] == Role::Handle ? apply(T, p) : p).transpose();
     }
   };
-  fill(unk_.hard_vertices, xhp_);
-  fill(unk_.soft_vertices, softp_);
+  fill(setup_.unk.hard_vertices, xhp_);
+  fill(setup_.unk.soft_vertices, softp_);
   const EdgeRows rows = lri_position_rows();
-  positions_mqwf_.form_rhs(xhp_, softp_, [&](DenseMat& g) { add_At_targets(adj_, unk_, rows, tpos_, g); });
+  positions_mqwf_.form_rhs(xhp_, softp_, [&](DenseMat& g) { add_At_targets(setup_.adj, setup_.unk, rows, tpos_, g); });
   return t.seconds();
 }
 
 Points LriDeformer::deform(const Mat4& handle_transform) {
-  const Mat4 T = norm_.conjugate(handle_transform);
+  const Mat4 T = setup_.norm.conjugate(handle_transform);
   // Frames only rotate: a scaling or shearing handle transform reaches the frames through its rotation part.
   const Mat3 Rh = uncoordinated_ ? Mat3::Identity() : nearest_rotation(T.topLeftCorner<3, 3>());
   double rhs_s = 0, solve_s = 0;
@@ -162,13 +158,13 @@ Points LriDeformer::deform(const Mat4& handle_transform) {
   if (!xp_.allFinite()) throw SolverError("LRI: the position solve produced non-finite positions");
 
   t.reset();
-  const int n = static_cast<int>(Vn_.rows());
+  const int n = static_cast<int>(setup_.Vn.rows());
   Points Vn(n, 3);
   for (int v = 0; v < n; ++v) {
-    const int u = unk_.unknown_of[v];
-    Vn.row(v) = u >= 0 ? xp_.row(u) : xhp_.row(unk_.hard_of[v]);
+    const int u = setup_.unk.unknown_of[v];
+    Vn.row(v) = u >= 0 ? xp_.row(u) : xhp_.row(setup_.unk.hard_of[v]);
   }
-  Points out = norm_.restore(Vn);
+  Points out = setup_.norm.restore(Vn);
   times_.write = t.seconds();
   times_.rhs = rhs_s;
   times_.solve = solve_s;

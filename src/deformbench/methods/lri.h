@@ -58,10 +58,7 @@ class LriDeformer : public Deformer {
   FrameStrategy strategy_;
   Orthonormalization ortho_;
   bool uncoordinated_ = false;  //!< DeformOptions::lri_frame_control
-  Normalization norm_;
-  Points Vn_;
-  Adjacency adj_;
-  Unknowns unk_;
+  EditSetup setup_;
   FrameField frames_;
   std::vector<Vec3> forms_;
   MinQuadWithFixed frames_mqwf_, positions_mqwf_;
