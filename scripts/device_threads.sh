@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Thread scaling on a lent 16-core device machine (issue 31 item 4): T = 1 2 4 8 16; the 104k and 416k armadillo
-# TF and LAP edits; multifrontal and CHOLMOD (supernodal); one process per run, each deform row kept whole (its
+# Thread scaling (issue 31 item 4): T = 1 2 4 8 16 on a lent 16-core device machine, or the counts up to this
+# machine's cores (mode `local`, which `./run threads` runs); the 104k and 416k armadillo TF and LAP edits (or the
+# given ones); multifrontal and CHOLMOD (supernodal); one process per run, each deform row kept whole (its
 # provenance, the init split, the frame median, the factorization's flops and serial top phase); the machine's
-# dgemm and memory read rates at each T before and after the runs (exp_machine_rates). Three steps:
+# dgemm and memory read rates at each T before and after the runs (exp_machine_rates). On a device, three steps:
 #   DEVICE_BUNDLE=PATH/device-bundle.sh [BASE_REV=REV] [DIAG_PATCH=scripts/device_timeline.patch] \
 #     scripts/device_threads.sh prepare
 #                                                # here: bundle build/ with the device tool's bundler (not part of
@@ -15,9 +16,9 @@
 #   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: those files, table.md, threads.png
 # The device tool returns at most eight files a call: run one mode a call (each writes four to six).
 # The device run starts a run only when its estimated length fits before DEADLINE seconds (default 520), most
-# needed first: round 1 (104k, 416k multifrontal, 416k CHOLMOD at 16, 8 and 2 threads, TF under the ringnd ordering
-# at 8 and 16), then more rounds of the 104k runs for their spread, then 416k CHOLMOD at 4 and 1. A run not started
-# is absent from threads.csv, and the report says which keys have fewer rounds. The vertex ordering is the default
+# needed first (`grid`): round 1 (104k, 416k multifrontal, 416k CHOLMOD at 16, 8 and 2 threads, TF under the ringnd
+# ordering at 8 and 16), then more rounds of the 104k runs for their spread, then 416k CHOLMOD at 4 and 1. A run
+# not started is absent from threads.csv, and the report says which keys have fewer rounds. The vertex ordering is the default
 # (METIS for TF: one more dissection level per doubling of the threads beyond two) unless `ordering` says ringnd.
 # Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
 # rounds and splits the analysis phase at 8 and 16 threads; mode `factor` (DEADLINE=420, timeout_s 480) checks a
@@ -34,20 +35,33 @@
 # `report-solves` tabulates (timeline.md).
 set -euo pipefail
 mode=${1:-}
-setup() {  # there: the libraries, the working folder, the meshes, the edits, machine.txt
+setup() {  # the libraries (a bundle's), the working folder, the meshes, the edits, machine.txt
   D=${BUNDLE:-$PWD/.device}; O=${OUT:?OUT is the device tool\'s output folder}
-  for l in libblas.so.3 liblapack.so.3; do ldconfig -p | grep -q "$l " || cp "$D/fallback/$l" "$D/lib/"; done
-  export LD_LIBRARY_PATH=$D/lib
+  if [ -d "$D/lib" ]; then
+    for l in libblas.so.3 liblapack.so.3; do ldconfig -p | grep -q "$l " || cp "$D/fallback/$l" "$D/lib/"; done
+    export LD_LIBRARY_PATH=$D/lib
+  fi
   deadline=$((SECONDS + ${DEADLINE:-520}))
   W=$(mktemp -d); cd "$W"
   { uname -a; nproc; cat /sys/fs/cgroup/cpu.max; lscpu | head -30; head -3 /proc/meminfo; cat /proc/loadavg
     ldd "$D/bin/deformbench" | grep -E "not found|blas|lapack"; } > "$O/machine.txt" 2>&1 || true
-  gunzip -c "$D/armadillo_loop1.off.gz" > l1.off
-  "$D/bin/meshtool" subdivide l1.off l2.off 1 > /dev/null 2>&1 || echo "subdivide failed" >> "$O/machine.txt"
-  for k in 1 2; do  # the edit of data/edits/armadillo_loop1_whole.edit on the 104k (1) and 416k (2) meshes
-    printf 'mesh = l%s.off\nroi = all\nhandle = nearest:-20.2599,97.1076,-28.8554,100\ntransform = translate:0,10,0\n' $k > e$k.edit
-  done
   echo "binary,tier,round,method,solver,threads,ordering,rc" > "$O/failed.csv"
+  if [ -n "${EDITS:-}" ]; then  # tiers 1..N: the given edit files (local mode), each run as tier 1 is
+    mapfile -t EDIT_FILES <<< "$EDITS"; EDIT_FILES=("" "${EDIT_FILES[@]}")
+    SMALL=$(seq -s ' ' 1 $((${#EDIT_FILES[@]} - 1))); LARGE=""
+    return
+  fi
+  # The edit of data/edits/armadillo_loop1_whole.edit on the 104k (tier 1) and 416k (tier 2) meshes
+  if [ -f "$D/armadillo_loop1.off.gz" ]; then gunzip -c "$D/armadillo_loop1.off.gz" > armadillo_loop1.off
+  else ln -s "$D/armadillo_loop1.off" .; fi
+  if [ -e "$D/armadillo_loop2.off" ]; then ln -s "$D/armadillo_loop2.off" .
+  else "$D/bin/meshtool" subdivide armadillo_loop1.off armadillo_loop2.off 1 > /dev/null 2>&1 ||
+    echo "subdivide failed" >> "$O/machine.txt"; fi
+  for k in 1 2; do
+    printf 'name = armadillo_loop%s_whole\nmesh = armadillo_loop%s.off\nroi = all\nhandle = nearest:-20.2599,97.1076,-28.8554,100\ntransform = translate:0,10,0\n' $k $k > e$k.edit
+  done
+  EDIT_FILES=("" e1.edit e2.edit); SMALL=1; LARGE=2
+  [ "${QUICK:-0}" = 0 ] || LARGE=""
 }
 rates() {  # phase T...: exp_machine_rates at each T into rates.csv, the header once
   for T in "${@:2}"; do
@@ -60,8 +74,9 @@ one() {  # binary tier round method solver threads ordering frames estimated_sec
          # with the whole command's wall time (command_s: the init, the frames and what the command does around them)
   [ $((SECONDS + $9)) -le $deadline ] || return 0
   local rc=0 start; start=$(date +%s.%N)
-  DEFORMBENCH_THREADS=$6 OPENBLAS_NUM_THREADS=${BLAS_THREADS:-$6} OMP_NUM_THREADS=$6 timeout 150 "$D/bin/$1" deform e$2.edit \
-    --method "$4" --constraints soft --frames "$8" --solver "$5" --ordering "$7" --out o.ply --csv o.csv > log 2>&1 || rc=$?
+  DEFORMBENCH_THREADS=$6 OPENBLAS_NUM_THREADS=${BLAS_THREADS:-$6} OMP_NUM_THREADS=$6 timeout "${RUN_TIMEOUT:-150}" "$D/bin/$1" deform "${EDIT_FILES[$2]}" \
+    --method "$4" --constraints soft --frames "$8" --solver "$5" --ordering "$7" --out o.ply --csv o.csv > log 2>&1 &
+  wait $! || rc=$?  # in the background: a signal's trap runs at once, not after the run
   local wall; wall=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.3f", b - a }')  # the whole command
   if [ $rc -eq 0 ]; then
     [ -s "$O/threads.csv" ] || { printf 'binary,tier,round,threads,ordering,command_s,'; head -1 o.csv; } > "$O/threads.csv"
@@ -75,12 +90,45 @@ timeline() {  # T: the diagnostic build's analysis timeline of the 104k and 416k
   for k in 1 2; do
     [ $((SECONDS + 20 * k)) -le $deadline ] || return 0
     echo "# e$k, $1 threads" >> "$O/timeline.txt"
-    DEFORMBENCH_THREADS=$1 OPENBLAS_NUM_THREADS=$1 OMP_NUM_THREADS=$1 timeout 120 "$D/bin/deformbench_diag" deform e$k.edit \
+    DEFORMBENCH_THREADS=$1 OPENBLAS_NUM_THREADS=$1 OMP_NUM_THREADS=$1 timeout 120 "$D/bin/deformbench_diag" deform "${EDIT_FILES[$k]}" \
       --method tf --constraints soft --frames 1 --out o.ply 2>&1 >/dev/null | grep '^TIMELINE' >> "$O/timeline.txt" || true
   done
 }
-tier1() {  # round solvers...: the 104k runs
-  for T in 1 2 4 8 16; do for S in "${@:2}"; do for M in tf lap; do one deformbench 1 "$1" $M "$S" $T default 5 15; done; done; done
+small() {  # round solvers...: the small tiers' runs (the 104k edit, or every given edit) at every thread count
+  local k T S M
+  for k in $SMALL; do for T in $TS; do for S in "${@:2}"; do for M in tf lap; do
+    one deformbench "$k" "$1" $M "$S" "$T" default 5 15; done; done; done; done
+}
+large_cholmod() {  # first|rest estimated_seconds: CHOLMOD on the large tier, first at the two largest thread
+                   # counts and at 2, then at the rest
+  local T M picked
+  for T in $DESC; do
+    case " $TOP 2 " in *" $T "*) picked=first ;; *) picked=rest ;; esac
+    [ "$picked" = "$1" ] || continue
+    for M in tf lap; do one deformbench "$LARGE" 1 $M cholmod_supernodal "$T" default 5 "$2"; done
+  done
+}
+grid() {  # the scaling runs at the thread counts TS (ascending), most needed first: round 1 (the small tiers, the
+          # large tier's multifrontal runs, its CHOLMOD runs at the two largest counts and 2, TF under the ringnd
+          # ordering at the two largest counts), then more rounds of the small tiers for their spread (ROUNDS, 3),
+          # then the large tier's other CHOLMOD runs
+  local T M k r
+  DESC=$(printf '%s\n' $TS | sort -rn | tr '\n' ' '); TOP=$(echo $DESC | cut -d' ' -f1-2)
+  rates before $TS
+  small 1 multifrontal cholmod_supernodal
+  if [ -n "$LARGE" ]; then
+    for T in $DESC; do for M in tf lap; do one deformbench "$LARGE" 1 $M multifrontal "$T" default 5 60; done; done
+    large_cholmod first 60
+  fi
+  # The 1-ring dissection (ringnd: every level on threads, the same ordering for every thread count) beside METIS's
+  # (one more level per doubling of the threads): the analysis on many cores by both.
+  for k in $SMALL $LARGE; do for T in $TOP; do one deformbench "$k" 1 tf multifrontal "$T" ringnd 5 $((k * 25)); done; done
+  for r in $(seq 2 "${ROUNDS:-3}"); do
+    small "$r" multifrontal $([ "$r" != 2 ] || echo cholmod_supernodal)
+    [ "$r" != 2 ] || [ -z "$LARGE" ] || large_cholmod rest 90
+  done
+  [ "${ROUNDS:-3}" -ge 2 ] || [ -z "$LARGE" ] || large_cholmod rest 90
+  rates after $(printf '%s\n' 1 "${DESC%% *}" | sort -un)
 }
 build_at() {  # REV PATCH DEST: deformbench built at the commit REV (PATCH applied, if not empty) in a scratch
               # worktree, removed afterwards, and copied to DEST
@@ -95,6 +143,12 @@ build_at() {  # REV PATCH DEST: deformbench built at the commit REV (PATCH appli
   [ ! -s "$w.log" ] || [ $ok -eq 0 ] || tail -20 "$w.log"
   rm -f "$w.log"
   [ $ok -eq 0 ] || { echo "building $1 ${2:+with $2 }failed" >&2; exit 1; }
+}
+local_cleanup() {  # mode local's exit: the runs stopped, the scratch gone, DEST the new results or the earlier ones
+  kill $(jobs -p) 2>/dev/null || true
+  wait || true
+  rm -rf "$BUNDLE" "$OUT" "${W:-}"
+  if [ -e "$dest" ]; then rm -rf "$OUT.prev"; elif [ -e "$OUT.prev" ]; then mv "$OUT.prev" "$dest"; fi
 }
 case $mode in
 prepare)
@@ -112,18 +166,35 @@ prepare)
   du -sh .device ;;
 run)
   setup
-  rates before 1 2 4 8 16
-  tier1 1 multifrontal cholmod_supernodal
-  for T in 16 8 4 2 1; do for M in tf lap; do one deformbench 2 1 $M multifrontal $T default 5 60; done; done
-  for T in 16 8 2; do for M in tf lap; do one deformbench 2 1 $M cholmod_supernodal $T default 5 60; done; done
-  # The 1-ring dissection (ringnd: every level on threads, the same ordering for every thread count) beside METIS's
-  # (one more level per doubling of the threads): the analysis on 16 cores by both.
-  for k in 1 2; do for T in 16 8; do one deformbench $k 1 tf multifrontal $T ringnd 5 $((k * 25)); done; done
-  tier1 2 multifrontal cholmod_supernodal
-  for T in 4 1; do for M in tf lap; do one deformbench 2 1 $M cholmod_supernodal $T default 5 90; done; done
-  tier1 3 multifrontal
-  rates after 1 16
+  TS=${THREADS:-1 2 4 8 16}
+  grid
   cat "$O/failed.csv" ;;
+local)
+  # Here (./run threads, docs/experiments.md): the same grid on this machine with the build in BUILD (default
+  # build/), into DEST, which is replaced only when the grid has run (an interrupted or failed run leaves it as it
+  # was, and no scratch); then its table and figure. THREADS: the counts (default 1, 2, 4, ... up to the hardware
+  # threads, and that count); ROUNDS (3); QUICK=1: the 104k edit only; EDITS: edit files, one a line, instead of the
+  # armadillo edits. No deadline. Exit 5 when a run failed (its row in failed.csv, the others kept), as the
+  # experiment drivers do.
+  dest=$(realpath -m "${2:?DEST}"); here=$(cd "$(dirname "$0")" && pwd); root=$(dirname "$here")
+  n=$(nproc); TS=${THREADS:-$( (T=1; while [ $T -lt "$n" ]; do echo $T; T=$((T * 2)); done; echo "$n") | tr '\n' ' ')}
+  EDITS=$(while read -r e; do [ -z "$e" ] || realpath "$e"; done <<< "${EDITS:-}")  # setup works in a scratch folder
+  mkdir -p "$(dirname "$dest")"
+  BUNDLE=$(mktemp -d); OUT=$(mktemp -d "$(dirname "$dest")/.threads.XXXXXX")
+  trap local_cleanup EXIT; trap 'exit 130' INT; trap 'exit 143' TERM
+  ln -s "$(realpath "${BUILD:-$root/build}")" "$BUNDLE/bin"
+  for k in 1 2; do
+    f=$root/data/generated/armadillo_loop$k.off; [ ! -f "$f" ] || ln -s "$f" "$BUNDLE/"
+  done
+  DEADLINE=${DEADLINE:-1000000000} RUN_TIMEOUT=${RUN_TIMEOUT:-3600}
+  setup
+  grid
+  [ -s "$OUT/threads.csv" ] || { echo "no run succeeded ($dest left as it was):" >&2; cat "$OUT/machine.txt" >&2; exit 5; }
+  "${PY:-/usr/bin/python3}" "$here/device_threads_report.py" "$OUT" > /dev/null
+  chmod 755 "$OUT"; [ ! -e "$dest" ] || mv "$dest" "$OUT.prev"; mv "$OUT" "$dest"
+  failed=$(($(wc -l < "$dest/failed.csv") - 1))
+  echo "thread scaling at T = ${TS% }: $dest/table.md, $dest/threads.png ($failed failed runs)"
+  [ "$failed" = 0 ] || exit 5 ;;
 solves)
   # A change checked against the build before it (BASE_BINARY at prepare: .device/bin/deformbench_base), in
   # interleaved rounds: the 104k TF and LAP full frames (20 a run) at 4, 8 and 16 threads; then the analysis

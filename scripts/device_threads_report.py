@@ -16,10 +16,27 @@ import sys
 from collections import defaultdict
 from pathlib import Path
 
-TIERS = {"1": "104k", "2": "416k"}
+TIERS = {}  # tier -> (its edit's name, its vertex count as "104k"), from the rows
+
+
+def name_tiers(dest):
+    for r in csv.DictReader(open(dest / "threads.csv")):
+        v = int(r["vertices"])
+        TIERS.setdefault(r["tier"], (r["edit"], f"{round(v / 1000)}k" if v >= 1000 else str(v)))
+
+
+def tier(t):
+    """The tables' name of a tier: its edit and vertex count."""
+    return f"{TIERS[t][0]} ({TIERS[t][1]})" if t in TIERS else f"tier {t}"
+
+
+def short(t):
+    """The legend's: the vertex count, or the edit where two tiers have the same count."""
+    return TIERS[t][1] if [v for _, v in TIERS.values()].count(TIERS[t][1]) == 1 else TIERS[t][0]
 
 
 def load(dest, binary="deformbench"):
+    name_tiers(dest)
     runs = defaultdict(list)
     for r in csv.DictReader(open(dest / "threads.csv")):
         if r.get("binary", "deformbench") != binary:
@@ -39,14 +56,14 @@ def spread(rows, col, scale=1.0, fmt="{:.2f}"):
 
 
 def table(runs):
-    out = ["| vertices | method | solver | ordering | T | rounds | init s, median (range) | build + analyze + factorize s |"
+    out = ["| edit (vertices) | method | solver | ordering | T | rounds | init s, median (range) | build + analyze + factorize s |"
            " GFlop/s | top phase s (share of flops, GFlop/s) | subtree phase GFlop/s | frame ms, median (range) |"
            " init efficiency | nnz(L) |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for key in sorted(runs, key=lambda k: (k[0], k[1], k[2], k[3], k[4])):
         rows = runs[key]
-        tier, method, backend, ordering, T = key
-        one = runs.get((tier, method, backend, ordering, 1))
+        t, method, backend, ordering, T = key
+        one = runs.get((t, method, backend, ordering, 1))
         eff = f"{med(one, 'init_s') / (T * med(rows, 'init_s')):.2f}" if one else "-"
         flops, fact = med(rows, "factor_flops"), med(rows, "factorize_s")
         top, sub = "-", "-"
@@ -54,7 +71,7 @@ def table(runs):
             top_s, top_f = med(rows, "factorize_top_s"), med(rows, "factor_top_flops")
             top = f"{top_s:.2f} ({top_f / flops:.2f}" + (f", {top_f / top_s / 1e9:.0f})" if top_s > 0 else ")")
             sub = f"{(flops - top_f) / (fact - top_s) / 1e9:.0f}"
-        out.append(f"| {TIERS[tier]} | {method} | {backend} | {ordering} | {T} | {len(rows)} | {spread(rows, 'init_s')} | "
+        out.append(f"| {tier(t)} | {method} | {backend} | {ordering} | {T} | {len(rows)} | {spread(rows, 'init_s')} | "
                    f"{med(rows, 'build_s'):.2f} + {med(rows, 'analyze_s'):.2f} + {fact:.2f} | {flops / fact / 1e9:.0f} | "
                    f"{top} | {sub} | {spread(rows, 'frame_s', 1e3, '{:.1f}')} | {eff} | {rows[0]['nnz_factor']} |")
     return out
@@ -79,7 +96,7 @@ def plot_series(ax, runs, s, col, scale, style):
     col None: the init efficiency from the medians (drawn only where the series has T = 1)."""
     Ts = sorted(k[4] for k in runs if k[:4] == s)
     c, m = style
-    label = f"{TIERS[s[0]]} {s[1]} {s[2]} {s[3]}"
+    label = f"{short(s[0])} {s[1]} {s[2]} {s[3]}"
     if col is None:
         if 1 in Ts:
             t1 = med(runs[(*s, 1)], "init_s")
@@ -97,6 +114,7 @@ def figure(runs, path):
     import matplotlib.pyplot as plt
     import matplotlib.ticker
     series = sorted({k[:4] for k in runs})
+    counts = sorted({k[4] for k in runs})
     colours = plt.get_cmap("tab10").colors
     markers = "osD^vP*Xh<>p"
     style = {s: (colours[i % 10], markers[i % len(markers)]) for i, s in enumerate(series)}
@@ -109,7 +127,8 @@ def figure(runs, path):
         for s in series:
             plot_series(ax, runs, s, col, scale, style[s])
         ax.set_xscale("log", base=2)
-        ax.set_xticks([1, 2, 4, 8, 16], ["1", "2", "4", "8", "16"])
+        ax.set_xticks(counts, [str(T) for T in counts])
+        ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
         if logy:
             ax.set_yscale("log")
             plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
@@ -121,10 +140,10 @@ def figure(runs, path):
         ax.grid(True, which="both", alpha=0.3)
     handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=9)
-    fig.suptitle("armadillo edit (104k: data/edits/armadillo_loop1_whole.edit; 416k: its mesh Loop-subdivided), "
-                 "--constraints soft, one process per run;\ntimes: the median over a point's rounds, barred from the "
-                 "least to the largest")
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    edits = ", ".join(f"{short(t)}: {TIERS[t][0]}" if short(t) != TIERS[t][0] else TIERS[t][0] for t in sorted(TIERS))
+    fig.suptitle(f"{edits}; --constraints soft, one process per run;\n"
+                 "times: the median over a point's rounds, barred from the least to the largest")
+    fig.tight_layout(rect=(0, 0.015 + 0.022 * -(-len(series) // 4), 1, 1))  # room for the legend's rows
     fig.savefig(path, dpi=110)
 
 
@@ -136,7 +155,7 @@ def main(dest):
              "and after the runs):", "", *rates_table(dest)]
     if failed:
         lines += ["", "Runs that failed or timed out: " + "; ".join(
-            f"{TIERS[r['tier']]} {r['method']} {r['solver']} {r['ordering']} T={r['threads']} rc {r['rc']}" for r in failed)]
+            f"{tier(r['tier'])} {r['method']} {r['solver']} {r['ordering']} T={r['threads']} rc {r['rc']}" for r in failed)]
     lines += ["", f"Rounds per key: {min(rounds.values())} to {max(rounds.values())} (runs not started before the "
               "deadline are absent)."]
     (dest / "table.md").write_text("\n".join(lines) + "\n")
@@ -159,7 +178,7 @@ def per_round(rows, col, scale=1e3, fmt="{:.1f}"):
 def init_rows(base, new):
     """Each round's init, its analysis phase and the whole command of both binaries, with the new / base init ratio
     per round."""
-    lines = ["", "| vertices | method | T | BLAS threads | init s | base init s | new / base init | analyze s |"
+    lines = ["", "| edit (vertices) | method | T | BLAS threads | init s | base init s | new / base init | analyze s |"
              " base analyze s | command s | base command s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for key in sorted(new, key=lambda k: (k[0], k[1], -k[2], -k[3])):
         b, n = base.get(key, []), new[key]
@@ -171,14 +190,15 @@ def init_rows(base, new):
         command = lambda rows: seconds([r for r in rows if r.get("command_s")], "command_s")
         cells = [seconds(n, "init_s"), seconds(b, "init_s"), ratios, seconds(n, "analyze_s"), seconds(b, "analyze_s"),
                  command(n), command(b)]
-        lines.append(f"| {TIERS[key[0]]} | {key[1]} | {key[2]} | {key[3]} | {' | '.join(cells)} |")
+        lines.append(f"| {tier(key[0])} | {key[1]} | {key[2]} | {key[3]} | {' | '.join(cells)} |")
     return lines
 
 
 def solves(dest):
+    name_tiers(dest)
     base, new = by_blas(dest, "deformbench_base"), by_blas(dest, "deformbench")
     lines = [f"Runs: {provenance(load(dest))}. Per round, in round order; base: deformbench_base.", "",
-             "| vertices | method | T | BLAS threads | rounds | frame ms | solve ms | base frame ms | base solve ms |"
+             "| edit (vertices) | method | T | BLAS threads | rounds | frame ms | solve ms | base frame ms | base solve ms |"
              " new / base solve | factorize s | base factorize s | top phase s | base top phase s |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for key in sorted(new, key=lambda k: (k[0], k[1], -k[2], -k[3])):
@@ -188,7 +208,7 @@ def solves(dest):
                            for r in sorted(n, key=lambda r: r["round"]) if r["round"] in by_round) or "-"
         seconds = [per_round(rows, col, 1.0, "{:.2f}") or "-" for col in ("factorize_s", "factorize_top_s")
                    for rows in (n, b)]
-        lines.append(f"| {TIERS[key[0]]} | {key[1]} | {key[2]} | {key[3]} | {len(n)} | {per_round(n, 'frame_s')} | "
+        lines.append(f"| {tier(key[0])} | {key[1]} | {key[2]} | {key[3]} | {len(n)} | {per_round(n, 'frame_s')} | "
                      f"{per_round(n, 'solve_s')} | {per_round(b, 'frame_s') or '-'} | {per_round(b, 'solve_s') or '-'} | "
                      f"{ratios} | {' | '.join(seconds)} |")
     lines += init_rows(base, new)
