@@ -75,6 +75,11 @@ def main(results):
             f.write(text)
         for fig in figs:
             figure(os.path.join(results, "figures", fig), k)
+    threads = os.path.join(results, "threads")  # ./run threads' folder
+    os.makedirs(threads, exist_ok=True)
+    with open(os.path.join(threads, "table.md"), "w") as f:
+        f.write("Runs: fixture.\n\n| edit (vertices) | T | init s |\n|---|---|---|\n| bar (6k) | 1 | 0.5 |\n")
+    figure(os.path.join(threads, "threads.png"), 7)
     meshes = os.path.join(results, "meshes", "frames")
     os.makedirs(meshes, exist_ok=True)
     V, F = cylinder()

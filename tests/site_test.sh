@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The static result site (python/dbtools/site) in a real browser: generated from a small fixture (tests/site_fixture.py:
-# four reports and their figures, one case of the frames study's meshes; two tracking histories of
+# four reports and their figures, a thread-scaling folder, one case of the frames study's meshes; two tracking histories of
 # tests/track_fake_measure.py), every page opened in headless Chromium (tests/site_browser.py, the DevTools
 # protocol): no console error, no uncaught exception, no resource that fails to load, no broken link, and the
 # viewer's canvas drawn (a screenshot with many colours). Then the checker must bite: a page with a missing image,
@@ -34,16 +34,18 @@ grep -q "viewer: case broken left out: .*broken__rest.ply: not a PLY file" "$T/o
   ok "a broken mesh named, left out" ||
   fail "broken mesh: $(cat "$T/out")"
 S=$R/site
-for f in index.html table_2_1.html solvers.html frames.html applications.html history.html history_factorize_s.html \
+for f in index.html table_2_1.html solvers.html frames.html applications.html threads.html history.html history_factorize_s.html \
   history_nnz_factor.html viewer.html viewer.js style.css meshes/index.js meshes/tiny_cactus.js three/three.min.js \
   three/OrbitControls.js; do
   [ -s "$S/$f" ] || fail "no $f"
 done
-for p in table_2_1 solvers frames applications history viewer; do
+for p in table_2_1 solvers frames applications threads history viewer; do
   grep -q "href=\"$p.html\"" "$S/index.html" || fail "index.html does not link $p.html"
 done
 grep -q 'href="frames.html"' "$S/table_2_1.html" && grep -q 'src="../figures/table_2_1_init.png"' "$S/table_2_1.html" &&
   ok "a report's links and figures" || fail "table_2_1.html: $(cat "$S/table_2_1.html")"
+grep -q 'src="../threads/threads.png"' "$S/threads.html" && grep -q "bar (6k)" "$S/threads.html" &&
+  ok "the thread-scaling folder's page: its table and figure" || fail "threads.html: $(cat "$S/threads.html")"
 grep -q '"configs": \["rest", "LAP", "TF", "TF, scale-free", "LRI"\]' "$S/meshes/index.js" &&
   ok "the viewer's case: rest, LAP, TF, scale-free TF, LRI" || fail "meshes/index.js: $(cat "$S/meshes/index.js")"
 grep -q "abc1" "$S/history_factorize_s.html" && grep -q "abc2" "$S/history_factorize_s.html" &&

@@ -23,6 +23,13 @@ REPORTS = {
     "handle_frames": ("Handle frames", "frame times of the handle mode", []),
     "handle_drags": ("Handle drags", "drags in the handle mode", []),
 }
+# A study that writes its own folder (RESULTS/FOLDER/: its table and figures, not the report step's): folder ->
+# (page title, what it shows, its table's file, its figures' globs in the folder). `./run threads` writes
+# results/threads/ and then the site again.
+FOLDERS = {
+    "threads": ("Thread scaling", "the deformation's init, analysis and frames at each thread count on this "
+                "machine (./run threads)", "table.md", ["threads.png"]),
+}
 # figures.md shows the frames study's renders; the applications' renders are the applications page's.
 EXCLUDE = {"figures": ["render_app_*.png"]}
 CITED = re.compile(r"`figures/([A-Za-z0-9_.\-]+\.png)`")
@@ -65,10 +72,10 @@ def cite_figures(results, text):
     return CITED.sub(sub, text)
 
 
-def gallery(names):
+def gallery(names, folder="figures"):
     if not names:
         return ""
-    items = "".join(f'<figure><a href="../figures/{esc(n)}"><img src="../figures/{esc(n)}" alt="{esc(n)}" '
+    items = "".join(f'<figure><a href="../{folder}/{esc(n)}"><img src="../{folder}/{esc(n)}" alt="{esc(n)}" '
                     f'loading="lazy"></a><figcaption>{esc(n)}</figcaption></figure>\n' for n in names)
     return f'<h2 id="figures">Figures</h2>\n<div class="gallery">\n{items}</div>'
 
@@ -84,6 +91,15 @@ def pages(results):
         body = markdown.markdown(cite_figures(results, text), extensions=["tables", "fenced_code"])
         body = relink(results, body) + gallery(figure_names(results, name, globs))
         out.append(Page(f"{name}.html", title, body, summary=what))
+    for folder, (title, what, table, globs) in FOLDERS.items():
+        path = os.path.join(results, folder, table)
+        if not os.path.exists(path):
+            continue
+        with open(path, encoding="utf-8") as f:
+            body = markdown.markdown(f"# {title}\n\n{f.read()}", extensions=["tables", "fenced_code"])
+        files = sorted(os.listdir(os.path.join(results, folder)))
+        figures = [n for g in globs for n in files if fnmatch.fnmatch(n, g)]
+        out.append(Page(f"{folder}.html", title, body + gallery(figures, folder), summary=what))
     return out
 
 
