@@ -18,8 +18,9 @@
 # The device run starts a run only when its estimated length fits before DEADLINE seconds (default 520), most
 # needed first (`grid`): round 1 (104k, 416k multifrontal, 416k CHOLMOD at 16, 8 and 2 threads, TF under the ringnd
 # ordering at 8 and 16), then more rounds of the 104k runs for their spread, then 416k CHOLMOD at 4 and 1. A run
-# not started is absent from threads.csv, and the report says which keys have fewer rounds. The vertex ordering is the default
-# (METIS for TF: one more dissection level per doubling of the threads beyond two) unless `ordering` says ringnd.
+# not started is absent from threads.csv, and the report says which keys have fewer rounds. The vertex ordering is
+# the default (METIS for TF: one more dissection level per doubling of the threads beyond two) unless `ordering`
+# says ringnd.
 # Mode `solves` (DEADLINE=150, timeout_s 200) checks a change of the solves against BASE_BINARY in interleaved
 # rounds and splits the analysis phase at 8 and 16 threads; mode `factor` (DEADLINE=420, timeout_s 480) checks a
 # change of the factorization the same way (the init and its top phase, 104k and 416k); mode `ordering`
@@ -189,7 +190,8 @@ local)
   DEADLINE=${DEADLINE:-1000000000} RUN_TIMEOUT=${RUN_TIMEOUT:-3600}
   setup
   grid
-  [ -s "$OUT/threads.csv" ] || { echo "no run succeeded ($dest left as it was):" >&2; cat "$OUT/machine.txt" >&2; exit 5; }
+  [ -s "$OUT/threads.csv" ] ||
+    { echo "no run succeeded ($dest left as it was):" >&2; cat "$OUT/machine.txt" >&2; exit 5; }
   "${PY:-/usr/bin/python3}" "$here/device_threads_report.py" "$OUT" > /dev/null
   chmod 755 "$OUT"; [ ! -e "$dest" ] || mv "$dest" "$OUT.prev"; mv "$OUT" "$dest"
   failed=$(($(wc -l < "$dest/failed.csv") - 1))

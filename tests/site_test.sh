@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The static result site (python/dbtools/site) in a real browser: generated from a small fixture (tests/site_fixture.py:
-# four reports and their figures, a thread-scaling folder, one case of the frames study's meshes; two tracking histories of
-# tests/track_fake_measure.py), every page opened in headless Chromium (tests/site_browser.py, the DevTools
+# four reports and their figures, a thread-scaling folder, one case of the frames study's meshes; two tracking
+# histories of tests/track_fake_measure.py), every page opened in headless Chromium (tests/site_browser.py, the DevTools
 # protocol): no console error, no uncaught exception, no resource that fails to load, no broken link, and the
 # viewer's canvas drawn (a screenshot with many colours). Then the checker must bite: a page with a missing image,
 # a console.error and an uncaught exception fails, naming each. Skipped (exit 77) only where Chromium is not
@@ -34,9 +34,9 @@ grep -q "viewer: case broken left out: .*broken__rest.ply: not a PLY file" "$T/o
   ok "a broken mesh named, left out" ||
   fail "broken mesh: $(cat "$T/out")"
 S=$R/site
-for f in index.html table_2_1.html solvers.html frames.html applications.html threads.html history.html history_factorize_s.html \
-  history_nnz_factor.html viewer.html viewer.js style.css meshes/index.js meshes/tiny_cactus.js three/three.min.js \
-  three/OrbitControls.js; do
+for f in index.html table_2_1.html solvers.html frames.html applications.html threads.html history.html \
+  history_factorize_s.html history_nnz_factor.html viewer.html viewer.js style.css meshes/index.js \
+  meshes/tiny_cactus.js three/three.min.js three/OrbitControls.js; do
   [ -s "$S/$f" ] || fail "no $f"
 done
 for p in table_2_1 solvers frames applications threads history viewer; do

@@ -5,8 +5,9 @@ over commits, and a 3D viewer of the deformed meshes, all opening from disk (fil
 
 Written last by the report step (dbtools.report) and again by `./run track`. Like the reports it never measures: it
 reads what the drivers and the report step left under the results directory (the Markdown reports RESULTS/NAME.md,
-RESULTS/figures/*.png, the thread-scaling folder RESULTS/threads/ of `./run threads`, the tracking histories RESULTS/history/{runs,reference}/*.csv and the frames study's meshes
-RESULTS/meshes/frames/*.ply) and writes RESULTS/site/ whole (replaced, never patched):
+RESULTS/figures/*.png, the thread-scaling folder RESULTS/threads/ of `./run threads`, the tracking histories
+RESULTS/history/{runs,reference}/*.csv and the frames study's meshes RESULTS/meshes/frames/*.ply) and writes
+RESULTS/site/ whole (replaced, never patched):
   index.html, NAME.html        a page per report (reports.py), its figures linked from ../figures/; threads.html
   history.html, history_M.html the history of each tracked measure over commits, machines apart (history.py)
   viewer.html, meshes/*.js     the deformed meshes, rest against LAP / TF / scale-free TF / LRI (meshes.py)
