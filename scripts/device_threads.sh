@@ -179,7 +179,7 @@ local)
   # experiment drivers do.
   dest=$(realpath -m "${2:?DEST}"); here=$(cd "$(dirname "$0")" && pwd); root=$(dirname "$here")
   n=$(nproc); TS=${THREADS:-$( (T=1; while [ $T -lt "$n" ]; do echo $T; T=$((T * 2)); done; echo "$n") | tr '\n' ' ')}
-  EDITS=$(while read -r e; do [ -z "$e" ] || realpath "$e"; done <<< "${EDITS:-}")  # setup works in a scratch folder
+  EDITS=$(while read -r e; do [ -z "$e" ] || realpath -m "$e"; done <<< "${EDITS:-}")  # setup works in a scratch folder
   mkdir -p "$(dirname "$dest")"
   BUNDLE=$(mktemp -d); OUT=$(mktemp -d "$(dirname "$dest")/.threads.XXXXXX")
   trap local_cleanup EXIT; trap 'exit 130' INT; trap 'exit 143' TERM
