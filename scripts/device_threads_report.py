@@ -16,13 +16,7 @@ import sys
 from collections import defaultdict
 from pathlib import Path
 
-TIERS = {}  # tier -> (its edit's name, its vertex count as "104k"), from the rows
-
-
-def name_tiers(dest):
-    for r in csv.DictReader(open(dest / "threads.csv")):
-        v = int(r["vertices"])
-        TIERS.setdefault(r["tier"], (r["edit"], f"{round(v / 1000)}k" if v >= 1000 else str(v)))
+TIERS = {}  # tier -> (its edit's name, its vertex count as "104k"), from the rows load() reads
 
 
 def tier(t):
@@ -36,9 +30,10 @@ def short(t):
 
 
 def load(dest, binary="deformbench"):
-    name_tiers(dest)
     runs = defaultdict(list)
     for r in csv.DictReader(open(dest / "threads.csv")):
+        v = int(r["vertices"])
+        TIERS.setdefault(r["tier"], (r["edit"], f"{round(v / 1000)}k" if v >= 1000 else str(v)))
         if r.get("binary", "deformbench") != binary:
             continue
         runs[(r["tier"], r["method"], r["backend"], r["ordering"], int(r["threads"]))].append(r)
@@ -195,7 +190,6 @@ def init_rows(base, new):
 
 
 def solves(dest):
-    name_tiers(dest)
     base, new = by_blas(dest, "deformbench_base"), by_blas(dest, "deformbench")
     lines = [f"Runs: {provenance(load(dest))}. Per round, in round order; base: deformbench_base.", "",
              "| edit (vertices) | method | T | BLAS threads | rounds | frame ms | solve ms | base frame ms | base solve ms |"
