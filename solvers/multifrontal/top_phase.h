@@ -11,7 +11,9 @@
 //! entries) left the others waiting and its tiles were shared too many ways: the top phase ran longer on 16 threads
 //! than on 8 (results/records/2026-11-28-given-tree). On 2 cores, independent top subtrees on a thread each beat
 //! one team of two on the 104k TF top of a 16-thread plan, and were even on the 416k one, whose fronts are large
-//! (results/records/2026-11-28-top-branches).
+//! (results/records/2026-11-28-top-branches). On 16 cores the 104k TF top is shorter than on one team and the
+//! 416k one longer: bins even in flops are uneven in time, and a team that finishes its bin early does not lend
+//! its threads to the others (results/records/2026-11-28-head-16-cores).
 //!
 //! The bytes do not depend on the teams or on which runs first: a front's tiles depend only on the front (Tiles,
 //! team.h), and a supernode starts only once its top children are done, assembling them in child order.
