@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Tabulates the analysis timelines that a diagnostic build prints (TIMELINE lines; the build: the head with
 scripts/device_timeline.patch, kept applying by tests/device_patch_test.sh (also the factorization's subtree phase
-per thread, its top phase and each top front with its team's size as the level and its supernode as the vertices;
-from 6991f51 to a20ea9b, results/records/2026-11-28-top-branches/top_timeline.patch); from c1b899e on,
+per thread, its top phase and each top front with its team's size as the level and its supernode as the vertices,
+and, in its versions after 3da82e8, each top front's steps: front_assemble, front_entries, front_panels,
+front_update and front_assemble_update; from 6991f51 to a20ea9b,
+results/records/2026-11-28-top-branches/top_timeline.patch); from c1b899e on,
 results/records/2026-11-28-given-tree/timeline_usage.patch (with the symbolic analysis's steps); from 30cb971 on,
 results/records/2026-11-28-threads/timeline.patch, or tuning/timeline_usage.patch there, whose lines also carry the
 thread's CPU seconds and minor page faults during each step; before, the timeline.patch of

@@ -30,10 +30,10 @@
 # whole command's wall time (command_s), which `report-solves` sets beside the init: with BASE_BINARY a build
 # before a658a5e it shows what the memory check that ordered the graph once more cost on 16 cores. With
 # DIAG_PATCH at prepare (scripts/device_timeline.patch, kept applying to the head by tests/device_patch_test.sh:
-# each step's wall and CPU time and page faults, and the factorization's top fronts with their teams;
-# scripts/analysis_timeline.py names the patches for older builds), `team` and `ordering` also run it once on
-# the 104k and 416k TF edits at 16 threads, time allowing, into timeline.txt: the analysis step by step, which
-# `report-solves` tabulates (timeline.md).
+# each step's wall and CPU time and page faults, the factorization's top fronts with their teams, and each top
+# front's steps; scripts/analysis_timeline.py names the patches for older builds), `team` and `ordering` also run
+# it once on the 104k and 416k TF edits at 16 threads, time allowing, into timeline.txt: the analysis step by
+# step, which `report-solves` tabulates (timeline.md).
 set -euo pipefail
 mode=${1:-}
 setup() {  # the libraries (a bundle's), the working folder, the meshes, the edits, machine.txt
