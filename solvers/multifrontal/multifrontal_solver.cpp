@@ -25,6 +25,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -329,15 +330,11 @@ const Plan& MultifrontalSolver::solve_plan(Index r) {
   auto it = solve_plans_.find(most);
   // A solve reads each factor entry once per direction: its threads are balanced by entries, not flops.
   if (it == solve_plans_.end()) {
-    Plan plan = shortest_plan(S_, most, entries_).plan;
-    // The top supernodes are shared by a team as large as their part of the solve is worth, on every thread
-    // allowed (the subtree groups are done by then), no more than the cores (each step waits for its tiles);
-    // not by two: with two threads the top is a small part of the solve, and a step that waits for a helper
-    // another process has descheduled cost more than the half of it a second thread saves (on 2 cores beside a
-    // busy loop, records/2026-11-27-top-team).
+    SolvePlan chosen = shortest_plan(S_, most, entries_);
+    Plan plan = std::move(chosen.plan);
+    // The top supernodes are shared by a team (the subtree groups are done by then), sized by solve_top_team.
     const double top = 2.0 * plan_counts(S_, plan, entries_).top * double(r);
-    const int team = std::min(threads_worth(top, Work::Solve, threads_), available_cores());
-    plan.top_team = team >= 3 ? team : 1;
+    plan.top_team = solve_top_team(top, chosen.threads, available_cores());
     it = solve_plans_.emplace(most, std::move(plan)).first;
   }
   return it->second;

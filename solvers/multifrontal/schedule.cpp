@@ -195,6 +195,11 @@ SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& 
   return std::move(plans[k]);
 }
 
+int solve_top_team(double top_work, int plan_threads, int cores) {
+  const int team = std::min({threads_worth(top_work, Work::Solve, plan_threads), cores, plan_threads});
+  return team >= 3 ? team : 1;
+}
+
 namespace {
 
 double update_bytes(const Symbolic& S, int s) { return double(UpdateBlock::bytes(S.nrows(s) - S.ncols(s))); }

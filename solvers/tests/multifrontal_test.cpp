@@ -105,6 +105,28 @@ TEST(ThreadsWorth, BoundedMonotoneAndConsistentWithWorthThreads) {
   }
 }
 
+// The solves' top team (schedule.h): never more threads than the plan was made for, nor than the cores, nor than
+// the top's work is worth; serial rather than a team of two; and a top worth every thread gets the fewer of the
+// plan's threads and the cores.
+TEST(SolveTopTeam, NoMoreThanThePlansThreadsTheCoresOrTheWork) {
+  using db::multifrontal::solve_top_team;
+  using db::multifrontal::threads_worth;
+  using db::multifrontal::Work;
+  for (int plan = 1; plan <= 64; plan *= 2)
+    for (int cores : {1, 2, 3, 8, 16, 64})
+      for (double work = 1; work < 1e13; work *= 7) {
+        const int team = solve_top_team(work, plan, cores);
+        EXPECT_GE(team, 1);
+        EXPECT_NE(team, 2) << plan << " " << cores << " " << work;
+        EXPECT_LE(team, std::max(1, std::min({plan, cores, threads_worth(work, Work::Solve, 64)})));
+      }
+  EXPECT_EQ(solve_top_team(1e13, 8, 16), 8);  // the 8-thread plan at 16 threads keeps the 8-thread team
+  EXPECT_EQ(solve_top_team(1e13, 16, 16), 16);
+  EXPECT_EQ(solve_top_team(1e13, 16, 4), 4);
+  EXPECT_EQ(solve_top_team(1e13, 16, 2), 1);
+  EXPECT_EQ(solve_top_team(1e13, 2, 16), 1);
+}
+
 namespace {
 
 //! Upper triangle of the graph Laplacian of a g x h grid plus the identity.
