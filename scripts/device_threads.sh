@@ -14,7 +14,10 @@
 #   run tool: carry [".device"], timeout_s 600, command
 #       bash .device/device_threads.sh run       # there: $OUT/threads.csv, rates.csv, failed.csv, machine.txt
 #   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: those files, table.md, threads.png
-# The device tool returns at most eight files a call: run one mode a call (each writes four to six).
+# The device tool returns at most eight files a call: run one mode a call (each writes four to six), or mode
+# `session` (timeout_s 600): `team` into $OUT/team (DEADLINE_TEAM, 230 s), then the grid of `run` (DEADLINE_GRID,
+# 280 s) packed into $OUT/grid.tgz with both modes' logs; here `report-session FILES_AT DIR` tabulates both
+# (DIR/team as report-solves does, DIR/grid as report does).
 # The device run starts a run only when its estimated length fits before DEADLINE seconds (default 520), most
 # needed first (`grid`): round 1 (104k, 416k multifrontal, 416k CHOLMOD at 16, 8 and 2 threads, TF under the ringnd
 # ordering at 8 and 16), then more rounds of the 104k runs for their spread, then 416k CHOLMOD at 4 and 1. A run
@@ -263,6 +266,17 @@ blas)
   for r in 1 2 3; do for M in lap tf; do for cfg in 16:16 16:8 16:1 8:8; do
     BLAS_THREADS=${cfg#*:} one deformbench 1 $r $M multifrontal ${cfg%:*} default 20 6; done; done; done
   cat "$O/failed.csv" ;;
+session)
+  base=${OUT:?OUT is the device tool\'s output folder}; g=$(mktemp -d); mkdir -p "$base/team" "$g/grid"
+  OUT=$base/team DEADLINE=${DEADLINE_TEAM:-230} bash "$0" team > "$g/team.log" 2>&1 || echo "team: rc $?"
+  OUT=$g/grid DEADLINE=${DEADLINE_GRID:-280} bash "$0" run > "$g/grid.log" 2>&1 || echo "grid: rc $?"
+  cp "$g/team.log" "$g/grid.log" "$g/grid/"; tar czf "$base/grid.tgz" -C "$g" grid
+  tail -n 3 "$g/team.log" "$g/grid.log"; rm -rf "$g" ;;
+report-session)
+  src=${2:?FILES_AT}; dest=${3:?DIR}; g=$(mktemp -d)
+  tar xzf "$src/grid.tgz" -C "$g"
+  "$0" report-solves "$src/team" "$dest/team" && "$0" report "$g/grid" "$dest/grid"; rc=$?
+  rm -rf "$g"; exit $rc ;;
 report-solves)
   src=${2:?FILES_AT}; dest=${3:?DIR}
   mkdir -p "$dest"; cp "$src"/*.csv "$src/machine.txt" "$dest/"
