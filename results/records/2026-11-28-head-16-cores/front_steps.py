@@ -76,4 +76,5 @@ for g in groups:
             continue
         wall, fl, ts, n = agg[g + (w,)]
         rate = f"{fl / ts / 1e9:.0f}" if fl else "-"
-        print(f"| {g[0]} | {NAMES[g[1]]} | {g[2]} | {g[3]} | {w} | {wall / n:.3f} | {wall / total:.0%} | {fl / n / 1e9:.1f} | {rate} |")
+        cells = [g[0], NAMES[g[1]], g[2], g[3], w, f"{wall / n:.3f}", f"{wall / total:.0%}", f"{fl / n / 1e9:.1f}", rate]
+        print("| " + " | ".join(str(c) for c in cells) + " |")

@@ -35,7 +35,8 @@ for call in ("team", "team2"):
         gf = sum(own for (own, _), _ in fronts) / 1e9
         wall = sum(w for _, w in fronts)
         rows = sorted(r for (_, r), _ in fronts)[len(fronts) // 2]
-        print(f"| {call} | {names[tier]} | {team} | {len(fronts)} | {rows} | {gf:.1f} | {wall:.3f} | {gf / wall / team:.0f} |")
+        cells = [call, names[tier], team, len(fronts), rows, f"{gf:.1f}", f"{wall:.3f}", f"{gf / wall / team:.0f}"]
+        print("| " + " | ".join(str(c) for c in cells) + " |")
 
 print()
 print("| call | edit | top phase s | fronts' thread-seconds (wall x team) | of the phase's 16 threads |")
@@ -52,4 +53,5 @@ for call in ("team", "team2"):
         elif f[1] == "top_front":
             busy[tier] += int(f[2]) * (float(f[5]) - float(f[4]))
     for tier in sorted(phase):
-        print(f"| {call} | {names[tier]} | {phase[tier]:.3f} | {busy[tier]:.2f} | {busy[tier] / (16 * phase[tier]):.0%} |")
+        share = busy[tier] / (16 * phase[tier])
+        print(f"| {call} | {names[tier]} | {phase[tier]:.3f} | {busy[tier]:.2f} | {share:.0%} |")
