@@ -229,7 +229,10 @@ def solves(dest):
 
 
 if __name__ == "__main__":
+    folder = Path(sys.argv[2] if sys.argv[1] == "--solves" else sys.argv[1])
+    if not (folder / "threads.csv").is_file():  # no run finished before the deadline, or the wrong folder
+        sys.exit(f"device_threads_report.py: no {folder / 'threads.csv'}: no run's rows to tabulate")
     if sys.argv[1] == "--solves":
-        solves(Path(sys.argv[2]))
+        solves(folder)
     else:
-        main(Path(sys.argv[1]))
+        main(folder)
