@@ -15,9 +15,9 @@
 #       bash .device/device_threads.sh run       # there: $OUT/threads.csv, rates.csv, failed.csv, machine.txt
 #   scripts/device_threads.sh report FILES_AT results/records/DATE-threads   # here: those files, table.md, threads.png
 # The device tool returns at most eight files a call: run one mode a call (each writes four to six), or mode
-# `session` (timeout_s 600): `team` into $OUT/team (DEADLINE_TEAM, 230 s), then the grid of `run` (DEADLINE_GRID,
-# 280 s) packed into $OUT/grid.tgz with both modes' logs; here `report-session FILES_AT DIR` tabulates both
-# (DIR/team as report-solves does, DIR/grid as report does).
+# `session` (timeout_s 600): `team` into $OUT/team (DEADLINE_TEAM, 230 s), then the grid of `run` (DEADLINE_GRID:
+# by default what is left of 520 s) packed into $OUT/grid.tgz with both modes' logs; here `report-session FILES_AT
+# DIR` tabulates both (DIR/team as report-solves does, DIR/grid as report does).
 # The device run starts a run only when its estimated length fits before DEADLINE seconds (default 520), most
 # needed first (`grid`): round 1 (104k, 416k multifrontal, 416k CHOLMOD at 16, 8 and 2 threads, TF under the ringnd
 # ordering at 8 and 16), then more rounds of the 104k runs for their spread, then 416k CHOLMOD at 4 and 1. A run
@@ -269,7 +269,7 @@ blas)
 session)
   base=${OUT:?OUT is the device tool\'s output folder}; g=$(mktemp -d); mkdir -p "$base/team" "$g/grid"
   OUT=$base/team DEADLINE=${DEADLINE_TEAM:-230} bash "$0" team > "$g/team.log" 2>&1 || echo "team: rc $?"
-  OUT=$g/grid DEADLINE=${DEADLINE_GRID:-280} bash "$0" run > "$g/grid.log" 2>&1 || echo "grid: rc $?"
+  OUT=$g/grid DEADLINE=${DEADLINE_GRID:-$((520 - SECONDS))} bash "$0" run > "$g/grid.log" 2>&1 || echo "grid: rc $?"
   cp "$g/team.log" "$g/grid.log" "$g/grid/"; tar czf "$base/grid.tgz" -C "$g" grid
   tail -n 3 "$g/team.log" "$g/grid.log"; rm -rf "$g" ;;
 report-session)
