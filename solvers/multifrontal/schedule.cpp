@@ -196,7 +196,7 @@ SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& 
 }
 
 int solve_top_team(double top_work, int plan_threads, int cores) {
-  const int team = std::min({threads_worth(top_work, Work::Solve, plan_threads), cores, plan_threads});
+  const int team = std::min(threads_worth(top_work, Work::Solve, plan_threads), cores);  // at most plan_threads
   return team >= 3 ? team : 1;
 }
 

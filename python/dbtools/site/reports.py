@@ -36,9 +36,9 @@ CITED = re.compile(r"`figures/([A-Za-z0-9_.\-]+\.png)`")
 LINK = re.compile(r'(href|src)="([^"#:]+)(#[^"]*)?"')
 
 
-def figure_names(results, name, globs):
+def figure_names(results, name, globs, folder="figures"):
     try:
-        files = sorted(os.listdir(os.path.join(results, "figures")))
+        files = sorted(os.listdir(os.path.join(results, folder)))
     except OSError:
         return []
     out = []
@@ -97,8 +97,7 @@ def pages(results):
             continue
         with open(path, encoding="utf-8") as f:
             body = markdown.markdown(f"# {title}\n\n{f.read()}", extensions=["tables", "fenced_code"])
-        files = sorted(os.listdir(os.path.join(results, folder)))
-        figures = [n for g in globs for n in files if fnmatch.fnmatch(n, g)]
+        figures = figure_names(results, folder, globs, folder)
         out.append(Page(f"{folder}.html", title, body + gallery(figures, folder), summary=what))
     return out
 
