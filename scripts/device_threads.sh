@@ -226,13 +226,15 @@ factor)
 team)
   # The top phase on a team (factorization and solves) checked against BASE_BINARY in interleaved rounds, with the
   # issue's 16-core targets: the 104k TF and LAP runs (init and 20 frames) at 16, 8 and 4 threads, the 416k TF
-  # init at 16 and 8, the analysis split at 16 threads; the machine's rates first.
+  # init at 16 and 8, the analysis split at 16 threads; the machine's rates first. ROUNDS rounds (3), the two
+  # builds' order alternating from round to round, each run only when it fits before DEADLINE.
   setup
   rates before 1 16
-  for r in 1 2 3; do
-    for T in 16 8 4; do for M in tf lap; do for B in deformbench_base deformbench; do
+  for r in $(seq 1 "${ROUNDS:-3}"); do
+    pair="deformbench_base deformbench"; [ $((r % 2)) = 1 ] || pair="deformbench deformbench_base"
+    for T in 16 8 4; do for M in tf lap; do for B in $pair; do
       one $B 1 $r $M multifrontal $T default 20 8; done; done; done
-    for T in 16 8; do for B in deformbench_base deformbench; do one $B 2 $r tf multifrontal $T default 3 30; done; done
+    for T in 16 8; do for B in $pair; do one $B 2 $r tf multifrontal $T default 3 30; done; done
     [ "$r" != 1 ] || [ $((SECONDS + 40)) -gt $deadline ] || DEFORMBENCH_THREADS=16 OPENBLAS_NUM_THREADS=16 \
       "$D/bin/exp_analysis" --edit e1.edit --edit e2.edit --system tf --orderings metis,ringnd --rounds 2 \
       --csv "$O/analysis_16.csv" >> "$O/machine.txt" 2>&1 || true

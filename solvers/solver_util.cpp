@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 
 namespace db::solver_util {
 
@@ -42,10 +44,22 @@ void check_square(const SpMat& upper, const std::string& who) {
 }
 
 void check_finite_values(const SpMat& upper, const std::string& who) {
-  for (Index j = 0; j < upper.outerSize(); ++j)
-    for (SpMat::InnerIterator it(upper, j); it; ++it)
-      if (!std::isfinite(it.value()))
-        throw SolverError(fmt::format("{}: non-finite matrix entry {} at ({}, {})", who, it.value(), it.row(), j));
+  // Column ranges on the worker threads find the first column holding a non-finite entry, whatever the threads.
+  std::atomic<int> first{int(upper.outerSize())};
+  run_ranges(int(upper.outerSize()), 4096, [&](int lo, int hi) {
+    for (int j = lo; j < hi && j < first.load(std::memory_order_relaxed); ++j)
+      for (SpMat::InnerIterator it(upper, j); it; ++it)
+        if (!std::isfinite(it.value())) {
+          for (int seen = first.load(); j < seen && !first.compare_exchange_weak(seen, j);) {
+          }
+          return;
+        }
+  });
+  if (first.load() == upper.outerSize()) return;
+  for (SpMat::InnerIterator it(upper, first.load()); it; ++it)
+    if (!std::isfinite(it.value()))
+      throw SolverError(
+          fmt::format("{}: non-finite matrix entry {} at ({}, {})", who, it.value(), it.row(), first.load()));
 }
 
 void check_rhs(const DenseMat& B, Index n, const std::string& who) {
@@ -108,9 +122,26 @@ std::uint64_t fingerprint(const int* a, std::size_t count) {
   return x;
 }
 
+//! fingerprint of fixed chunks on the worker threads, mixed in chunk order: the same value for any thread count
+//! (a serial pass over a large factorization's indices is init time that does not shrink with cores).
+std::uint64_t chunked_fingerprint(const int* a, std::size_t count) {
+  constexpr std::size_t kChunk = std::size_t(1) << 20;
+  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+  std::vector<std::uint64_t> h((count + kChunk - 1) / kChunk);
+  run_ranges(int(h.size()), 1, [&](int lo, int hi) {
+    for (int c = lo; c < hi; ++c) {
+      const std::size_t at = std::size_t(c) * kChunk;
+      h[std::size_t(c)] = fingerprint(a + at, std::min(kChunk, count - at));
+    }
+  });
+  std::uint64_t x = count;
+  for (std::uint64_t v : h) x = (x ^ v) * kPrime ^ (x >> 29);
+  return x;
+}
+
 std::uint64_t pattern_hash(const SpMat& upper) {
-  return fingerprint(upper.outerIndexPtr(), std::size_t(upper.cols()) + 1) ^
-         (fingerprint(upper.innerIndexPtr(), std::size_t(upper.nonZeros())) << 1);
+  return chunked_fingerprint(upper.outerIndexPtr(), std::size_t(upper.cols()) + 1) ^
+         (chunked_fingerprint(upper.innerIndexPtr(), std::size_t(upper.nonZeros())) << 1);
 }
 }  // namespace
 
@@ -131,10 +162,16 @@ void PatternGuard::check(const SpMat& upper, const std::string& who) const {
 }
 
 DenseVec diagonal_of(const SpMat& upper) {
+  // Each column's rows ascend (Eigen's compressed storage): its diagonal entries are found by bisection, not by
+  // reading the whole matrix (a serial pass that does not shrink with cores).
   DenseVec diag = DenseVec::Zero(upper.cols());
-  for (Index j = 0; j < upper.outerSize(); ++j)
-    for (SpMat::InnerIterator it(upper, j); it; ++it)
-      if (it.row() == j) diag(j) += it.value();
+  const auto* p = upper.outerIndexPtr();
+  const auto* rows = upper.innerIndexPtr();
+  for (Index j = 0; j < upper.outerSize(); ++j) {
+    const auto end = rows + (upper.isCompressed() ? p[j + 1] : p[j] + upper.innerNonZeroPtr()[j]);
+    const auto [lo, hi] = std::equal_range(rows + p[j], end, int(j));
+    for (auto r = lo; r != hi; ++r) diag(j) += upper.valuePtr()[r - rows];
+  }
   return diag;
 }
 

@@ -6,10 +6,12 @@
 #include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "solvers/base/error.h"
 #include "mesh/mesh.h"
 #include "mesh/procedural.h"
+#include "solvers/tests/worker_threads.h"
 #include "test_util.h"
 
 namespace {
@@ -78,6 +80,21 @@ TEST(Adjacency, SymmetricSortedAndMatchesEdges) {
   expect_adjacency_consistent(grid3x3());
   expect_adjacency_consistent(make_cylinder(5, 7, 1.0, 2.0));
   expect_adjacency_consistent(make_bar(2, 3, 4, 1, 1, 3));
+}
+
+TEST(Adjacency, SameOnAnyWorkerThreads) {
+  // 15000 vertices, 30000 faces: several face and vertex ranges (4096 each at least) on up to four threads.
+  const Mesh m = make_cylinder(150, 100, 1.0, 2.0);
+  std::vector<Adjacency> got;
+  for (int threads : {1, 3, 4}) {
+    test::WorkerThreads env(threads);
+    expect_adjacency_consistent(m);
+    got.push_back(vertex_adjacency(m));
+  }
+  for (const Adjacency& a : got) {
+    EXPECT_EQ(a.off, got[0].off);
+    EXPECT_EQ(a.nbr, got[0].nbr);
+  }
 }
 
 TEST(Adjacency, DegreesOfKnownMeshes) {

@@ -17,6 +17,7 @@
 #include "systems/lri_system.h"
 #include "systems/min_quad_with_fixed.h"
 #include "systems/normal_system.h"
+#include "solvers/tests/worker_threads.h"
 #include "test_util.h"
 
 namespace db {
@@ -160,6 +161,27 @@ TEST(MinQuadWithFixed, DenseBuildHonoursTheSolver) {
 
 // Frame and position systems of LRI, naive against structured, and their right-hand sides' linear term A_u^T t
 // against the naive build's explicit A_u.
+TEST(StructuredBuild, PredictedBytesAndOperatorTheSameOnAnyThreads) {
+  // 15000 vertices: several vertex ranges (4096 each at least) for the Laplacian coordinates and the stencil counts.
+  const Mesh m = make_cylinder(150, 100, 1.0, 2.0);
+  const Adjacency adj = vertex_adjacency(m);
+  const Points Vn = Normalization::fit(m.V).apply(m.V);
+  const Unknowns unk = make_unknowns(classify(tube_edit(m), ConstraintMode::Soft), 2.0);
+  Points delta_1;
+  for (int threads : {1, 4}) {
+    test::WorkerThreads env(threads);
+    const EnergyOperator op(Vn, m.F, adj, EnergyKind::Tf, {});
+    if (threads == 1) delta_1 = op.delta();
+    EXPECT_EQ(op.delta(), delta_1) << threads << " threads";
+    const NormalSystem sys = build_normal_system(op, unk, Build::Structured);
+    const std::size_t entry = sizeof(double) + sizeof(int);
+    EXPECT_EQ(predict_build_bytes(op, unk, Build::Structured),
+              std::size_t(sys.K.nonZeros()) * entry + std::size_t(sys.C.nonZeros()) * entry +
+                  std::size_t(sys.g0.size()) * sizeof(double))
+        << threads << " threads";
+  }
+}
+
 TEST(LriSystems, StructuredEqualsNaive) {
   const Mesh m = tube();
   const Adjacency adj = vertex_adjacency(m);

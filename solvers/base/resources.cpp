@@ -121,6 +121,13 @@ void run_tasks(int tasks, const std::function<void(int)>& fn) {
   if (job->error) std::rethrow_exception(job->error);
 }
 
+void run_ranges(int n, int grain, const std::function<void(int, int)>& fn) {
+  const int ranges = std::max(1, std::min(worker_threads(), n / std::max(grain, 1)));
+  run_tasks(ranges, [&](int t) {
+    fn(static_cast<int>(std::int64_t(n) * t / ranges), static_cast<int>(std::int64_t(n) * (t + 1) / ranges));
+  });
+}
+
 std::vector<int> balanced_columns(const int* colptr, int first, int last, int parts) {
   std::vector<int> at(std::size_t(std::max(parts, 1)) + 1, last);
   at[0] = first;

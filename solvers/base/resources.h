@@ -35,6 +35,11 @@ void run_on_threads(int threads, const std::function<void(int)>& fn);
 //! throws is rethrown; tasks not yet claimed then do not run.
 void run_tasks(int tasks, const std::function<void(int)>& fn);
 
+//! [0, n) cut into contiguous ranges of at least `grain` items, at most worker_threads() of them, and fn(lo, hi)
+//! run for each by run_tasks. The ranges depend on the thread count only: per-item results, or per-range
+//! partials combined in range order, are the same whatever the thread timing.
+void run_ranges(int n, int grain, const std::function<void(int lo, int hi)>& fn);
+
 //! Columns [first, last) of a compressed-column pattern (`colptr`) cut into `parts` ranges of about equal entries,
 //! for threads that each take one: parts + 1 ascending column boundaries from first to last.
 std::vector<int> balanced_columns(const int* colptr, int first, int last, int parts);

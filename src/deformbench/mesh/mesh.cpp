@@ -1,14 +1,17 @@
 #include "mesh/mesh.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 
 namespace db {
 
@@ -30,27 +33,37 @@ Adjacency vertex_adjacency(const Mesh& mesh) {
       cnt[v + 1] += 2;
     }
   std::partial_sum(cnt.begin(), cnt.end(), cnt.begin());
+  // The neighbours scattered into each vertex's slots by face ranges on the worker threads (cache misses, most of
+  // this function's time): the slots' order then depends on the threads' timing, but each list is sorted next.
   std::vector<int> raw(cnt[nv]);
-  std::vector<int> pos(cnt.begin(), cnt.end() - 1);
-  for (int f = 0; f < nf; ++f)
-    for (int c = 0; c < 3; ++c) {
-      const int v = mesh.F(f, c);
-      raw[pos[v]++] = mesh.F(f, (c + 1) % 3);
-      raw[pos[v]++] = mesh.F(f, (c + 2) % 3);
-    }
+  std::unique_ptr<std::atomic<int>[]> pos(new std::atomic<int>[static_cast<std::size_t>(nv)]);
+  for (int v = 0; v < nv; ++v) pos[v].store(cnt[v], std::memory_order_relaxed);
+  run_ranges(nf, 4096, [&](int lo, int hi) {
+    for (int f = lo; f < hi; ++f)
+      for (int c = 0; c < 3; ++c) {
+        const int at = pos[mesh.F(f, c)].fetch_add(2, std::memory_order_relaxed);
+        raw[at] = mesh.F(f, (c + 1) % 3);
+        raw[at + 1] = mesh.F(f, (c + 2) % 3);
+      }
+  });
+  // Each vertex's list sorted and made unique in place, then packed, by vertex ranges on the worker threads.
   Adjacency adj;
-  adj.off.resize(nv + 1);
-  adj.nbr.reserve(raw.size() / 2 + nv);
-  adj.off[0] = 0;
-  for (int v = 0; v < nv; ++v) {
-    int* b = raw.data() + cnt[v];
-    int* e = raw.data() + cnt[v + 1];
-    std::sort(b, e);
-    e = std::unique(b, e);
-    for (int* p = b; p != e; ++p)
-      if (*p != v) adj.nbr.push_back(*p);  // a repeated corner must not make a vertex its own neighbour
-    adj.off[v + 1] = static_cast<int>(adj.nbr.size());
-  }
+  adj.off.assign(nv + 1, 0);
+  run_ranges(nv, 4096, [&](int lo, int hi) {
+    for (int v = lo; v < hi; ++v) {
+      int* b = raw.data() + cnt[v];
+      int* e = raw.data() + cnt[v + 1];
+      std::sort(b, e);
+      e = std::remove(b, std::unique(b, e), v);  // a repeated corner must not make a vertex its own neighbour
+      adj.off[v + 1] = static_cast<int>(e - b);
+    }
+  });
+  std::partial_sum(adj.off.begin(), adj.off.end(), adj.off.begin());
+  adj.nbr.resize(static_cast<std::size_t>(adj.off[nv]));
+  run_ranges(nv, 4096, [&](int lo, int hi) {
+    for (int v = lo; v < hi; ++v)
+      std::copy(raw.data() + cnt[v], raw.data() + cnt[v] + adj.degree(v), adj.nbr.data() + adj.off[v]);
+  });
   return adj;
 }
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "solvers/base/error.h"
+#include "solvers/base/resources.h"
 
 namespace db {
 
@@ -15,6 +16,15 @@ const EnumText<Weights>& enum_text(Weights) {
 }
 
 namespace {
+//! f(i) for every vertex i < n, in vertex ranges on the worker threads: each vertex's entries depend on it alone,
+//! so the bytes do not depend on the threads (serial init time on many cores otherwise).
+template <class F>
+void for_vertex_ranges(int n, F&& f) {
+  run_ranges(n, 4096, [&](int lo, int hi) {
+    for (int i = lo; i < hi; ++i) f(i);
+  });
+}
+
 int slot(const Adjacency& adj, int i, int j) {
   const int* p = std::lower_bound(adj.begin(i), adj.end(i), j);
   return static_cast<int>(p - adj.nbr.data());
@@ -25,8 +35,9 @@ std::vector<double> laplacian_weights(const Points& V, const Faces& F, const Adj
   const int n = adj.num_vertices();
   std::vector<double> w(adj.nbr.size(), 0.0);
   if (wt == Weights::Uniform) {
-    for (int i = 0; i < n; ++i)
+    for_vertex_ranges(n, [&](int i) {
       for (int s = adj.off[i]; s < adj.off[i + 1]; ++s) w[s] = 1.0 / adj.degree(i);
+    });
     return w;
   }
   // Cotangent weights: each triangle adds cot(angle at the opposite corner)/2 to its three edges.
@@ -51,11 +62,11 @@ std::vector<double> laplacian_weights(const Points& V, const Faces& F, const Adj
 
 Points laplacian_coordinates(const Points& V, const Adjacency& adj, const std::vector<double>& w) {
   Points d(V.rows(), 3);
-  for (int i = 0; i < adj.num_vertices(); ++i) {
+  for_vertex_ranges(adj.num_vertices(), [&](int i) {
     Eigen::RowVector3d acc = V.row(i);
     for (int s = adj.off[i]; s < adj.off[i + 1]; ++s) acc -= w[s] * V.row(adj.nbr[s]);
     d.row(i) = acc;
-  }
+  });
   return d;
 }
 

@@ -1,6 +1,7 @@
 #include "systems/normal_system.h"
 
 #include <algorithm>
+#include <mutex>
 
 #include <fmt/format.h>
 
@@ -169,12 +170,15 @@ std::size_t NormalSystem::total_held_bytes() const {
 
 namespace detail {
 
-StencilCounts count_stencil(const EnergyOperator& op, const Unknowns& unk) {
+namespace {
+
+//! count_stencil's sums over the vertices [lo, hi): their active row blocks, and the K and C blocks of the unknowns
+//! among them.
+StencilCounts count_stencil_range(const EnergyOperator& op, const Unknowns& unk, int lo, int hi) {
   const Adjacency& adj = op.adjacency();
-  const int n = adj.num_vertices();
   const std::size_t b2 = static_cast<std::size_t>(op.block()) * op.block();
   StencilCounts c;
-  for (int i = 0; i < n; ++i) {
+  for (int i = lo; i < hi; ++i) {
     bool active = unk.unknown_of[i] >= 0;
     for (const int* p = adj.begin(i); p != adj.end(i) && !active; ++p) active = unk.unknown_of[*p] >= 0;
     if (!active) continue;
@@ -186,9 +190,8 @@ StencilCounts count_stencil(const EnergyOperator& op, const Unknowns& unk) {
     c.nnz_Ah += (m - nu) * b2;
   }
   // K's block pattern: unknown pairs within distance 2; C's: unknown-hard pairs within distance 2.
-  std::vector<int> mark(n, -1);
-  const int b = op.block();
-  for (int k = 0; k < n; ++k) {
+  std::vector<int> mark(static_cast<std::size_t>(adj.num_vertices()), -1);
+  for (int k = lo; k < hi; ++k) {
     if (unk.unknown_of[k] < 0) continue;
     std::size_t blocks_u = 0, blocks_h = 0;
     auto visit = [&](int j) {
@@ -205,7 +208,25 @@ StencilCounts count_stencil(const EnergyOperator& op, const Unknowns& unk) {
     c.nnz_K_full += blocks_u * b2;
     c.nnz_C += blocks_h * b2;
   }
-  const std::size_t nu = static_cast<std::size_t>(unk.num_unknowns()) * b;
+  return c;
+}
+
+}  // namespace
+
+StencilCounts count_stencil(const EnergyOperator& op, const Unknowns& unk) {
+  // Vertex ranges on the worker threads (serial init time on many cores otherwise); the counts are integers.
+  StencilCounts c;
+  std::mutex adding;
+  run_ranges(op.adjacency().num_vertices(), 4096, [&](int lo, int hi) {
+    const StencilCounts p = count_stencil_range(op, unk, lo, hi);
+    const std::lock_guard<std::mutex> lock(adding);
+    c.rows += p.rows;
+    c.nnz_Au += p.nnz_Au;
+    c.nnz_Ah += p.nnz_Ah;
+    c.nnz_K_full += p.nnz_K_full;
+    c.nnz_C += p.nnz_C;
+  });
+  const std::size_t nu = static_cast<std::size_t>(unk.num_unknowns()) * op.block();
   c.nnz_K_upper = (c.nnz_K_full + nu) / 2;
   return c;
 }
