@@ -162,16 +162,20 @@ void PatternGuard::check(const SpMat& upper, const std::string& who) const {
 }
 
 DenseVec diagonal_of(const SpMat& upper) {
-  // Each column's rows ascend (Eigen's compressed storage): its diagonal entries are found by bisection, not by
-  // reading the whole matrix (a serial pass that does not shrink with cores).
+  // Each column's rows ascend (Eigen's compressed storage): its diagonal entries are its last ones (an upper
+  // triangle's) or just before the rows below it, read backwards from the column's end. Column ranges on the
+  // worker threads: a serial pass over a large matrix is init time that does not shrink with cores.
   DenseVec diag = DenseVec::Zero(upper.cols());
   const auto* p = upper.outerIndexPtr();
   const auto* rows = upper.innerIndexPtr();
-  for (Index j = 0; j < upper.outerSize(); ++j) {
-    const auto end = rows + (upper.isCompressed() ? p[j + 1] : p[j] + upper.innerNonZeroPtr()[j]);
-    const auto [lo, hi] = std::equal_range(rows + p[j], end, int(j));
-    for (auto r = lo; r != hi; ++r) diag(j) += upper.valuePtr()[r - rows];
-  }
+  const double* values = upper.valuePtr();
+  run_ranges(int(upper.outerSize()), 4096, [&](int lo, int hi) {
+    for (int j = lo; j < hi; ++j) {
+      const auto end = upper.isCompressed() ? p[j + 1] : p[j] + upper.innerNonZeroPtr()[j];
+      for (auto k = end - 1; k >= p[j] && rows[k] >= j; --k)
+        if (rows[k] == j) diag(j) += values[k];
+    }
+  });
   return diag;
 }
 

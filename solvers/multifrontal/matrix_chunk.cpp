@@ -1,6 +1,9 @@
 #include "solvers/multifrontal/matrix_chunk.h"
 
 #include <algorithm>
+#include <mutex>
+
+#include "solvers/base/resources.h"
 
 namespace db::multifrontal {
 
@@ -49,11 +52,28 @@ void MatrixChunk::load(const SpMat& upper, const std::vector<int>& counts, const
 }
 
 std::vector<int> MatrixChunk::lower_counts(const SpMat& upper) {
+  // Column ranges on the worker threads count the rows inside their own range in place and list those before it,
+  // added once every range is done: in a nested-dissection order few rows lie before their column's range (a
+  // serial pass over the matrix is init time that does not shrink with cores). Integer counts: the same on any
+  // threads.
   std::vector<int> counts(std::size_t(upper.cols()), 0);
   const int* Ap = upper.outerIndexPtr();
   const int* Ai = upper.innerIndexPtr();
-  for (int i = 0; i < int(upper.cols()); ++i)
-    for (int p = Ap[i]; p < Ap[i + 1] && Ai[p] <= i; ++p) ++counts[std::size_t(Ai[p])];
+  std::vector<std::vector<int>> earlier;
+  std::mutex adding;
+  run_ranges(int(upper.cols()), 4096, [&](int lo, int hi) {
+    std::vector<int> before;
+    for (int i = lo; i < hi; ++i)
+      for (int p = Ap[i]; p < Ap[i + 1] && Ai[p] <= i; ++p)
+        if (Ai[p] >= lo)
+          ++counts[std::size_t(Ai[p])];
+        else
+          before.push_back(Ai[p]);
+    const std::lock_guard<std::mutex> lock(adding);
+    earlier.push_back(std::move(before));
+  });
+  for (const std::vector<int>& rows : earlier)
+    for (int r : rows) ++counts[std::size_t(r)];
   return counts;
 }
 

@@ -92,6 +92,19 @@ TEST(MatrixChunk, RunsHoldTheLowerTriangle) {
   }
 }
 
+TEST(MatrixChunk, LowerCountsAreTheRowCountsOnAnyThreads) {
+  std::mt19937 rng(9);
+  // 24000 unknowns in the natural order of a torus: many rows lie before their column's range (the wrap-around).
+  const SpMat upper = tf_like(100, 80, rng).triangularView<Eigen::Upper>();
+  std::vector<int> rows(std::size_t(upper.cols()), 0);
+  for (int j = 0; j < upper.outerSize(); ++j)
+    for (SpMat::InnerIterator it(upper, j); it; ++it) ++rows[std::size_t(it.row())];
+  for (int threads : {1, 3, 4}) {
+    db::test::WorkerThreads env(threads);
+    EXPECT_EQ(MatrixChunk::lower_counts(upper), rows) << threads << " threads";
+  }
+}
+
 TEST(MatrixChunk, MultifrontalIsExactOnSeveralRuns) {
   std::mt19937 rng(11);
   const SpMat full = tf_like(36, 30, rng, 0.1);  // 3240 unknowns; shifted: well conditioned
