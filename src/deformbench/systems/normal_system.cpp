@@ -116,10 +116,7 @@ SpMat expand_upper(const InteractionPattern& p, int b) {
   advise_huge_pages(val, std::size_t(nnz) * sizeof(double));
   // Row indices and zero values written by column ranges on the worker threads: K is the build's largest array,
   // and writing it is mostly first-touch page faults, which parallelize.
-  const int T = std::max(1, std::min(worker_threads(), nu / 4096 + 1));
-  run_tasks(T, [&](int t) {
-    const int k0 = static_cast<int>(static_cast<long long>(nu) * t / T);
-    const int k1 = static_cast<int>(static_cast<long long>(nu) * (t + 1) / T);
+  run_ranges(nu, 4096, [&](int k0, int k1) {
     for (int k = k0; k < k1; ++k)
       for (int c2 = 0; c2 < b; ++c2) {
         int pos = colptr[b * k + c2];
