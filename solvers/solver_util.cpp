@@ -50,7 +50,8 @@ void check_finite_values(const SpMat& upper, const std::string& who) {
     for (int j = lo; j < hi && j < first.load(std::memory_order_relaxed); ++j)
       for (SpMat::InnerIterator it(upper, j); it; ++it)
         if (!std::isfinite(it.value())) {
-          for (int seen = first.load(); j < seen && !first.compare_exchange_weak(seen, j);) {
+          int seen = first.load();
+          while (j < seen && !first.compare_exchange_weak(seen, j)) {  // first = min(first, j)
           }
           return;
         }
