@@ -109,25 +109,31 @@ DenseMat dense_from_upper(const SpMat& upper) {
 }
 
 namespace {
+constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+
+//! Hashes of parts mixed in their order into one, seeded with the element count.
+template <class Hashes>
+std::uint64_t mixed(std::size_t count, const Hashes& parts) {
+  std::uint64_t x = count;
+  for (std::uint64_t v : parts) x = (x ^ v) * kPrime ^ (x >> 29);
+  return x;
+}
+
 //! 64-bit fingerprint of an index array: four independent FNV-style lanes (one dependent multiply chain
 //! would be bound by the multiply's latency), mixed at the end.
 std::uint64_t fingerprint(const int* a, std::size_t count) {
-  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
   std::uint64_t h[4] = {0xcbf29ce484222325ULL, 0x84222325cbf29ce4ULL, 0x9e3779b97f4a7c15ULL, 0xc2b2ae3d27d4eb4fULL};
   std::size_t i = 0;
   for (; i + 3 < count; i += 4)
     for (int k = 0; k < 4; ++k) h[k] = (h[k] ^ std::uint32_t(a[i + std::size_t(k)])) * kPrime;
   for (; i < count; ++i) h[0] = (h[0] ^ std::uint32_t(a[i])) * kPrime;
-  std::uint64_t x = count;
-  for (std::uint64_t v : h) x = (x ^ v) * kPrime ^ (x >> 29);
-  return x;
+  return mixed(count, h);
 }
 
 //! fingerprint of fixed chunks on the worker threads, mixed in chunk order: the same value for any thread count
 //! (a serial pass over a large factorization's indices is init time that does not shrink with cores).
 std::uint64_t chunked_fingerprint(const int* a, std::size_t count) {
   constexpr std::size_t kChunk = std::size_t(1) << 20;
-  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
   std::vector<std::uint64_t> h((count + kChunk - 1) / kChunk);
   run_ranges(int(h.size()), 1, [&](int lo, int hi) {
     for (int c = lo; c < hi; ++c) {
@@ -135,9 +141,7 @@ std::uint64_t chunked_fingerprint(const int* a, std::size_t count) {
       h[std::size_t(c)] = fingerprint(a + at, std::min(kChunk, count - at));
     }
   });
-  std::uint64_t x = count;
-  for (std::uint64_t v : h) x = (x ^ v) * kPrime ^ (x >> 29);
-  return x;
+  return mixed(count, h);
 }
 
 std::uint64_t pattern_hash(const SpMat& upper) {
