@@ -48,11 +48,11 @@ SolvePlan shortest_plan(const Symbolic& S, int most, const std::vector<double>& 
 //! `plan_threads` threads: as many threads as the top's work is worth (threads_worth), no more than `cores` (each
 //! step waits for its tiles) nor `plan_threads`, and 1 (the top serial) below three. Why no more than the plan's:
 //! shortest_plan takes a plan for fewer threads than allowed where more would not shorten the path, and a larger
-//! team then only adds helpers each top step waits for. On 16 cores the 416k TF solve took the 8-thread plan at
-//! 8 and at 16 threads, its top on a team of 8 and of 16, and its frames at 16 threads were slower than at 8 in
-//! five rounds of six (results/records/2026-11-28-head-16-cores). Not by two: with two threads the top is a small
-//! part of the solve, and a step that waits for a helper another process has descheduled cost more than the half
-//! of it a second thread saves (on 2 cores beside a busy loop, results/records/2026-11-27-top-team).
+//! team then only adds helpers each top step waits for (the 416k TF solve takes the 8-thread plan at 16 threads:
+//! results/records/2026-11-28-head-16-cores; its measured effect: 2026-11-28-serial-passes). Not by two: with two
+//! threads the top is a small part of the solve, and a step that waits for a helper another process has
+//! descheduled cost more than the half of it a second thread saves (on 2 cores beside a busy loop,
+//! results/records/2026-11-27-top-team).
 int solve_top_team(double top_work, int plan_threads, int cores);
 
 //! What a plan leaves to each phase, in the costs it was made with (flops for the factorization's plan): the
